@@ -1,0 +1,13 @@
+//! asperity: the static friction coefficient of rough interfaces from their measured
+//! topography, after Peng, Roch, Bonn & Weber, Phys. Rev. Lett. 134, 176202 (2025).
+//!
+//! The modules follow the pipeline: [`topography`] (read, prepare, synthesise height maps) →
+//! `contact` (elastic normal contact by the boundary integral method) → `friction` (the
+//! stick-slip transition model) → `study` (loads × topographies × friction laws) → `plot`.
+//! Units are SI everywhere: metres, pascals, newtons. Arrays are row-major, shape (ny, nx).
+
+pub mod error;
+pub mod output;
+pub mod topography;
+
+pub use error::{Error, Result};

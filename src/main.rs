@@ -1,0 +1,37 @@
+//! The `asperity` command: a thin layer over the library.
+
+mod cli;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Static friction of rough interfaces from their measured topography: elastic contact by the
+/// boundary integral method, then the stick-slip transition model of Peng, Roch, Bonn & Weber
+/// (PRL 134, 176202, 2025). Units are SI throughout: metres, pascals, newtons.
+#[derive(Parser)]
+#[command(name = "asperity", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return cli::exit_on_usage_error(e),
+    };
+    let result: asperity::Result<()> = match cli.command {
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! Reading topography files: one module per format behind one registry.
+//!
+//! The registry picks a file's format from its leading bytes (magic), falling back to its
+//! extension, decodes its channels, and hands back the chosen one as a [`Topography`] in
+//! metres. Each format module knows only its own bytes; paths, options and the choice of
+//! channel are handled here once.
+
+mod npy;
+
+use std::path::Path;
+
+use ndarray::Array2;
+
+use super::{units, Provenance, Topography};
+use crate::error::{Error, Result};
+
+/// One decoded channel of a file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Channel {
+    /// Name as the file gives it (instruments may repeat names).
+    pub name: String,
+    /// Values, shape (ny, nx); in metres when `is_height`, as stored otherwise. `NaN` marks
+    /// a missing point.
+    pub data: Array2<f64>,
+    /// Physical size (lx, ly) [m], when the file states one.
+    pub physical_size: Option<(f64, f64)>,
+    /// The data unit as the file writes it (`"nm"`, `"V"`, `"deg"`…), `None` if it gives none.
+    pub unit: Option<String>,
+    /// Whether the channel holds heights (its unit is a length, or the format only holds
+    /// heights).
+    pub is_height: bool,
+}
+
+/// A file format the registry can read.
+pub trait Format: Sync {
+    /// Short name, as `--format` takes it and provenance reports it.
+    fn name(&self) -> &'static str;
+    /// File name endings this format uses, lower case, without the dot.
+    fn extensions(&self) -> &'static [&'static str];
+    /// Whether a file's leading bytes identify this format.
+    fn sniff(&self, head: &[u8]) -> bool;
+    /// Decode every channel of the file. Errors are reasons; the registry adds the path.
+    fn read(&self, bytes: &[u8]) -> std::result::Result<Vec<Channel>, String>;
+    /// A bare format whose files carry neither physical size nor height unit: both come
+    /// from the user (`--size`, `--height-unit`).
+    fn is_bare(&self) -> bool {
+        false
+    }
+}
+
+/// Every format, in the order magic bytes are tried (most specific first).
+static FORMATS: &[&dyn Format] = &[&npy::Npy];
+
+/// How to read a file: all fields optional.
+#[derive(Debug, Clone, Default)]
+pub struct ReadOptions {
+    /// Format name, overriding detection.
+    pub format: Option<String>,
+    /// Channel by name or by 0-based index; default the first height channel.
+    pub channel: Option<String>,
+    /// Physical size (lx, ly) [m]: required for bare formats, checked against the file's
+    /// otherwise.
+    pub physical_size: Option<(f64, f64)>,
+    /// Height unit of a bare file (default metres).
+    pub height_unit: Option<String>,
+}
+
+/// The formats the registry knows, for `--help` texts and error messages.
+pub fn format_names() -> Vec<&'static str> {
+    FORMATS.iter().map(|f| f.name()).collect()
+}
+
+/// The format of the file at `path` with contents `bytes`.
+fn detect(path: &Path, bytes: &[u8], forced: Option<&str>) -> Result<&'static dyn Format> {
+    if let Some(name) = forced {
+        return FORMATS.iter().copied().find(|f| f.name() == name).ok_or_else(|| {
+            Error::invalid("--format", format!("unknown format '{name}' (known: {})", format_names().join(", ")))
+        });
+    }
+    let head = &bytes[..bytes.len().min(4096)];
+    if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff(head)) {
+        return Ok(f);
+    }
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())).ok_or_else(|| {
+        Error::file(path, format!("not a topography file asperity can read (formats: {})", format_names().join(", ")))
+    })
+}
+
+/// Read the file at `path` and decode all its channels; returns the format's name with them.
+pub fn read_channels(path: &Path, format: Option<&str>) -> Result<(&'static str, Vec<Channel>)> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let fmt = detect(path, &bytes, format)?;
+    let channels = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+    if channels.is_empty() {
+        return Err(Error::file(path, "the file holds no data channel"));
+    }
+    Ok((fmt.name(), channels))
+}
+
+/// Read one channel of the file at `path` as a topography in metres.
+pub fn read(path: &Path, opts: &ReadOptions) -> Result<Topography> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let fmt = detect(path, &bytes, opts.format.as_deref())?;
+    let mut channels = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+    let index = choose_channel(&channels, opts.channel.as_deref()).map_err(|r| Error::file(path, r))?;
+    let mut ch = channels.swap_remove(index);
+
+    let physical_size = match (ch.physical_size, opts.physical_size) {
+        (_, Some((lx, ly))) if !(lx > 0.0 && ly > 0.0 && lx.is_finite() && ly.is_finite()) => {
+            return Err(Error::invalid("--size", format!("sizes must be positive and finite, got {lx},{ly}")));
+        }
+        (Some(file), Some(user)) if !same_size(file, user) => {
+            return Err(Error::invalid(
+                "--size",
+                format!(
+                    "{},{} m does not match the size {},{} m stated in {}",
+                    user.0, user.1, file.0, file.1, path.display()
+                ),
+            ));
+        }
+        (Some(file), _) => Some(file),
+        (None, user) => user,
+    };
+    if fmt.is_bare() {
+        if physical_size.is_none() {
+            return Err(Error::file(
+                path,
+                "a bare array carries no physical size: give it with --size LX[,LY] (metres)",
+            ));
+        }
+        let unit = opts.height_unit.as_deref().unwrap_or("m");
+        let scale = units::metres_per(unit)
+            .ok_or_else(|| Error::invalid("--height-unit", format!("'{unit}' is not a length unit")))?;
+        ch.data.mapv_inplace(|h| h * scale);
+        ch.unit = Some(unit.to_string());
+    } else if opts.height_unit.is_some() {
+        return Err(Error::invalid("--height-unit", format!("{} states its own height unit", path.display())));
+    }
+    Ok(Topography {
+        heights: ch.data,
+        physical_size,
+        periodic: false,
+        channel: ch.name,
+        provenance: Provenance { file: Some(path.to_path_buf()), format: fmt.name().to_string(), height_unit: ch.unit },
+    })
+}
+
+/// Sizes agree to 1e-6 relative (files round their sizes when they print them).
+fn same_size(a: (f64, f64), b: (f64, f64)) -> bool {
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-6 * x.abs().max(y.abs());
+    close(a.0, b.0) && close(a.1, b.1)
+}
+
+/// Index of the channel named (or numbered) by `wanted`, or of the first height channel.
+fn choose_channel(channels: &[Channel], wanted: Option<&str>) -> std::result::Result<usize, String> {
+    let names = || channels.iter().map(|c| format!("'{}'", c.name)).collect::<Vec<_>>().join(", ");
+    match wanted {
+        None => Ok(channels.iter().position(|c| c.is_height).unwrap_or(0)),
+        Some(w) => channels
+            .iter()
+            .position(|c| c.name == w)
+            .or_else(|| w.parse::<usize>().ok().filter(|&i| i < channels.len()))
+            .ok_or_else(|| format!("no channel '{w}' (channels: {})", names())),
+    }
+}
