@@ -25,12 +25,7 @@ pub enum Error {
         "{solver} did not converge: residual {residual:.3e} above tolerance {tolerance:.1e} \
          after {iterations} iterations (raise --max-iter or loosen --tolerance)"
     )]
-    NotConverged {
-        solver: &'static str,
-        iterations: usize,
-        residual: f64,
-        tolerance: f64,
-    },
+    NotConverged { solver: &'static str, iterations: usize, residual: f64, tolerance: f64 },
 }
 
 impl Error {

@@ -17,16 +17,14 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {
-}
+enum Command {}
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return cli::exit_on_usage_error(e),
     };
-    let result: asperity::Result<()> = match cli.command {
-    };
+    let result: asperity::Result<()> = match cli.command {};
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

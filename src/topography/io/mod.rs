@@ -115,7 +115,11 @@ pub fn read(path: &Path, opts: &ReadOptions) -> Result<Topography> {
                 "--size",
                 format!(
                     "{},{} m does not match the size {},{} m stated in {}",
-                    user.0, user.1, file.0, file.1, path.display()
+                    user.0,
+                    user.1,
+                    file.0,
+                    file.1,
+                    path.display()
                 ),
             ));
         }
