@@ -7,6 +7,7 @@
 //! Units are SI everywhere: metres, pascals, newtons. Arrays are row-major, shape (ny, nx).
 
 pub mod error;
+pub mod fft;
 pub mod output;
 pub mod topography;
 

@@ -10,7 +10,7 @@ pub fn metres_per(unit: &str) -> Option<f64> {
         "mm" => 1e-3,
         "um" | "µm" | "μm" | "micron" | "microns" | "micrometre" | "micrometer" => 1e-6,
         "nm" | "nanometre" | "nanometer" => 1e-9,
-        "A" | "Å" | "Å" | "angstrom" | "Angstrom" => 1e-10,
+        "A" | "Å" | "\u{212B}" | "angstrom" | "Angstrom" => 1e-10,
         "pm" => 1e-12,
         "km" => 1e3,
         _ => return None,
