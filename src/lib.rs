@@ -6,6 +6,7 @@
 //! stick-slip transition model) → `study` (loads × topographies × friction laws) → `plot`.
 //! Units are SI everywhere: metres, pascals, newtons. Arrays are row-major, shape (ny, nx).
 
+pub mod contact;
 pub mod error;
 pub mod fft;
 pub mod output;

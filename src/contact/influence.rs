@@ -1,0 +1,190 @@
+//! Elastic influence operators of the half-space: surface displacement from surface pressure,
+//! `u = K p`, evaluated on the FFT grid.
+//!
+//! Both boundaries multiply a spectrum by a real kernel; they differ only in the kernel and the
+//! grid:
+//! - periodic: the field repeats across the window; `û(q) = 2 p̂(q) / (E* |q|)` (Westergaard),
+//!   the q = 0 mode set to zero (the mean displacement is a rigid-body shift the contact solver
+//!   absorbs);
+//! - free: an isolated window on an infinite half-space; the pressure is zero-padded to a
+//!   (2ny, 2nx) grid and convolved with the exact displacement of uniformly loaded rectangular
+//!   pixels (Love 1929; Johnson, *Contact Mechanics*, §3.9), so there are no periodic images.
+
+use rustfft::num_complex::Complex64;
+
+use crate::fft::{Fft2, Fft2Work};
+
+/// The boundary condition of the elastic half-space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Boundary {
+    /// The window repeats periodically (rough surfaces larger than their correlation length).
+    Periodic,
+    /// The window is an isolated patch of an infinite half-space (a sphere on a flat).
+    Free,
+}
+
+impl Boundary {
+    /// Name as written in outputs: `"periodic"` or `"free"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Boundary::Periodic => "periodic",
+            Boundary::Free => "free",
+        }
+    }
+}
+
+/// `u = K p` on an (ny, nx) window of physical size (lx, ly) [m], for effective modulus E* [Pa].
+/// Owns its FFT plan and buffers: applying it never allocates.
+pub struct Influence {
+    ny: usize,
+    nx: usize,
+    fft: Fft2,
+    /// Real kernel in the FFT's transposed spectrum layout, normalisation 1/(grid size) folded in.
+    kernel: Vec<f64>,
+    spectrum: Vec<Complex64>,
+    work: Fft2Work,
+}
+
+impl Influence {
+    /// The periodic (Westergaard) operator.
+    pub fn periodic(ny: usize, nx: usize, (lx, ly): (f64, f64), e_star: f64) -> Self {
+        let fft = Fft2::new(ny, nx);
+        let norm = 1.0 / (ny * nx) as f64;
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let kernel = fft
+            .wavevectors()
+            .map(|(kx, ky)| {
+                let q = two_pi * ((kx as f64 / lx).powi(2) + (ky as f64 / ly).powi(2)).sqrt();
+                if q == 0.0 {
+                    0.0
+                } else {
+                    2.0 / (e_star * q) * norm
+                }
+            })
+            .collect();
+        Self::with_kernel(ny, nx, fft, kernel)
+    }
+
+    /// The free-boundary operator: exact influence of uniformly loaded rectangular pixels,
+    /// convolved on a zero-padded (2ny, 2nx) grid.
+    pub fn free(ny: usize, nx: usize, (lx, ly): (f64, f64), e_star: f64) -> Self {
+        let (py, px) = (2 * ny, 2 * nx);
+        let (dx, dy) = (lx / nx as f64, ly / ny as f64);
+        // Influence coefficients for every offset, wrapped onto the padded grid. They are even
+        // in both offsets, so the kernel's spectrum is real.
+        let mut coefficients = vec![0.0; py * px];
+        for (i, row) in coefficients.chunks_exact_mut(px).enumerate() {
+            let oy = if i <= ny { i as f64 } else { i as f64 - py as f64 };
+            for (j, c) in row.iter_mut().enumerate() {
+                let ox = if j <= nx { j as f64 } else { j as f64 - px as f64 };
+                *c = love_rectangle(ox * dx, oy * dy, dx / 2.0, dy / 2.0) / (std::f64::consts::PI * e_star);
+            }
+        }
+        let fft = Fft2::new(py, px);
+        let mut spectrum = fft.make_spectrum();
+        let mut work = fft.make_work();
+        fft.forward(&coefficients, py, px, &mut spectrum, &mut work);
+        let norm = 1.0 / (py * px) as f64;
+        let kernel = spectrum.iter().map(|c| c.re * norm).collect();
+        Self::with_kernel(ny, nx, fft, kernel)
+    }
+
+    fn with_kernel(ny: usize, nx: usize, fft: Fft2, kernel: Vec<f64>) -> Self {
+        let spectrum = fft.make_spectrum();
+        let work = fft.make_work();
+        Influence { ny, nx, fft, kernel, spectrum, work }
+    }
+
+    /// Window shape (ny, nx).
+    pub fn shape(&self) -> (usize, usize) {
+        (self.ny, self.nx)
+    }
+
+    /// Displacement [m] of the window's points under `pressure` [Pa], both row-major (ny, nx).
+    pub fn apply(&mut self, pressure: &[f64], displacement: &mut [f64]) {
+        let Influence { ny, nx, fft, kernel, spectrum, work } = self;
+        fft.forward(pressure, *ny, *nx, spectrum, work);
+        spectrum.iter_mut().zip(kernel.iter()).for_each(|(s, k)| *s *= *k);
+        fft.inverse(spectrum, displacement, *ny, *nx, work);
+    }
+}
+
+/// ∫∫ dx' dy' / r over the rectangle [−a, a] × [−b, b], seen from the point (x, y) [m²/m = m].
+/// Times p / (π E*), it is the surface displacement under a uniform pressure p on the rectangle
+/// (Love's solution).
+fn love_rectangle(x: f64, y: f64, a: f64, b: f64) -> f64 {
+    corner(x + a, y + b) - corner(x + a, y - b) - corner(x - a, y + b) + corner(x - a, y - b)
+}
+
+/// A primitive F(X, Y) of 1/√(X² + Y²) in both variables, valid in every quadrant: the
+/// first-quadrant integral X·asinh(Y/X) + Y·asinh(X/Y) extended oddly in X and in Y.
+fn corner(x: f64, y: f64) -> f64 {
+    let (ax, ay) = (x.abs(), y.abs());
+    if ax == 0.0 || ay == 0.0 {
+        return 0.0;
+    }
+    x.signum() * y.signum() * (ax * (ay / ax).asinh() + ay * (ax / ay).asinh())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn love_centre_of_a_square_is_johnsons_closed_form() {
+        // Johnson (3.25): centre of a square of side 2a: ∫∫ 1/r = 8 a ln(1 + √2).
+        let a = 0.7;
+        let want = 8.0 * a * (1.0 + 2f64.sqrt()).ln();
+        assert!((love_rectangle(0.0, 0.0, a, a) - want).abs() < 1e-14 * want);
+    }
+
+    #[test]
+    fn love_far_field_is_a_point_force() {
+        // Far away, the rectangle acts as a point load of area 4ab: ∫∫ 1/r → 4ab / r.
+        let (a, b) = (0.5, 0.25);
+        for &(x, y) in &[(40.0, 3.0), (-25.0, 30.0), (0.0, -60.0)] {
+            let r: f64 = f64::hypot(x, y);
+            let got = love_rectangle(x, y, a, b);
+            assert!((got - 4.0 * a * b / r).abs() < 1e-3 * got, "{got} at ({x},{y})");
+        }
+    }
+
+    #[test]
+    fn periodic_operator_on_a_sinusoid_is_westergaard() {
+        // p = cos(2πx/λ) ⇒ u = 2/(E* q) cos(2πx/λ), q = 2π/λ.
+        let (ny, nx, lx, ly, e) = (4, 32, 2e-6, 0.25e-6, 1e11);
+        let mut op = Influence::periodic(ny, nx, (lx, ly), e);
+        let p: Vec<f64> =
+            (0..ny * nx).map(|i| (2.0 * std::f64::consts::PI * (i % nx) as f64 / nx as f64).cos()).collect();
+        let mut u = vec![0.0; ny * nx];
+        op.apply(&p, &mut u);
+        let amp = 2.0 / (e * 2.0 * std::f64::consts::PI / lx);
+        for (ui, pi) in u.iter().zip(&p) {
+            assert!((ui - amp * pi).abs() < 1e-12 * amp);
+        }
+    }
+
+    #[test]
+    fn free_operator_matches_direct_summation() {
+        let (ny, nx, lx, ly, e) = (5, 7, 7e-6, 4e-6, 2e11);
+        let mut op = Influence::free(ny, nx, (lx, ly), e);
+        let p: Vec<f64> = (0..ny * nx).map(|i| ((i * 37) % 11) as f64 * 1e6).collect();
+        let mut u = vec![0.0; ny * nx];
+        op.apply(&p, &mut u);
+        let (dx, dy) = (lx / nx as f64, ly / ny as f64);
+        for i in 0..ny {
+            for j in 0..nx {
+                let mut want = 0.0;
+                for k in 0..ny {
+                    for l in 0..nx {
+                        let (ox, oy) = ((j as f64 - l as f64) * dx, (i as f64 - k as f64) * dy);
+                        want += p[k * nx + l] * love_rectangle(ox, oy, dx / 2.0, dy / 2.0);
+                    }
+                }
+                want /= std::f64::consts::PI * e;
+                assert!((u[i * nx + j] - want).abs() < 1e-12 * want.abs().max(1e-30), "({i},{j})");
+            }
+        }
+    }
+}

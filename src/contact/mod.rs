@@ -1,0 +1,123 @@
+//! Elastic normal contact of a rigid rough surface on an elastic half-space, by the boundary
+//! integral method on an FFT grid (the pipeline's second stage).
+//!
+//! - [`influence`]: the half-space operators u = K p (periodic, free boundary);
+//! - [`solver`]: the Polonsky–Keer constrained conjugate gradient at imposed load;
+//! - [`patches`]: contact patches (4-connected clusters);
+//! - here: materials, the contact state and the distribution of local pressure.
+
+pub mod influence;
+pub mod patches;
+pub mod solver;
+
+pub use influence::{Boundary, Influence};
+pub use solver::{ContactSolver, SolveReport, SolverOptions};
+
+use crate::error::{Error, Result};
+
+/// An isotropic linear elastic material.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Material {
+    /// Young's modulus E [Pa].
+    pub youngs: f64,
+    /// Poisson's ratio ν, in (−1, 0.5).
+    pub poisson: f64,
+}
+
+impl Material {
+    /// Silicon as in the paper: E = 130 GPa, ν = 0.26.
+    pub const SILICON: Material = Material { youngs: 130e9, poisson: 0.26 };
+
+    /// A validated material. `option` names where the values came from, for the error.
+    pub fn new(youngs: f64, poisson: f64, option: &str) -> Result<Self> {
+        if !(youngs > 0.0 && youngs.is_finite()) {
+            return Err(Error::invalid(
+                format!("{option} Young's modulus"),
+                format!("must be positive, got {youngs} Pa"),
+            ));
+        }
+        if !(poisson > -1.0 && poisson < 0.5) {
+            return Err(Error::invalid(
+                format!("{option} Poisson's ratio"),
+                format!("must lie in (−1, 0.5), got {poisson}"),
+            ));
+        }
+        Ok(Material { youngs, poisson })
+    }
+
+    /// Plane-strain modulus E / (1 − ν²) [Pa]: the effective modulus E* of this body pressed
+    /// by a rigid one.
+    pub fn plane_strain_modulus(&self) -> f64 {
+        self.youngs / (1.0 - self.poisson * self.poisson)
+    }
+}
+
+/// Effective modulus E* [Pa] of two elastic bodies: 1/E* = (1 − ν1²)/E1 + (1 − ν2²)/E2.
+pub fn combined_modulus(a: &Material, b: &Material) -> f64 {
+    1.0 / (1.0 / a.plane_strain_modulus() + 1.0 / b.plane_strain_modulus())
+}
+
+/// Summary of a contact state, from its pressure map.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ContactSummary {
+    /// Pixels with p > 0.
+    pub contact_points: usize,
+    /// Fraction of the window in contact.
+    pub contact_fraction: f64,
+    /// Real contact area [m²].
+    pub contact_area: f64,
+    /// Sizes of the contact patches in pixels, largest first.
+    pub patch_sizes: Vec<usize>,
+}
+
+/// Contact points, area and patches of the pressure map `pressure` [Pa] (row-major, `shape`)
+/// on a window of physical size `size` [m].
+pub fn summarize(pressure: &[f64], shape: (usize, usize), size: (f64, f64), boundary: Boundary) -> ContactSummary {
+    let mask: Vec<bool> = pressure.iter().map(|p| *p > 0.0).collect();
+    let contact_points = mask.iter().filter(|m| **m).count();
+    let (_, mut patch_sizes) = patches::label(&mask, shape, boundary == Boundary::Periodic);
+    patch_sizes.sort_unstable_by(|a, b| b.cmp(a));
+    let fraction = contact_points as f64 / pressure.len() as f64;
+    ContactSummary { contact_points, contact_fraction: fraction, contact_area: fraction * size.0 * size.1, patch_sizes }
+}
+
+/// Probability density p(σ) of the local normal stress σ over the contact points: `bins`
+/// equal bins from 0 to the largest pressure. Returns (bin centre [Pa], density [1/Pa]).
+pub fn pressure_density(pressure: &[f64], bins: usize) -> Vec<(f64, f64)> {
+    let contact: Vec<f64> = pressure.iter().copied().filter(|p| *p > 0.0).collect();
+    let max = contact.iter().copied().fold(0.0, f64::max);
+    if contact.is_empty() || bins == 0 {
+        return Vec::new();
+    }
+    let width = max / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for p in &contact {
+        counts[((p / width) as usize).min(bins - 1)] += 1;
+    }
+    let norm = 1.0 / (contact.len() as f64 * width);
+    counts.iter().enumerate().map(|(i, c)| ((i as f64 + 0.5) * width, *c as f64 * norm)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn moduli() {
+        let si = Material::SILICON;
+        assert!((si.plane_strain_modulus() - 130e9 / (1.0 - 0.26 * 0.26)).abs() < 1.0);
+        // Two equal bodies: half the plane-strain modulus.
+        assert!((combined_modulus(&si, &si) - si.plane_strain_modulus() / 2.0).abs() < 1.0);
+        assert!(Material::new(1e9, 0.5, "--poisson").is_err());
+        assert!(Material::new(-1e9, 0.3, "--youngs").is_err());
+    }
+
+    #[test]
+    fn density_integrates_to_one() {
+        let p: Vec<f64> = (0..1000).map(|i| if i % 3 == 0 { 0.0 } else { (i as f64).sqrt() }).collect();
+        let d = pressure_density(&p, 17);
+        let width = d[1].0 - d[0].0;
+        let total: f64 = d.iter().map(|(_, v)| v * width).sum();
+        assert!((total - 1.0).abs() < 1e-12);
+    }
+}
