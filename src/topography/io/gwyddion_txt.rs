@@ -5,7 +5,7 @@
 //! # Width: 12.34 µm
 //! # Height: 5678.9 nm
 //! # Value units: m
-//! 1	1.5	3
+//! 1    1.5    3           (tab-separated)
 //! ```
 //!
 //! Gwyddion translates the four labels into the language of its user interface, so they are
