@@ -100,9 +100,7 @@ impl Fft2 {
     /// kx outer, ky inner); ky is folded to the signed range (−ny/2, ny/2].
     pub fn wavevectors(&self) -> impl Iterator<Item = (usize, i64)> + '_ {
         let ny = self.ny as i64;
-        (0..self.nxh()).flat_map(move |kx| {
-            (0..ny).map(move |j| (kx, if j <= ny / 2 { j } else { j - ny }))
-        })
+        (0..self.nxh()).flat_map(move |kx| (0..ny).map(move |j| (kx, if j <= ny / 2 { j } else { j - ny })))
     }
 
     /// Forward transform of `input` (shape (in_ny, in_nx), placed at the grid's top-left corner,
@@ -131,7 +129,14 @@ impl Fft2 {
 
     /// Inverse transform of `spectrum` (destroyed) into `output` (shape (out_ny, out_nx), the
     /// grid's top-left corner). Unnormalised.
-    pub fn inverse(&self, spectrum: &mut [Complex64], output: &mut [f64], out_ny: usize, out_nx: usize, work: &mut Fft2Work) {
+    pub fn inverse(
+        &self,
+        spectrum: &mut [Complex64],
+        output: &mut [f64],
+        out_ny: usize,
+        out_nx: usize,
+        work: &mut Fft2Work,
+    ) {
         let (ny, nx, nxh) = (self.ny, self.nx, self.nxh());
         assert!(out_ny <= ny && out_nx <= nx && output.len() == out_ny * out_nx);
         assert_eq!(spectrum.len(), self.spectrum_len());

@@ -126,3 +126,42 @@ fn every_manifest_entry_is_reproduced() {
         .collect();
     assert!(failures.is_empty(), "{} of {} entries fail:\n{}", failures.len(), entries.len(), failures.join("\n"));
 }
+
+#[test]
+fn options_act_as_documented() {
+    let run = |file: &str, extra: &[&str]| {
+        let out = topo_info(&samples().join(file), extra);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        (out.status.success(), serde_json::from_slice::<Value>(&out.stdout).unwrap_or(Value::Null), stderr)
+    };
+    // A unit for a file that states none scales its heights; one that states its own refuses it.
+    let (ok, got, _) = run("xyz-1.txt", &["--height-unit", "nm", "--size", "4e-6"]);
+    assert!(ok);
+    assert_eq!(got["height_unit"], "nm");
+    assert_eq!(got["max_m"].as_f64(), Some(2e-9));
+    assert_eq!(got["physical_size_m"], serde_json::json!([4e-6, 4e-6]));
+    let (ok, _, stderr) = run("matrix-6.txt", &["--height-unit", "nm"]);
+    assert!(!ok && stderr.starts_with("error: --height-unit: ") && stderr.contains("matrix-6.txt states its own"));
+    // A size contradicting the file's, an unknown channel, a forced format.
+    let (ok, _, stderr) = run("sdf-1.sdf", &["--size", "1e-6"]);
+    assert!(!ok && stderr.contains("does not match the size 0.000007,0.000004 m"), "{stderr}");
+    let (ok, _, stderr) = run("wafer-roughness.gsf", &["--channel", "Phase"]);
+    assert!(!ok && stderr.contains("no channel 'Phase' (channels: 'Height')"), "{stderr}");
+    let (ok, got, _) = run("matrix-3.txt", &["--format", "matrix"]);
+    assert!(ok && got["format"] == "matrix" && got["nx"] == 256);
+    let (ok, _, stderr) = run("matrix-3.txt", &["--format", "xyz"]);
+    assert!(!ok && stderr.lines().count() == 1 && stderr.contains("not the 3 of an x y z point"), "{stderr}");
+}
+
+#[test]
+fn summary_states_units() {
+    let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["topo", "info"])
+        .arg(samples().join("matrix-3.txt"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("256 × 256 points"), "{text}");
+    assert!(text.contains("10.00 µm × 10.00 µm (pixel 39.06 nm × 39.06 nm)"), "{text}");
+    assert!(text.contains("rms          35.22 nm"), "{text}");
+}
