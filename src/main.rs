@@ -17,14 +17,19 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Topography files: what a file holds (`topo info`).
+    Topo(cli::topo::TopoArgs),
+}
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return cli::exit_on_usage_error(e),
     };
-    let result: asperity::Result<()> = match cli.command {};
+    let result: asperity::Result<()> = match cli.command {
+        Command::Topo(args) => cli::topo::run(args),
+    };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

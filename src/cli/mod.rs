@@ -1,5 +1,7 @@
 //! Command implementations: each parses its arguments (clap) and calls the library.
 
+pub mod topo;
+
 use std::process::ExitCode;
 
 /// Print a usage error as one line (help and version requests print in full) and exit 2.

@@ -5,7 +5,15 @@
 //! metres. Each format module knows only its own bytes; paths, options and the choice of
 //! channel are handled here once.
 
+mod gsf;
+mod gwyddion_txt;
+mod matrix;
 mod npy;
+mod sdf;
+mod text;
+mod xyz;
+
+pub use gsf::write_gsf;
 
 use std::path::Path;
 
@@ -49,7 +57,16 @@ pub trait Format: Sync {
 }
 
 /// Every format, in the order magic bytes are tried (most specific first).
-static FORMATS: &[&dyn Format] = &[&npy::Npy];
+static FORMATS: &[&dyn Format] = &[
+    &npy::Npy,
+    // Text formats after the binary ones; among them, a Gwyddion header before x y z points
+    // (tables of three columns) before any other table of numbers.
+    &gsf::Gsf,
+    &sdf::Sdf,
+    &gwyddion_txt::GwyddionTxt,
+    &xyz::Xyz,
+    &matrix::Matrix,
+];
 
 /// How to read a file: all fields optional.
 #[derive(Debug, Clone, Default)]
@@ -100,9 +117,16 @@ pub fn read_channels(path: &Path, format: Option<&str>) -> Result<(&'static str,
 
 /// Read one channel of the file at `path` as a topography in metres.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<Topography> {
+    read_listing(path, opts).map(|(topo, _)| topo)
+}
+
+/// Read one channel of the file at `path` as a topography in metres, with the names of all
+/// the file's channels.
+pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<String>)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let fmt = detect(path, &bytes, opts.format.as_deref())?;
     let mut channels = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+    let names = channels.iter().map(|c| c.name.clone()).collect();
     let index = choose_channel(&channels, opts.channel.as_deref()).map_err(|r| Error::file(path, r))?;
     let mut ch = channels.swap_remove(index);
 
@@ -126,28 +150,27 @@ pub fn read(path: &Path, opts: &ReadOptions) -> Result<Topography> {
         (Some(file), _) => Some(file),
         (None, user) => user,
     };
-    if fmt.is_bare() {
-        if physical_size.is_none() {
-            return Err(Error::file(
-                path,
-                "a bare array carries no physical size: give it with --size LX[,LY] (metres)",
-            ));
+    if fmt.is_bare() && physical_size.is_none() {
+        return Err(Error::file(path, "a bare array carries no physical size: give it with --size LX[,LY] (metres)"));
+    }
+    // The user's height unit (metres for a bare array) applies to a channel that states none.
+    if let Some(unit) = opts.height_unit.as_deref().or(fmt.is_bare().then_some("m")) {
+        if ch.unit.is_some() {
+            return Err(Error::invalid("--height-unit", format!("{} states its own height unit", path.display())));
         }
-        let unit = opts.height_unit.as_deref().unwrap_or("m");
         let scale = units::metres_per(unit)
             .ok_or_else(|| Error::invalid("--height-unit", format!("'{unit}' is not a length unit")))?;
         ch.data.mapv_inplace(|h| h * scale);
         ch.unit = Some(unit.to_string());
-    } else if opts.height_unit.is_some() {
-        return Err(Error::invalid("--height-unit", format!("{} states its own height unit", path.display())));
     }
-    Ok(Topography {
+    let topo = Topography {
         heights: ch.data,
         physical_size,
         periodic: false,
         channel: ch.name,
         provenance: Provenance { file: Some(path.to_path_buf()), format: fmt.name().to_string(), height_unit: ch.unit },
-    })
+    };
+    Ok((topo, names))
 }
 
 /// Sizes agree to 1e-6 relative (files round their sizes when they print them).

@@ -1,0 +1,229 @@
+//! `asperity topo …`: topography files. `info` tells what a file holds.
+
+use std::path::PathBuf;
+
+use clap::builder::PossibleValuesParser;
+use clap::{Args, Subcommand};
+use ndarray::Array2;
+use serde::Serialize;
+
+use asperity::topography::io::{self, ReadOptions};
+use asperity::Result;
+
+/// Topography files: read them, whatever the instrument.
+#[derive(Args)]
+pub struct TopoArgs {
+    #[command(subcommand)]
+    command: TopoCommand,
+}
+
+#[derive(Subcommand)]
+enum TopoCommand {
+    /// Print a file's grid, physical size, channels, height unit and height statistics.
+    Info(InfoArgs),
+}
+
+pub fn run(args: TopoArgs) -> Result<()> {
+    match args.command {
+        TopoCommand::Info(args) => info(args),
+    }
+}
+
+/// How to read a topography file: the options every `topo` command that reads one takes.
+#[derive(Args)]
+pub struct ReadArgs {
+    /// Topography file, in any format asperity reads (detected from its content and extension).
+    file: PathBuf,
+    /// Channel to read, by name or 0-based index [default: the first height channel].
+    #[arg(long, value_name = "C")]
+    channel: Option<String>,
+    /// Physical size in metres, LX or LX,LY (LY defaults to LX): needed for a bare array
+    /// (.npy), checked against the size a file states.
+    #[arg(long, value_name = "LX[,LY]", value_parser = parse_size)]
+    size: Option<(f64, f64)>,
+    /// Unit of the heights of a file that states none (m, mm, µm, nm, Å); a bare array
+    /// defaults to m.
+    #[arg(long, value_name = "U")]
+    height_unit: Option<String>,
+    /// File format, overriding detection.
+    #[arg(long, value_name = "F", value_parser = PossibleValuesParser::new(io::format_names()))]
+    format: Option<String>,
+}
+
+impl ReadArgs {
+    fn options(&self) -> ReadOptions {
+        ReadOptions {
+            format: self.format.clone(),
+            channel: self.channel.clone(),
+            physical_size: self.size,
+            height_unit: self.height_unit.clone(),
+        }
+    }
+}
+
+/// `LX` or `LX,LY` in metres.
+fn parse_size(s: &str) -> std::result::Result<(f64, f64), String> {
+    let number = |t: &str| t.trim().parse::<f64>().map_err(|_| format!("'{t}' is not a length in metres"));
+    match s.split_once(',') {
+        Some((lx, ly)) => Ok((number(lx)?, number(ly)?)),
+        None => number(s).map(|l| (l, l)),
+    }
+}
+
+#[derive(Args)]
+struct InfoArgs {
+    #[command(flatten)]
+    read: ReadArgs,
+    /// Print JSON: nx, ny, physical_size_m [m] (null when unknown), channels, channel,
+    /// height_unit, mean_m, rms_m, min_m, max_m [m], missing_points.
+    #[arg(long)]
+    json: bool,
+}
+
+/// What `topo info --json` prints.
+#[derive(Serialize)]
+struct Info {
+    file: PathBuf,
+    format: String,
+    nx: usize,
+    ny: usize,
+    physical_size_m: Option<[f64; 2]>,
+    channels: Vec<String>,
+    channel: String,
+    height_unit: Option<String>,
+    mean_m: Option<f64>,
+    rms_m: Option<f64>,
+    min_m: Option<f64>,
+    max_m: Option<f64>,
+    missing_points: usize,
+}
+
+fn info(args: InfoArgs) -> Result<()> {
+    let (topo, channels) = io::read_listing(&args.read.file, &args.read.options())?;
+    let stats = Stats::of(&topo.heights);
+    let info = Info {
+        file: args.read.file,
+        format: topo.provenance.format.clone(),
+        nx: topo.nx(),
+        ny: topo.ny(),
+        physical_size_m: topo.physical_size.map(|(lx, ly)| [lx, ly]),
+        channels,
+        channel: topo.channel.clone(),
+        height_unit: topo.provenance.height_unit.clone(),
+        mean_m: stats.as_ref().map(|s| s.mean),
+        rms_m: stats.as_ref().map(|s| s.rms),
+        min_m: stats.as_ref().map(|s| s.min),
+        max_m: stats.as_ref().map(|s| s.max),
+        missing_points: topo.missing_points(),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&info).expect("plain data serialises"));
+    } else {
+        print!("{}", summary(&info));
+    }
+    Ok(())
+}
+
+/// Heights over the defined (non-NaN) points [m].
+struct Stats {
+    mean: f64,
+    /// Population standard deviation.
+    rms: f64,
+    min: f64,
+    max: f64,
+}
+
+impl Stats {
+    /// `None` when every point is missing.
+    fn of(heights: &Array2<f64>) -> Option<Stats> {
+        let defined = || heights.iter().copied().filter(|h| !h.is_nan());
+        let n = defined().count();
+        if n == 0 {
+            return None;
+        }
+        let mean = defined().sum::<f64>() / n as f64;
+        // Deviations from the mean, not the mean of squares: heights of nm on an offset of µm
+        // would lose their digits.
+        let rms = (defined().map(|h| (h - mean).powi(2)).sum::<f64>() / n as f64).sqrt();
+        let min = defined().fold(f64::INFINITY, f64::min);
+        let max = defined().fold(f64::NEG_INFINITY, f64::max);
+        Some(Stats { mean, rms, min, max })
+    }
+}
+
+/// The readable form of `info`, one quantity a line, lengths with SI prefixes.
+fn summary(info: &Info) -> String {
+    let quoted = |names: &[String]| names.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ");
+    let mut s = format!("file         {} ({})\n", info.file.display(), info.format);
+    s += &format!("channels     {}\n", quoted(&info.channels));
+    s += &format!("channel      '{}'\n", info.channel);
+    s += &format!("grid         {} × {} points (nx × ny)\n", info.nx, info.ny);
+    s += &match info.physical_size_m {
+        Some([lx, ly]) => format!(
+            "size         {} × {} (pixel {} × {})\n",
+            metres(lx),
+            metres(ly),
+            metres(lx / info.nx as f64),
+            metres(ly / info.ny as f64)
+        ),
+        None => "size         not stated in the file (give it with --size LX[,LY], metres)\n".into(),
+    };
+    s += &match &info.height_unit {
+        Some(u) => format!("height unit  {u}\n"),
+        None => "height unit  not stated in the file (values taken as metres; see --height-unit)\n".into(),
+    };
+    let total = info.nx * info.ny;
+    match (info.mean_m, info.rms_m, info.min_m, info.max_m) {
+        (Some(mean), Some(rms), Some(min), Some(max)) => {
+            s += &format!("mean         {}\n", metres(mean));
+            s += &format!("rms          {}\n", metres(rms));
+            s += &format!("min, max     {}, {}\n", metres(min), metres(max));
+        }
+        _ => s += "heights      none defined\n",
+    }
+    s += &format!("missing      {} of {total} points\n", info.missing_points);
+    s
+}
+
+/// A length with an SI prefix and four significant digits: `-18.79 nm`, `10.00 µm`.
+fn metres(x: f64) -> String {
+    const PREFIXES: [(&str, f64); 7] =
+        [("km", 1e3), ("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12), ("fm", 1e-15)];
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x} m");
+    }
+    let (unit, scale) = PREFIXES.iter().copied().find(|&(_, s)| x.abs() >= s).unwrap_or(PREFIXES[6]);
+    let v = x / scale;
+    // The nudge keeps 10e-6 / 1e-6 = 9.999…8 at two decimals, as 10.00.
+    let decimals = (3 - (v.abs() * (1.0 + 1e-12)).log10().floor() as i32).clamp(0, 3) as usize;
+    format!("{v:.decimals$} {unit}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn statistics_over_defined_points() {
+        let h = Array2::from_shape_vec((2, 3), vec![1.0, f64::NAN, 2.0, 3.0, 4.0, f64::NAN]).unwrap();
+        let s = Stats::of(&h).unwrap();
+        assert_eq!((s.mean, s.min, s.max), (2.5, 1.0, 4.0));
+        assert!((s.rms - 1.25f64.sqrt()).abs() < 1e-15);
+        assert!(Stats::of(&Array2::from_elem((2, 2), f64::NAN)).is_none());
+    }
+
+    #[test]
+    fn lengths_read_well() {
+        assert_eq!(metres(10e-6), "10.00 µm");
+        assert_eq!(metres(-1.8790862671584778e-08), "-18.79 nm");
+        assert_eq!(metres(1.5), "1.500 m");
+        assert_eq!(metres(2e-16), "0.200 fm");
+    }
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_size("1e-6"), Ok((1e-6, 1e-6)));
+        assert_eq!(parse_size("1e-6, 2e-6"), Ok((1e-6, 2e-6)));
+        assert!(parse_size("10um").is_err());
+    }
+}
