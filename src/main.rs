@@ -18,6 +18,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Elastic normal contact of a topography at one or more loads: pressure maps and contact
+    /// statistics (boundary integral method).
+    Contact(cli::contact::ContactArgs),
     /// Topography files: what a file holds (`topo info`).
     Topo(cli::topo::TopoArgs),
 }
@@ -28,6 +31,7 @@ fn main() -> ExitCode {
         Err(e) => return cli::exit_on_usage_error(e),
     };
     let result: asperity::Result<()> = match cli.command {
+        Command::Contact(args) => cli::contact::run(args),
         Command::Topo(args) => cli::topo::run(args),
     };
     match result {

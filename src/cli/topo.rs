@@ -2,12 +2,13 @@
 
 use std::path::PathBuf;
 
-use clap::builder::PossibleValuesParser;
 use clap::{Args, Subcommand};
 use ndarray::Array2;
 use serde::Serialize;
 
-use asperity::topography::io::{self, ReadOptions};
+use asperity::topography::io;
+
+use super::ReadArgs;
 use asperity::Result;
 
 /// Topography files: read them, whatever the instrument.
@@ -26,47 +27,6 @@ enum TopoCommand {
 pub fn run(args: TopoArgs) -> Result<()> {
     match args.command {
         TopoCommand::Info(args) => info(args),
-    }
-}
-
-/// How to read a topography file: the options every `topo` command that reads one takes.
-#[derive(Args)]
-pub struct ReadArgs {
-    /// Topography file, in any format asperity reads (detected from its content and extension).
-    file: PathBuf,
-    /// Channel to read, by name or 0-based index [default: the first height channel].
-    #[arg(long, value_name = "C")]
-    channel: Option<String>,
-    /// Physical size in metres, LX or LX,LY (LY defaults to LX): needed for a bare array
-    /// (.npy), checked against the size a file states.
-    #[arg(long, value_name = "LX[,LY]", value_parser = parse_size)]
-    size: Option<(f64, f64)>,
-    /// Unit of the heights of a file that states none (m, mm, µm, nm, Å); a bare array
-    /// defaults to m.
-    #[arg(long, value_name = "U")]
-    height_unit: Option<String>,
-    /// File format, overriding detection.
-    #[arg(long, value_name = "F", value_parser = PossibleValuesParser::new(io::format_names()))]
-    format: Option<String>,
-}
-
-impl ReadArgs {
-    fn options(&self) -> ReadOptions {
-        ReadOptions {
-            format: self.format.clone(),
-            channel: self.channel.clone(),
-            physical_size: self.size,
-            height_unit: self.height_unit.clone(),
-        }
-    }
-}
-
-/// `LX` or `LX,LY` in metres.
-fn parse_size(s: &str) -> std::result::Result<(f64, f64), String> {
-    let number = |t: &str| t.trim().parse::<f64>().map_err(|_| format!("'{t}' is not a length in metres"));
-    match s.split_once(',') {
-        Some((lx, ly)) => Ok((number(lx)?, number(ly)?)),
-        None => number(s).map(|l| (l, l)),
     }
 }
 
@@ -218,12 +178,5 @@ mod tests {
         assert_eq!(metres(-1.8790862671584778e-08), "-18.79 nm");
         assert_eq!(metres(1.5), "1.500 m");
         assert_eq!(metres(2e-16), "0.200 fm");
-    }
-
-    #[test]
-    fn sizes_parse() {
-        assert_eq!(parse_size("1e-6"), Ok((1e-6, 1e-6)));
-        assert_eq!(parse_size("1e-6, 2e-6"), Ok((1e-6, 2e-6)));
-        assert!(parse_size("10um").is_err());
     }
 }

@@ -1,0 +1,129 @@
+//! `asperity contact` as users run it: the output contract and one-line errors on bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ndarray::Array2;
+use ndarray_npy::{read_npy, write_npy};
+
+fn asperity(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).output().unwrap()
+}
+
+fn fixture() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tamaas/heights.npy")
+}
+
+#[test]
+fn writes_contact_json_and_one_pressure_map_per_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let o = asperity(&[
+        "contact",
+        fixture().to_str().unwrap(),
+        "--size",
+        "8e-6,6e-6",
+        "--load",
+        "2e-3",
+        "--load",
+        "2e-4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("contact.json")).unwrap()).unwrap();
+    assert_eq!(json["grid"], serde_json::json!([96, 128]));
+    assert_eq!(json["physical_size_m"], serde_json::json!([8e-6, 6e-6]));
+    assert_eq!(json["boundary"], "periodic");
+    let e_star = json["effective_modulus_pa"].as_f64().unwrap();
+    assert!((e_star - 130e9 / (1.0 - 0.26 * 0.26)).abs() < 1.0);
+    let loads = json["loads"].as_array().unwrap();
+    assert_eq!(loads.len(), 2);
+    for (entry, load) in loads.iter().zip([2e-3, 2e-4]) {
+        for key in
+            ["mean_pressure_pa", "contact_fraction", "contact_points", "patches", "iterations", "residual", "seconds"]
+        {
+            assert!(entry[key].is_number(), "{key} missing in {entry}");
+        }
+        assert_eq!(entry["load_n"].as_f64().unwrap(), load);
+        let p: Array2<f64> = read_npy(out.join(entry["pressure_file"].as_str().unwrap())).unwrap();
+        assert_eq!(p.dim(), (96, 128));
+        let force = p.sum() * 8e-6 * 6e-6 / (96.0 * 128.0);
+        assert!((force / load - 1.0).abs() < 1e-10);
+        assert_eq!(p.iter().filter(|v| **v > 0.0).count() as u64, entry["contact_points"].as_u64().unwrap());
+    }
+    // The loads keep the user's numbering: the second (smaller) load is pressure-001.
+    assert_eq!(loads[1]["pressure_file"], "pressure-001.npy");
+    assert!(loads[1]["contact_points"].as_u64() < loads[0]["contact_points"].as_u64());
+}
+
+/// Runs `contact` with `args`, expects a failure with a one-line message containing `needle`,
+/// and no output directory.
+fn refused(args: &[&str], needle: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut all = vec!["contact"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    let o = asperity(&all);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} succeeded");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: not one line: {stderr}");
+    assert!(stderr.contains(needle), "{args:?}: '{needle}' not in: {stderr}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "{args:?} left files behind");
+}
+
+#[test]
+fn bad_input_is_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = fixture();
+    let good = f.to_str().unwrap();
+    let nan = dir.path().join("nan.npy");
+    let mut h: Array2<f64> = read_npy(&f).unwrap();
+    h[[3, 4]] = f64::NAN;
+    write_npy(&nan, &h).unwrap();
+    let inf = dir.path().join("inf.npy");
+    h[[3, 4]] = f64::INFINITY;
+    write_npy(&inf, &h).unwrap();
+    let thin = dir.path().join("thin.npy");
+    write_npy(&thin, &Array2::<f64>::zeros((1, 16))).unwrap();
+
+    let size = ["--size", "8e-6,6e-6"];
+    refused(&[nan.to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "nan.npy");
+    refused(&[inf.to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "inf.npy");
+    refused(&[good, size[0], size[1], "--load", "0"], "--load");
+    refused(&[good, size[0], size[1], "--load", "1e-3,-2e-3"], "--load");
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--youngs", "-1e9"], "Young's modulus");
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--youngs", "0"], "Young's modulus");
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--poisson", "0.5"], "Poisson");
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--poisson", "-1"], "Poisson");
+    refused(&[thin.to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "too small");
+    refused(&[good, "--load", "1e-3"], "--size");
+    refused(&[good, size[0], "abc", "--load", "1e-3"], "--size");
+    refused(&[good, "--size", "8e-6,-6e-6", "--load", "1e-3"], "--size");
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples");
+    let gsf = samples.join("wafer-roughness.gsf");
+    refused(&[gsf.to_str().unwrap(), "--size", "1e-6,1e-6", "--load", "1e-3"], "does not match");
+    refused(&[dir.path().join("absent.npy").to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "absent.npy");
+}
+
+#[test]
+fn full_contact_is_a_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("full");
+    let o = asperity(&[
+        "contact",
+        fixture().to_str().unwrap(),
+        "--size",
+        "8e-6,6e-6",
+        "--load",
+        "50",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("contact.json")).unwrap()).unwrap();
+    assert_eq!(json["loads"][0]["contact_fraction"].as_f64(), Some(1.0));
+}
