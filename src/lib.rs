@@ -9,6 +9,7 @@
 pub mod contact;
 pub mod error;
 pub mod fft;
+pub mod friction;
 pub mod output;
 pub mod topography;
 

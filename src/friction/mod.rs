@@ -1,0 +1,17 @@
+//! The stick-slip transition model of Peng, Roch, Bonn & Weber (PRL 134, 176202, 2025).
+//!
+//! Each contact pixel is an element of normal force n_i = p_i · a; it stays stuck while its
+//! shear is below mu_s · n_i and carries mu_d · n_i once slipped. The tangential load is
+//! shared equally by the stuck elements and the excess a slipping element releases is
+//! redistributed over them (a fibre bundle with equal load sharing). From a pressure map
+//! and a [`FrictionLaw`] this module computes the [`Onset`] of sliding (static friction,
+//! friction drop, critical / pre-sliding / subcritical elements, their maps) and the
+//! friction–displacement [`Curve`].
+
+mod curve;
+mod law;
+mod onset;
+
+pub use curve::{write_curves_csv, Curve, CurvePoint, Loading};
+pub use law::{law_from_curve, parse_curve, CurveError, FrictionLaw, PRESETS};
+pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
