@@ -21,6 +21,8 @@ enum Command {
     /// Elastic normal contact of a topography at one or more loads: pressure maps and contact
     /// statistics (boundary integral method).
     Contact(cli::contact::ContactArgs),
+    /// Static friction, friction drop and element classes from a pressure map (stick-slip model)
+    Onset(cli::onset::Args),
     /// Topography files: what a file holds (`topo info`).
     Topo(cli::topo::TopoArgs),
 }
@@ -32,6 +34,7 @@ fn main() -> ExitCode {
     };
     let result: asperity::Result<()> = match cli.command {
         Command::Contact(args) => cli::contact::run(args),
+        Command::Onset(args) => cli::onset::run(args),
         Command::Topo(args) => cli::topo::run(args),
     };
     match result {

@@ -1,6 +1,7 @@
 //! Command implementations: each parses its arguments (clap) and calls the library.
 
 pub mod contact;
+pub mod onset;
 pub mod topo;
 
 use std::path::PathBuf;

@@ -28,10 +28,16 @@ impl FrictionLaw {
     /// A law from its two coefficients; errors name the option (`--mu-s`, `--mu-d`) at fault.
     pub fn new(mu_s: f64, mu_d: f64) -> Result<Self> {
         if !(mu_d.is_finite() && mu_d > 0.0) {
-            return Err(Error::invalid("--mu-d", format!("the dynamic friction coefficient must be positive and finite, got {mu_d}")));
+            return Err(Error::invalid(
+                "--mu-d",
+                format!("the dynamic friction coefficient must be positive and finite, got {mu_d}"),
+            ));
         }
         if !mu_s.is_finite() {
-            return Err(Error::invalid("--mu-s", format!("the static friction coefficient must be finite, got {mu_s}")));
+            return Err(Error::invalid(
+                "--mu-s",
+                format!("the static friction coefficient must be finite, got {mu_s}"),
+            ));
         }
         if mu_s < mu_d {
             return Err(Error::invalid(
@@ -71,7 +77,9 @@ impl FrictionLaw {
             CurveError::Window(reason) => Error::invalid("--window", format!("{}: {reason}", path.display())),
             CurveError::Content(reason) => Error::file(path, reason),
         })?;
-        Ok(FrictionLaw::new(mu_s, mu_d).map_err(|e| Error::file(path, e.to_string()))?.named(path.display().to_string()))
+        Ok(FrictionLaw::new(mu_s, mu_d)
+            .map_err(|e| Error::file(path, e.to_string()))?
+            .named(path.display().to_string()))
     }
 }
 
@@ -111,7 +119,9 @@ pub fn parse_curve(text: &str) -> std::result::Result<Vec<(f64, f64)>, String> {
         }
         if let Some(&(prev, _)) = points.last() {
             if x < prev {
-                return Err(format!("line {line}: displacement {x} decreases (after {prev}); order the curve by displacement"));
+                return Err(format!(
+                    "line {line}: displacement {x} decreases (after {prev}); order the curve by displacement"
+                ));
             }
         }
         points.push((x, y));

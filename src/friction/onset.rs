@@ -42,7 +42,10 @@ impl ElementLoads {
     /// Elements given by their normal forces [N], each positive and finite.
     pub fn from_forces(forces: &[f64]) -> Result<Self> {
         if let Some((i, f)) = forces.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
-            return Err(Error::invalid("normal forces", format!("element {i} has force {f} N; each must be positive and finite")));
+            return Err(Error::invalid(
+                "normal forces",
+                format!("element {i} has force {f} N; each must be positive and finite"),
+            ));
         }
         Self::from_unsorted(forces.to_vec(), "normal forces", "no element")
     }
@@ -212,7 +215,7 @@ impl Onset {
         let (fs, g) = best.expect("ElementLoads is never empty");
         let n_total = loads.total();
         let subcritical_count = m - g.start - g.count;
-        let subcritical_normal: f64 = sorted[g.start + g.count..].iter().sum();
+        let subcritical_normal = sorted[g.start + g.count..].iter().fold(0.0, |sum, &x| sum + x);
         let stuck_shear = law.mu_s * g.n;
         Onset {
             law: law.clone(),

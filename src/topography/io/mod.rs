@@ -8,7 +8,7 @@
 mod gsf;
 mod gwyddion_txt;
 mod matrix;
-mod npy;
+pub mod npy;
 mod sdf;
 mod text;
 mod xyz;

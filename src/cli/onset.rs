@@ -1,0 +1,324 @@
+//! `asperity onset`: the stick-slip transition model on one contact pressure map.
+
+use std::path::{Path, PathBuf};
+
+use asperity::friction::{write_curves_csv, ClassShare, Curve, ElementLoads, FrictionLaw, Loading, Onset};
+use asperity::output::{write_json, write_npy, StagedDir};
+use asperity::{Error, Result};
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+/// Static friction coefficient, friction drop and the critical, pre-sliding and subcritical
+/// elements at the onset of sliding (the stick-slip transition model with equal load
+/// sharing), from a contact pressure map.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// A pressure map PRESSURE.npy [Pa], shape (ny, nx), or the output directory of
+    /// `asperity contact` (its contact.json and pressure files).
+    pub input: PathBuf,
+    /// Local static friction coefficient mu_s (dimensionless, ≥ mu_d).
+    #[arg(long, allow_negative_numbers = true)]
+    pub mu_s: Option<f64>,
+    /// Local dynamic friction coefficient mu_d (dimensionless, > 0).
+    #[arg(long, allow_negative_numbers = true)]
+    pub mu_d: Option<f64>,
+    /// Name of the local law. Alone, a preset: "hold 100 s" or "hold 10 s" (ILLUSTRATIVE
+    /// placeholder values, not the paper's measurements); with --mu-s/--mu-d or --curve, a
+    /// label for that law.
+    #[arg(long)]
+    pub law: Option<String>,
+    /// A measured nanoscale friction curve, CSV of (displacement, friction coefficient):
+    /// mu_s is its peak, mu_d its mean over --window after the peak.
+    #[arg(long, conflicts_with_all = ["mu_s", "mu_d"])]
+    pub curve: Option<PathBuf>,
+    /// START,END past the peak of --curve over which mu_d is averaged, in the curve's
+    /// displacement unit [default: every point after the peak].
+    #[arg(long, requires = "curve", value_delimiter = ',', value_name = "START,END", allow_hyphen_values = true)]
+    pub window: Option<Vec<f64>>,
+    /// Print the result as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Write onset.json, classes.npy (int8: 0 no contact, 1 pre-sliding, 2 critical,
+    /// 3 subcritical), stress_ratio.npy (float64, NaN out of contact), curve.csv and
+    /// stress_ratio_<f>.npy snapshots into this directory (replaced as a whole).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Area of one pixel of a bare PRESSURE.npy [m²] (only forces in newtons need it).
+    #[arg(long, conflicts_with = "size", allow_negative_numbers = true)]
+    pub pixel_area: Option<f64>,
+    /// Physical size LX[,LY] of a bare PRESSURE.npy [m] (LY defaults to LX), for forces in
+    /// newtons.
+    #[arg(long, value_delimiter = ',', value_name = "LX[,LY]", allow_hyphen_values = true)]
+    pub size: Option<Vec<f64>>,
+    /// Which load of a contact directory: 0-based index into contact.json "loads" (needed
+    /// when it holds more than one).
+    #[arg(long)]
+    pub load_index: Option<usize>,
+    /// Displacements δ/δ_peak (dimensionless, in (0, 1]) of the stress-ratio snapshots
+    /// written with --out.
+    #[arg(long, value_delimiter = ',', default_value = "0.25,0.5,0.75,1", allow_hyphen_values = true)]
+    pub snapshots: Vec<f64>,
+    /// Shear stiffness k_t of one element [N/m]: curve.csv then states δ = s / k_t in metres
+    /// (its delta_m column); without it that column is empty.
+    #[arg(long, allow_negative_numbers = true)]
+    pub shear_stiffness: Option<f64>,
+    /// Most rows per loading mode in curve.csv (the peak is always kept exactly).
+    #[arg(long, default_value_t = 2000)]
+    pub curve_rows: usize,
+}
+
+/// The part of `asperity contact`'s contact.json this command reads.
+#[derive(Deserialize)]
+struct ContactResult {
+    grid: [usize; 2],
+    physical_size_m: [f64; 2],
+    loads: Vec<ContactLoad>,
+}
+
+#[derive(Deserialize)]
+struct ContactLoad {
+    load_n: f64,
+    pressure_file: String,
+}
+
+/// A pressure map and what is known of it.
+struct Input {
+    pressure: Array2<f64>,
+    path: PathBuf,
+    /// [m²]; `None` for a bare map without --size or --pixel-area.
+    pixel_area: Option<f64>,
+    /// The load index and its imposed load [N], for a contact directory.
+    load: Option<(usize, f64)>,
+}
+
+#[derive(Serialize)]
+struct LawReport<'a> {
+    name: Option<&'a str>,
+    mu_s: f64,
+    mu_d: f64,
+}
+
+/// onset.json, and what --json prints.
+#[derive(Serialize)]
+struct Report<'a> {
+    input: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    load_index: Option<usize>,
+    law: LawReport<'a>,
+    elements: usize,
+    static_coefficient: f64,
+    dynamic_coefficient: f64,
+    friction_drop: f64,
+    critical: ClassShare,
+    pre_sliding: ClassShare,
+    subcritical: ClassShare,
+    /// k*: how many elements slipped before the peak.
+    critical_index: usize,
+    /// Pressure of the critical elements [Pa].
+    critical_pressure_pa: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pixel_area_m2: Option<f64>,
+    /// N = Σ p_i · a [N].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    load_n: Option<f64>,
+    /// The imposed load of the contact solve [N].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    imposed_load_n: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    static_force_n: Option<f64>,
+    /// s* = mu_s · n_(k*): the shear of each stuck element at the peak [N] (= k_t · δ_peak).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    critical_shear_n: Option<f64>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let law = friction_law(&args)?;
+    if let Some(f) = args.snapshots.iter().find(|f| !(**f > 0.0 && **f <= 1.0)) {
+        return Err(Error::invalid("--snapshots", format!("δ/δ_peak must lie in (0, 1], got {f}")));
+    }
+    let input = read_input(&args)?;
+    // Without a pixel area the maps and coefficients are the same; only newtons are unknown.
+    let area = input.pixel_area.unwrap_or(1.0);
+    let loads = ElementLoads::from_pressure(&input.pressure, area).map_err(|e| match e {
+        Error::Invalid { option, reason } if option == "pressure map" => Error::file(&input.path, reason),
+        e => e,
+    })?;
+    let onset = Onset::new(&loads, &law);
+    let newtons = |x: f64| input.pixel_area.map(|_| x);
+    let report = Report {
+        input: input.path.display().to_string(),
+        load_index: input.load.map(|l| l.0),
+        law: LawReport { name: law.name.as_deref(), mu_s: law.mu_s, mu_d: law.mu_d },
+        elements: onset.elements,
+        static_coefficient: onset.static_coefficient(),
+        dynamic_coefficient: onset.dynamic_coefficient(),
+        friction_drop: onset.friction_drop(),
+        critical: onset.critical,
+        pre_sliding: onset.pre_sliding,
+        subcritical: onset.subcritical,
+        critical_index: onset.critical_index,
+        critical_pressure_pa: onset.critical_normal_force / area,
+        pixel_area_m2: input.pixel_area,
+        load_n: newtons(onset.normal_force),
+        imposed_load_n: input.load.map(|l| l.1),
+        static_force_n: newtons(onset.static_force),
+        critical_shear_n: newtons(onset.critical_shear()),
+    };
+
+    if let Some(dir) = &args.out {
+        let staged = StagedDir::new(dir)?;
+        write_json(&staged.path("onset.json"), &report)?;
+        write_npy(&staged.path("classes.npy"), &onset.class_map(&input.pressure, area))?;
+        write_npy(&staged.path("stress_ratio.npy"), &onset.stress_ratio_map(&input.pressure, area, 1.0)?)?;
+        let curves: Vec<Curve> = Loading::ALL.iter().map(|&m| Curve::new(&loads, &law, m, args.curve_rows)).collect();
+        write_curves_csv(
+            &staged.path("curve.csv"),
+            &curves,
+            onset.critical_shear(),
+            input.pixel_area.is_some(),
+            args.shear_stiffness,
+        )?;
+        for &f in &args.snapshots {
+            let map = onset.stress_ratio_map(&input.pressure, area, f)?;
+            write_npy(&staged.path(&format!("stress_ratio_{f}.npy")), &map)?;
+        }
+        staged.commit()?;
+    }
+
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("the report serialises"));
+    } else {
+        print_summary(&report);
+    }
+    Ok(())
+}
+
+/// The local law from --mu-s/--mu-d, --curve or a preset --law, labelled by --law.
+fn friction_law(args: &Args) -> Result<FrictionLaw> {
+    let window = match args.window.as_deref() {
+        None => None,
+        Some(&[start, end]) => Some((start, end)),
+        Some(w) => return Err(Error::invalid("--window", format!("expected START,END, got {} values", w.len()))),
+    };
+    let law = match (args.mu_s, args.mu_d, &args.curve, &args.law) {
+        (Some(mu_s), Some(mu_d), _, _) => FrictionLaw::new(mu_s, mu_d)?,
+        (Some(_), None, _, _) => return Err(Error::invalid("--mu-s", "needs --mu-d too")),
+        (None, Some(_), _, _) => return Err(Error::invalid("--mu-d", "needs --mu-s too")),
+        (_, _, Some(path), _) => FrictionLaw::from_curve_file(path, window)?,
+        (_, _, None, Some(name)) => return FrictionLaw::preset(name),
+        _ => {
+            return Err(Error::invalid(
+                "--mu-s",
+                "give the local friction law: --mu-s and --mu-d, --curve FILE.csv, or a preset --law NAME",
+            ))
+        }
+    };
+    Ok(match &args.law {
+        Some(name) => law.named(name.as_str()),
+        None => law,
+    })
+}
+
+fn read_input(args: &Args) -> Result<Input> {
+    if args.input.is_dir() {
+        if args.size.is_some() || args.pixel_area.is_some() {
+            let option = if args.size.is_some() { "--size" } else { "--pixel-area" };
+            return Err(Error::invalid(option, "not used with a contact directory: its contact.json gives the size"));
+        }
+        return read_contact_dir(&args.input, args.load_index);
+    }
+    if args.load_index.is_some() {
+        return Err(Error::invalid("--load-index", "only a contact directory holds several loads"));
+    }
+    let pressure = read_pressure(&args.input)?;
+    let (ny, nx) = pressure.dim();
+    let pixel_area = match (&args.size, args.pixel_area) {
+        (Some(size), _) => {
+            let (lx, ly) = match size[..] {
+                [lx] => (lx, lx),
+                [lx, ly] => (lx, ly),
+                _ => return Err(Error::invalid("--size", format!("expected LX[,LY], got {} values", size.len()))),
+            };
+            if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0) {
+                return Err(Error::invalid("--size", format!("sizes must be positive and finite, got {lx},{ly} m")));
+            }
+            Some(lx / nx as f64 * (ly / ny as f64))
+        }
+        (None, Some(a)) => {
+            if !(a.is_finite() && a > 0.0) {
+                return Err(Error::invalid("--pixel-area", format!("must be positive and finite, got {a} m²")));
+            }
+            Some(a)
+        }
+        (None, None) => None,
+    };
+    Ok(Input { pressure, path: args.input.clone(), pixel_area, load: None })
+}
+
+fn read_pressure(path: &Path) -> Result<Array2<f64>> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    asperity::topography::io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))
+}
+
+fn read_contact_dir(dir: &Path, load_index: Option<usize>) -> Result<Input> {
+    let json_path = dir.join("contact.json");
+    let text = std::fs::read_to_string(&json_path).map_err(|e| Error::io(&json_path, e))?;
+    let contact: ContactResult =
+        serde_json::from_str(&text).map_err(|e| Error::file(&json_path, format!("not a contact result: {e}")))?;
+    let [ny, nx] = contact.grid;
+    let [lx, ly] = contact.physical_size_m;
+    if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0 && nx > 0 && ny > 0) {
+        return Err(Error::file(&json_path, format!("grid {ny}×{nx} of size {lx}×{ly} m is not a valid surface")));
+    }
+    let count = contact.loads.len();
+    let index = match (load_index, count) {
+        (_, 0) => return Err(Error::file(&json_path, "it holds no load")),
+        (None, 1) => 0,
+        (None, _) => {
+            return Err(Error::invalid(
+                "--load-index",
+                format!("{} holds {count} loads: choose one, 0 to {}", json_path.display(), count - 1),
+            ))
+        }
+        (Some(i), _) if i >= count => {
+            return Err(Error::invalid(
+                "--load-index",
+                format!("{i} is out of range: {} holds {count} loads (0 to {})", json_path.display(), count - 1),
+            ))
+        }
+        (Some(i), _) => i,
+    };
+    let load = &contact.loads[index];
+    let path = dir.join(&load.pressure_file);
+    let pressure = read_pressure(&path)?;
+    if pressure.dim() != (ny, nx) {
+        let (a, b) = pressure.dim();
+        return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));
+    }
+    Ok(Input { pressure, path, pixel_area: Some(lx / nx as f64 * (ly / ny as f64)), load: Some((index, load.load_n)) })
+}
+
+fn print_summary(r: &Report) {
+    let law = match r.law.name {
+        Some(name) => format!("\"{name}\": mu_s {}, mu_d {}", r.law.mu_s, r.law.mu_d),
+        None => format!("mu_s {}, mu_d {}", r.law.mu_s, r.law.mu_d),
+    };
+    println!("{}  ({law})", r.input);
+    println!("elements            {}", r.elements);
+    if let (Some(n), Some(fs)) = (r.load_n, r.static_force_n) {
+        println!("normal load         {n:.6e} N");
+        println!("static friction     {fs:.6e} N");
+    }
+    println!("static coefficient  {:.6}", r.static_coefficient);
+    println!("dynamic coefficient {:.6}", r.dynamic_coefficient);
+    println!("friction drop       {:.6}", r.friction_drop);
+    println!("                    count       of N      of F_S");
+    for (name, s) in [("critical", r.critical), ("pre-sliding", r.pre_sliding), ("subcritical", r.subcritical)] {
+        println!(
+            "{name:<19} {:<11} {:>6.2} %  {:>6.2} %",
+            s.count,
+            100.0 * s.normal_fraction,
+            100.0 * s.friction_fraction
+        );
+    }
+}
