@@ -164,7 +164,7 @@ pub fn law_from_curve(points: &[(f64, f64)], window: Option<(f64, f64)>) -> Resu
         }
     };
     let mu_d = selected.iter().sum::<f64>() / selected.len() as f64;
-    if !(mu_d > 0.0) {
+    if mu_d <= 0.0 {
         return Err(CurveError::Content(format!("the mean friction after the peak is {mu_d}: mu_d must be positive")));
     }
     Ok((mu_s, mu_d))

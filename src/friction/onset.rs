@@ -175,9 +175,12 @@ pub struct ClassShare {
 /// The interface fails at F_S = max_k F_k; k* is the first maximiser: the force first
 /// reaches F_S there, after which F_k ≤ F_S for every k > k* and the held force slips them
 /// all (an avalanche to total sliding). Ties: elements of equal n reach mu_s at the same
-/// force and slip in one event (in any order, F does not depend on it); k* is always the
-/// first of its group, so all elements with n_i = n_(k*) are critical and none of them is
-/// pre-sliding.
+/// force, and once one slips the excess it hands on, (mu_s − mu_d)·n, pushes the others
+/// past mu_s, so they slip in one event (at mu_s = mu_d nothing is handed on, and nothing
+/// depends on it); their order within it (arbitrary here, lowest
+/// pixel index first in the tests' reference simulation) changes no force and no class.
+/// Hence k* is always the first of its group: all elements with n_i = n_(k*) are critical
+/// and none of them is pre-sliding.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Onset {
     /// The local law.
