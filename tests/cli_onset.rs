@@ -233,3 +233,24 @@ fn bad_input_is_one_line_and_leaves_no_output() {
     // clap's own usage errors are one line too.
     assert!(error_line(&asperity(&["onset", "p.npy", "--mu-s", "x", "--mu-d", "0.4"], dir)).contains("--mu-s"));
 }
+
+#[test]
+fn onset_reads_what_contact_writes() {
+    // `asperity contact` on the rough sphere of the Tamaas fixture, then `asperity onset` on
+    // its output directory: the drops of tests/friction_on_contact.rs at 0.2 and 20 mN.
+    let tmp = tempfile::tempdir().unwrap();
+    let heights = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tamaas/heights.npy");
+    let solve = ["contact", heights.to_str().unwrap(), "--size", "8e-6,6e-6", "--load", "2e-4,2e-2", "--out", "c"];
+    let out = asperity(&solve, tmp.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for (index, elements, drop) in [("0", 40, 1.09559), ("1", 2132, 1.05779)] {
+        let j = json(&asperity(
+            &["onset", "c", "--load-index", index, "--mu-s", "0.6", "--mu-d", "0.4", "--json"],
+            tmp.path(),
+        ));
+        assert_eq!(j["elements"], elements);
+        assert!((j["friction_drop"].as_f64().unwrap() / drop - 1.0).abs() < 1e-4, "{j}");
+        let (n, imposed) = (j["load_n"].as_f64().unwrap(), j["imposed_load_n"].as_f64().unwrap());
+        assert!((n / imposed - 1.0).abs() < 1e-9);
+    }
+}
