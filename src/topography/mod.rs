@@ -1,8 +1,15 @@
 //! Topographies: measured or synthetic height maps in metres, ready for the contact solver.
 //!
-//! Reading instrument files lives in [`io`], one module per format behind one registry.
+//! Reading instrument files lives in [`io`], one module per format behind one registry;
+//! preparing them in [`detrend`], [`missing`] and [`resample`] (crop, resample, compound);
+//! synthetic surfaces in [`synth`]; statistics and the power spectrum in [`stats`].
 
+pub mod detrend;
 pub mod io;
+pub mod missing;
+pub mod resample;
+pub mod stats;
+pub mod synth;
 pub mod units;
 
 use std::path::PathBuf;

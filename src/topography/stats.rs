@@ -1,0 +1,310 @@
+//! Statistics of a topography: height moments, RMS slope, isotropic power spectral density.
+//!
+//! PSD normalisation (as Jacobs, Junge & Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
+//! (2017), and SurfaceTopography): C(q) = |h̃(q)|² / A with h̃(q) = Σ h(x) e^(−iq·x) dx dy the
+//! Fourier transform over the window of area A = lx·ly, so C is in m⁴ and
+//! `h_rms² = ∫ C(q) d²q / (2π)²`, i.e. `h_rms² = (1/A) Σ_q C(q)` over the discrete wavevectors
+//! q = 2π (kx/lx, ky/ly). The isotropic C(q) averages the modes in annuli of width 2π/min(lx, ly).
+
+use std::f64::consts::PI;
+
+use super::missing::refuse_missing;
+use super::Topography;
+use crate::error::Result;
+use crate::fft::Fft2;
+
+/// Moments of the defined heights.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeightStats {
+    /// Mean height [m].
+    pub mean: f64,
+    /// RMS height about the mean (Rq, Sq) [m].
+    pub rms_height: f64,
+    /// Skewness m3/m2^(3/2) [1]; `NaN` for a flat map.
+    pub skewness: f64,
+    /// Kurtosis m4/m2² [1] (3 for Gaussian heights, not the excess); `NaN` for a flat map.
+    pub kurtosis: f64,
+    /// Number of defined (non-`NaN`) points.
+    pub defined: usize,
+}
+
+/// Height moments over the defined points (two passes: the mean, then central moments).
+pub fn height_stats(topo: &Topography) -> Result<HeightStats> {
+    let defined = topo.heights.len() - topo.missing_points();
+    if defined == 0 {
+        return Err(topo.error("every point is missing: no statistics"));
+    }
+    let n = defined as f64;
+    let mean = topo.heights.iter().filter(|h| !h.is_nan()).sum::<f64>() / n;
+    let (mut m2, mut m3, mut m4) = (0.0, 0.0, 0.0);
+    for &h in topo.heights.iter().filter(|h| !h.is_nan()) {
+        let d = h - mean;
+        let d2 = d * d;
+        m2 += d2;
+        m3 += d2 * d;
+        m4 += d2 * d2;
+    }
+    let (m2, m3, m4) = (m2 / n, m3 / n, m4 / n);
+    let (skewness, kurtosis) = if m2 > 0.0 { (m3 / m2.powf(1.5), m4 / (m2 * m2)) } else { (f64::NAN, f64::NAN) };
+    Ok(HeightStats { mean, rms_height: m2.sqrt(), skewness, kurtosis, defined })
+}
+
+/// RMS slope [1]: √(⟨(∂h/∂x)²⟩ + ⟨(∂h/∂y)²⟩) with each derivative a forward difference
+/// (h(i+1) − h(i))/dx averaged over the pairs of neighbouring defined points; a periodic map
+/// includes the pairs across its edges. Needs the physical size.
+pub fn rms_slope(topo: &Topography) -> Result<f64> {
+    let (dx, dy) = topo.pixel_size("the RMS slope")?;
+    let h = &topo.heights;
+    let (ny, nx) = h.dim();
+    let mean_square = |pairs: &mut dyn Iterator<Item = (f64, f64)>, d: f64| {
+        let (mut sum, mut count) = (0.0, 0usize);
+        for (a, b) in pairs.filter(|(a, b)| !a.is_nan() && !b.is_nan()) {
+            sum += ((b - a) / d).powi(2);
+            count += 1;
+        }
+        (count > 0).then(|| sum / count as f64)
+    };
+    let wrap = |n: usize| if topo.periodic && n > 1 { n } else { n.saturating_sub(1) };
+    let along_x =
+        mean_square(&mut (0..ny).flat_map(|j| (0..wrap(nx)).map(move |i| (h[(j, i)], h[(j, (i + 1) % nx)]))), dx);
+    let along_y =
+        mean_square(&mut (0..wrap(ny)).flat_map(|j| (0..nx).map(move |i| (h[(j, i)], h[((j + 1) % ny, i)]))), dy);
+    match (along_x, along_y) {
+        (None, None) => Err(topo.error("the RMS slope needs two neighbouring defined points")),
+        (x, y) => Ok((x.unwrap_or(0.0) + y.unwrap_or(0.0)).sqrt()),
+    }
+}
+
+/// A window applied to the heights before the Fourier transform.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Window {
+    /// None: right for periodic maps.
+    None,
+    /// Separable Hann window w(x)·w(y), w = sin²(πi/(n−1)), scaled so that ⟨w²⟩ = 1 (the
+    /// total power of a stationary surface is kept). Suppresses the leakage of a
+    /// non-periodic map's edges.
+    Hann,
+}
+
+impl Window {
+    /// No window for a periodic map, Hann otherwise.
+    pub fn default_for(topo: &Topography) -> Self {
+        if topo.periodic {
+            Window::None
+        } else {
+            Window::Hann
+        }
+    }
+
+    fn weights(self, n: usize) -> Vec<f64> {
+        match self {
+            Window::None => vec![1.0; n],
+            Window::Hann => {
+                let w: Vec<f64> = (0..n).map(|i| (PI * i as f64 / (n - 1).max(1) as f64).sin().powi(2)).collect();
+                let rms = (w.iter().map(|w| w * w).sum::<f64>() / n as f64).sqrt();
+                w.iter().map(|w| w / rms).collect()
+            }
+        }
+    }
+}
+
+/// The isotropic power spectral density.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Psd {
+    /// Wavevector |q| [rad/m]: the mean over the modes of each annulus, ascending.
+    pub q: Vec<f64>,
+    /// C(q) [m⁴]: the mean over the modes of each annulus.
+    pub c: Vec<f64>,
+    /// Number of Fourier modes (over the full q plane) in each annulus.
+    pub modes: Vec<usize>,
+}
+
+/// The isotropic PSD of `topo` after subtracting its mean and applying `window`; the q = 0
+/// mode is left out. Needs the physical size; refuses missing points.
+pub fn psd(topo: &Topography, window: Window) -> Result<Psd> {
+    refuse_missing(topo)?;
+    topo.pixel_size("the PSD")?;
+    let (lx, ly) = topo.physical_size.expect("checked by pixel_size");
+    let (ny, nx) = topo.heights.dim();
+    if nx < 4 || ny < 4 {
+        return Err(topo.error(format!("the PSD needs at least 4×4 points, the map has {nx}×{ny}")));
+    }
+    let mean = topo.heights.mean().expect("the map is not empty");
+    let (wx, wy) = (window.weights(nx), window.weights(ny));
+    let field: Vec<f64> = topo.heights.indexed_iter().map(|((j, i), &h)| (h - mean) * wx[i] * wy[j]).collect();
+    let plan = Fft2::new(ny, nx);
+    let mut spectrum = plan.make_spectrum();
+    plan.forward(&field, ny, nx, &mut spectrum, &mut plan.make_work());
+
+    let n = (nx * ny) as f64;
+    let norm = lx * ly / (n * n);
+    let dq = 2.0 * PI / lx.min(ly);
+    let mut bins: Vec<(f64, f64, usize)> = Vec::new();
+    for ((kx, ky), c) in plan.wavevectors().zip(&spectrum) {
+        if kx == 0 && ky == 0 {
+            continue;
+        }
+        // The half spectrum stores qx ≥ 0; interior qx columns stand for ±qx.
+        let weight = if kx == 0 || (nx % 2 == 0 && kx == nx / 2) { 1 } else { 2 };
+        let q = (2.0 * PI * kx as f64 / lx).hypot(2.0 * PI * ky as f64 / ly);
+        let b = (q / dq).round() as usize;
+        if b >= bins.len() {
+            bins.resize(b + 1, (0.0, 0.0, 0));
+        }
+        let bin = &mut bins[b];
+        bin.0 += weight as f64 * q;
+        bin.1 += weight as f64 * norm * c.norm_sqr();
+        bin.2 += weight;
+    }
+    let kept = bins.into_iter().filter(|b| b.2 > 0);
+    let (mut q, mut c, mut modes) = (Vec::new(), Vec::new(), Vec::new());
+    for (sq, sc, m) in kept {
+        q.push(sq / m as f64);
+        c.push(sc / m as f64);
+        modes.push(m);
+    }
+    Ok(Psd { q, c, modes })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::topography::resample::{crop, CropWindow};
+    use crate::topography::synth::{Amplitude, SelfAffine};
+    use crate::topography::Provenance;
+    use ndarray::Array2;
+
+    /// Least-squares slope of log C against log q over q_lo ≤ q ≤ q_hi.
+    pub(crate) fn log_slope(p: &Psd, q_lo: f64, q_hi: f64) -> f64 {
+        let pts: Vec<(f64, f64)> =
+            p.q.iter().zip(&p.c).filter(|(q, _)| (q_lo..=q_hi).contains(*q)).map(|(q, c)| (q.ln(), c.ln())).collect();
+        assert!(pts.len() >= 5, "only {} points between {q_lo} and {q_hi}", pts.len());
+        let n = pts.len() as f64;
+        let (mx, my) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+        let sxy: f64 = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+        let sxx: f64 = pts.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+        sxy / sxx
+    }
+
+    fn map(heights: Array2<f64>, size: (f64, f64), periodic: bool) -> Topography {
+        Topography {
+            heights,
+            physical_size: Some(size),
+            periodic,
+            channel: "test".into(),
+            provenance: Provenance { format: "test".into(), ..Default::default() },
+        }
+    }
+
+    fn surface(size: (f64, f64), grid: (usize, usize), hurst: f64) -> Topography {
+        let params = SelfAffine {
+            hurst,
+            rolloff_wavelength: None,
+            short_cutoff_wavelength: None,
+            long_cutoff_wavelength: None,
+            amplitude: Amplitude::RmsHeight(1e-8),
+        };
+        params.generate(size, grid, 11).unwrap()
+    }
+
+    #[test]
+    fn moments_of_a_two_valued_map() {
+        // One point in four at 1, the others at 0: mean 1/4, variance 3/16, skewness 2/√3,
+        // kurtosis 7/3.
+        let t = map(Array2::from_shape_fn((2, 4), |(_, i)| if i == 0 { 1.0 } else { 0.0 }), (1.0, 1.0), false);
+        let s = height_stats(&t).unwrap();
+        assert_eq!(s.defined, 8);
+        assert!((s.mean - 0.25).abs() < 1e-15);
+        assert!((s.rms_height - (3.0f64 / 16.0).sqrt()).abs() < 1e-15);
+        assert!((s.skewness - 2.0 / 3.0f64.sqrt()).abs() < 1e-14, "{}", s.skewness);
+        assert!((s.kurtosis - 7.0 / 3.0).abs() < 1e-14, "{}", s.kurtosis);
+    }
+
+    #[test]
+    fn rms_slope_of_a_plane_and_of_a_periodic_sine() {
+        let (nx, ny, l) = (40, 30, 4e-6);
+        let plane =
+            Array2::from_shape_fn((ny, nx), |(j, i)| 0.03 * i as f64 * l / nx as f64 - 0.04 * j as f64 * l / ny as f64);
+        let g = rms_slope(&map(plane, (l, l), false)).unwrap();
+        assert!((g - 0.05).abs() < 1e-14, "{g}");
+        // h = a sin(2πi/n): forward differences give a·2 sin(π/n)/dx with RMS over a period /√2.
+        let a = 1e-8;
+        let sine = Array2::from_shape_fn((ny, nx), |(_, i)| a * (2.0 * PI * i as f64 / nx as f64).sin());
+        let g = rms_slope(&map(sine, (l, l), true)).unwrap();
+        let expected = a * 2.0 * (PI / nx as f64).sin() / (l / nx as f64) / 2f64.sqrt();
+        assert!((g / expected - 1.0).abs() < 1e-12, "{g} vs {expected}");
+    }
+
+    #[test]
+    fn parseval_holds_to_round_off() {
+        // ∫ C d²q/(2π)² = (1/A) Σ_modes C = h_rms², on odd and even, non-square grids.
+        for (grid, size) in [((45, 32), (9e-6, 7e-6)), ((64, 64), (5e-6, 5e-6)), ((33, 17), (3e-6, 2e-6))] {
+            let t = surface(size, grid, 0.7);
+            for window in [Window::None, Window::Hann] {
+                let p = psd(&t, window).unwrap();
+                let total: f64 = p.c.iter().zip(&p.modes).map(|(c, m)| c * *m as f64).sum::<f64>() / (size.0 * size.1);
+                // The variance of the windowed field (the q = 0 mode is left out), computed directly.
+                let (wx, wy) = (window.weights(grid.0), window.weights(grid.1));
+                let mean = t.heights.mean().unwrap();
+                let windowed =
+                    Array2::from_shape_fn(t.heights.dim(), |(j, i)| (t.heights[(j, i)] - mean) * wx[i] * wy[j]);
+                let direct = windowed.var(0.0);
+                assert!((total / direct - 1.0).abs() < 1e-12, "{grid:?} {window:?}: {total} vs {direct}");
+                assert_eq!(p.modes.iter().sum::<usize>(), grid.0 * grid.1 - 1);
+            }
+            // Unwindowed, that is the RMS height.
+            let rms = height_stats(&t).unwrap().rms_height;
+            let p = psd(&t, Window::None).unwrap();
+            let total: f64 = p.c.iter().zip(&p.modes).map(|(c, m)| c * *m as f64).sum::<f64>() / (size.0 * size.1);
+            assert!((total / (rms * rms) - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_radial_integral_gives_the_rms_height() {
+        // (1/2π) ∫ q C(q) dq over the annuli of width dq (midpoint rule): within a few per cent,
+        // the annuli at small q holding not quite 2πq·dq·A/(2π)² modes.
+        let params = SelfAffine {
+            hurst: 0.8,
+            rolloff_wavelength: Some(2e-6),
+            short_cutoff_wavelength: None,
+            long_cutoff_wavelength: None,
+            amplitude: Amplitude::RmsHeight(1e-8),
+        };
+        let t = params.generate((10e-6, 10e-6), (128, 128), 5).unwrap();
+        let p = psd(&t, Window::None).unwrap();
+        let dq = 2.0 * PI / 10e-6;
+        let integral: f64 = p.q.iter().zip(&p.c).map(|(q, c)| q * c * dq).sum::<f64>() / (2.0 * PI);
+        let rms = height_stats(&t).unwrap().rms_height;
+        assert!((integral / (rms * rms) - 1.0).abs() < 0.05, "{integral} vs {}", rms * rms);
+    }
+
+    #[test]
+    fn the_hann_window_recovers_the_slope_of_a_non_periodic_crop() {
+        let hurst = 0.8;
+        let full = surface((20e-6, 20e-6), (512, 512), hurst);
+        let part = crop(&full, &CropWindow::Pixels { x: 100..356, y: 50..306 }).unwrap();
+        assert!(!part.periodic && Window::default_for(&part) == Window::Hann);
+        let q0 = 2.0 * PI / 10e-6;
+        let range = (4.0 * q0, 60.0 * q0);
+        let hann = log_slope(&psd(&part, Window::Hann).unwrap(), range.0, range.1);
+        let expected = -2.0 * (1.0 + hurst);
+        assert!((hann / expected - 1.0).abs() < 0.05, "Hann: {hann}, expected {expected}");
+        // Without the window the edges leak power and flatten the spectrum.
+        let bare = log_slope(&psd(&part, Window::None).unwrap(), range.0, range.1);
+        assert!((bare / expected - 1.0).abs() > 0.1, "unwindowed: {bare}");
+    }
+
+    #[test]
+    fn the_psd_refuses_missing_points_and_needs_a_size() {
+        let mut h = Array2::zeros((8, 8));
+        h[(2, 2)] = f64::NAN;
+        assert!(psd(&map(h, (1e-6, 1e-6), false), Window::None)
+            .unwrap_err()
+            .to_string()
+            .contains("1 of 64 points are missing"));
+        let mut t = map(Array2::zeros((8, 8)), (1e-6, 1e-6), false);
+        t.physical_size = None;
+        assert!(psd(&t, Window::None).unwrap_err().to_string().contains("the PSD needs the physical size"));
+    }
+}
