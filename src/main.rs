@@ -23,7 +23,7 @@ enum Command {
     Contact(cli::contact::ContactArgs),
     /// Static friction, friction drop and element classes from a pressure map (stick-slip model)
     Onset(cli::onset::Args),
-    /// Topography files: what a file holds (`topo info`).
+    /// Topographies: inspect, prepare, synthesise, analyse (`topo info | convert | generate | psd`).
     Topo(cli::topo::TopoArgs),
 }
 

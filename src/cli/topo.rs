@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use asperity::topography::io;
 
-use super::ReadArgs;
+use super::{topo_tools, ReadArgs};
 use asperity::Result;
 
 /// Topography files: read them, whatever the instrument.
@@ -22,11 +22,21 @@ pub struct TopoArgs {
 enum TopoCommand {
     /// Print a file's grid, physical size, channels, height unit and height statistics.
     Info(InfoArgs),
+    /// Read a topography, crop, fill or refuse missing points, detrend, resample, and write its
+    /// heights [m] as .npy or .gsf
+    Convert(topo_tools::ConvertArgs),
+    /// Synthesise a self-affine random-phase surface [m], optionally on a sphere cap, as .npy or .gsf
+    Generate(topo_tools::GenerateArgs),
+    /// Print the isotropic power spectral density as CSV q_rad_per_m,psd_m4
+    Psd(topo_tools::PsdArgs),
 }
 
 pub fn run(args: TopoArgs) -> Result<()> {
     match args.command {
         TopoCommand::Info(args) => info(args),
+        TopoCommand::Convert(args) => topo_tools::convert(args),
+        TopoCommand::Generate(args) => topo_tools::generate(args),
+        TopoCommand::Psd(args) => topo_tools::power_spectrum(args),
     }
 }
 

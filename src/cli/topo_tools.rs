@@ -1,0 +1,292 @@
+//! `asperity topo convert | generate | psd`: prepare a measured topography for the contact
+//! solver, synthesise one, or print its power spectral density.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use clap::{ArgGroup, Args};
+
+use asperity::output::write_npy;
+use asperity::topography::detrend::{Detrend, SphereFit};
+use asperity::topography::io::{read, write_gsf};
+use asperity::topography::missing::{fill_missing, refuse_missing};
+use asperity::topography::resample::{crop, resample, CropWindow};
+use asperity::topography::stats::{height_stats, psd, rms_slope, Window};
+use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
+use asperity::topography::{units, Topography};
+use asperity::{Error, Result};
+
+use super::{parse_size, ReadArgs};
+
+/// How to prepare it, applied in this order: crop, missing points, detrend.
+#[derive(Args)]
+pub struct PrepareArgs {
+    /// Crop window X0:X1,Y0:Y1, end excluded: pixel indices (0-based), or lengths with a unit
+    /// [m, um, nm…] from the map's origin (e.g. 0um:10um,0um:10um)
+    #[arg(long, value_name = "X0:X1,Y0:Y1", value_parser = parse_crop)]
+    pub crop: Option<CropWindow>,
+    /// Fill missing points harmonically (each the mean of its four neighbours)
+    #[arg(long, conflicts_with = "refuse_missing")]
+    pub fill_missing: bool,
+    /// Refuse a map with missing points, counting them (the default)
+    #[arg(long)]
+    pub refuse_missing: bool,
+    /// Levelling: none, mean, plane, poly:N (total degree N ≤ 8, least squares) or sphere (fits
+    /// and subtracts a sphere, reporting its radius [m])
+    #[arg(long, default_value = "none", value_parser = parse_detrend)]
+    pub detrend: Detrend,
+}
+
+/// `asperity topo convert`.
+#[derive(Args)]
+pub struct ConvertArgs {
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Output file: heights [m] as a float64 .npy array of shape (ny, nx), or as .gsf (float32,
+    /// with the physical size)
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub prepare: PrepareArgs,
+    /// Resample (cubic convolution) to this pixel size [m], keeping the physical size: the
+    /// pixel becomes size / round(size / P)
+    #[arg(long, value_name = "P")]
+    pub pixel_size: Option<f64>,
+}
+
+/// `asperity topo generate`.
+#[derive(Args)]
+#[command(group(ArgGroup::new("amplitude").required(true).args(["rms", "rms_slope"])))]
+pub struct GenerateArgs {
+    /// Physical size LX[,LY] [m] (LY defaults to LX)
+    #[arg(long, value_name = "LX[,LY]", value_parser = parse_size)]
+    pub size: (f64, f64),
+    /// Grid NX[,NY] [points] (NY defaults to NX)
+    #[arg(long, value_name = "NX[,NY]", value_parser = parse_grid)]
+    pub grid: (usize, usize),
+    /// Hurst exponent H, 0 < H ≤ 1: C(q) ∝ q^(−2(1+H)) [1]
+    #[arg(long)]
+    pub hurst: f64,
+    /// RMS height of the roughness [m]
+    #[arg(long)]
+    pub rms: Option<f64>,
+    /// RMS slope of the roughness, forward differences [1]
+    #[arg(long)]
+    pub rms_slope: Option<f64>,
+    /// Roll-off wavelength [m]: the spectrum is flat above it [default: none]
+    #[arg(long, value_name = "LAMBDA")]
+    pub rolloff: Option<f64>,
+    /// Short cut-off wavelength [m]: no roughness below it [default: down to the pixel]
+    #[arg(long, value_name = "LAMBDA")]
+    pub cutoff: Option<f64>,
+    /// Long cut-off wavelength, the largest present [m] [default: the window size]
+    #[arg(long, value_name = "LAMBDA")]
+    pub long_cutoff: Option<f64>,
+    /// Add a sphere cap of this radius [m], apex (highest point) at the window's centre
+    #[arg(long, value_name = "R")]
+    pub sphere_radius: Option<f64>,
+    /// Make the cap the paraboloid −ρ²/(2R) instead of the exact sphere
+    #[arg(long, requires = "sphere_radius")]
+    pub paraboloid: bool,
+    /// Seed of the random phases: the same seed gives the same surface [integer]
+    #[arg(long)]
+    pub seed: u64,
+    /// Output file: heights [m] as a float64 .npy array of shape (ny, nx), or as .gsf (float32,
+    /// with the physical size)
+    pub out: PathBuf,
+}
+
+/// `asperity topo psd`.
+#[derive(Args)]
+pub struct PsdArgs {
+    #[command(flatten)]
+    pub read: ReadArgs,
+    #[command(flatten)]
+    pub prepare: PrepareArgs,
+    /// Window before the FFT: auto (hann for non-periodic maps, none for periodic ones), hann
+    /// or none
+    #[arg(long, default_value = "auto", value_parser = ["auto", "hann", "none"])]
+    pub window: String,
+}
+
+/// Read and prepare the topography; the fitted sphere when `--detrend sphere`.
+fn prepare(read_args: &ReadArgs, prep: &PrepareArgs) -> Result<(Topography, Option<SphereFit>)> {
+    let mut topo = read(&read_args.file, &read_args.options())?;
+    if let Some(window) = &prep.crop {
+        topo = crop(&topo, window)?;
+    }
+    if prep.fill_missing && !prep.refuse_missing {
+        fill_missing(&mut topo)?;
+    } else {
+        refuse_missing(&topo)?;
+    }
+    let fit = prep.detrend.apply(&mut topo)?;
+    Ok((topo, fit))
+}
+
+fn describe_fit(fit: &SphereFit) -> String {
+    format!(
+        "sphere fit: radius {:e} m, apex at ({:e}, {:e}) m, height {:e} m; residual {:e} m RMS",
+        fit.radius, fit.apex.0, fit.apex.1, fit.apex_height, fit.rms_residual
+    )
+}
+
+/// The output format, from the name's extension: .npy (float64) or .gsf (float32).
+#[derive(Clone, Copy)]
+enum OutFormat {
+    Npy,
+    Gsf,
+}
+
+impl OutFormat {
+    fn of(out: &Path) -> Result<Self> {
+        match out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("npy") => Ok(OutFormat::Npy),
+            Some("gsf") => Ok(OutFormat::Gsf),
+            _ => Err(Error::invalid("OUT", format!("{}: name it *.npy (float64) or *.gsf (float32)", out.display()))),
+        }
+    }
+
+    fn write(self, out: &Path, topo: &Topography) -> Result<()> {
+        match self {
+            OutFormat::Npy => write_npy(out, &topo.heights),
+            OutFormat::Gsf => write_gsf(out, topo),
+        }
+    }
+}
+
+fn describe(out: &Path, topo: &Topography) -> String {
+    let (lx, ly) = topo.physical_size.expect("written topographies have a size");
+    format!(
+        "wrote {}: {} × {} points (nx × ny), physical size {lx:e} × {ly:e} m (--size {lx:e},{ly:e})",
+        out.display(),
+        topo.nx(),
+        topo.ny()
+    )
+}
+
+/// `asperity topo convert`.
+pub fn convert(args: ConvertArgs) -> Result<()> {
+    let format = OutFormat::of(&args.out)?;
+    let (mut topo, fit) = prepare(&args.read, &args.prepare)?;
+    if let Some(p) = args.pixel_size {
+        topo = resample(&topo, p)?;
+    }
+    format.write(&args.out, &topo)?;
+    if let Some(fit) = fit {
+        println!("{}", describe_fit(&fit));
+    }
+    println!("{}", describe(&args.out, &topo));
+    Ok(())
+}
+
+/// `asperity topo generate`.
+pub fn generate(args: GenerateArgs) -> Result<()> {
+    let format = OutFormat::of(&args.out)?;
+    let amplitude = match (args.rms, args.rms_slope) {
+        (_, Some(g)) => Amplitude::RmsSlope(g),
+        (h, None) => Amplitude::RmsHeight(h.expect("clap requires one of --rms and --rms-slope")),
+    };
+    let surface = SyntheticSurface {
+        size: args.size,
+        grid: args.grid,
+        roughness: Some(SelfAffine {
+            hurst: args.hurst,
+            rolloff_wavelength: args.rolloff,
+            short_cutoff_wavelength: args.cutoff,
+            long_cutoff_wavelength: args.long_cutoff,
+            amplitude,
+        }),
+        cap: args
+            .sphere_radius
+            .map(|radius| Cap { radius, shape: if args.paraboloid { CapShape::Paraboloid } else { CapShape::Sphere } }),
+        seed: args.seed,
+    };
+    let topo = surface.generate()?;
+    format.write(&args.out, &topo)?;
+    let stats = height_stats(&topo)?;
+    println!("{}; rms height {:e} m, rms slope {:e}", describe(&args.out, &topo), stats.rms_height, rms_slope(&topo)?);
+    Ok(())
+}
+
+/// `asperity topo psd`: CSV `q_rad_per_m,psd_m4` on stdout.
+pub fn power_spectrum(args: PsdArgs) -> Result<()> {
+    let (topo, fit) = prepare(&args.read, &args.prepare)?;
+    if let Some(fit) = fit {
+        eprintln!("{}", describe_fit(&fit));
+    }
+    let window = match args.window.as_str() {
+        "hann" => Window::Hann,
+        "none" => Window::None,
+        _ => Window::default_for(&topo),
+    };
+    let spectrum = psd(&topo, window)?;
+    let write = || -> std::io::Result<()> {
+        let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+        writeln!(w, "q_rad_per_m,psd_m4")?;
+        for (q, c) in spectrum.q.iter().zip(&spectrum.c) {
+            writeln!(w, "{q:e},{c:e}")?;
+        }
+        w.flush()
+    };
+    match write() {
+        // A reader that stops early (`| head`) is not an error.
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::io("standard output", e)),
+        _ => Ok(()),
+    }
+}
+
+/// `NX[,NY]`: point counts.
+fn parse_grid(s: &str) -> std::result::Result<(usize, usize), String> {
+    let parse = |v: &str| match v.trim().parse::<usize>() {
+        Ok(n) if n >= 2 => Ok(n),
+        _ => Err(format!("'{v}' is not a number of points ≥ 2")),
+    };
+    match s.split_once(',') {
+        Some((x, y)) => Ok((parse(x)?, parse(y)?)),
+        None => parse(s).map(|n| (n, n)),
+    }
+}
+
+fn parse_detrend(s: &str) -> std::result::Result<Detrend, String> {
+    s.parse()
+}
+
+/// One crop bound: a pixel index, or a length with a unit (in metres).
+enum Bound {
+    Pixel(usize),
+    Length(f64),
+}
+
+fn parse_bound(s: &str) -> std::result::Result<Bound, String> {
+    let s = s.trim();
+    if let Ok(i) = s.parse::<usize>() {
+        return Ok(Bound::Pixel(i));
+    }
+    // The longest numeric prefix followed by a length unit.
+    (1..s.len())
+        .rev()
+        .filter(|&k| s.is_char_boundary(k))
+        .find_map(|k| Some(s[..k].parse::<f64>().ok()? * units::metres_per(&s[k..])?))
+        .filter(|v| v.is_finite())
+        .map(Bound::Length)
+        .ok_or_else(|| format!("'{s}' is neither a pixel index nor a length with a unit (e.g. 10um)"))
+}
+
+/// `X0:X1,Y0:Y1`, all four pixel indices or all four lengths with units.
+fn parse_crop(s: &str) -> std::result::Result<CropWindow, String> {
+    let bad = || format!("'{s}' is not X0:X1,Y0:Y1");
+    let (x, y) = s.split_once(',').ok_or_else(bad)?;
+    let range = |r: &str| -> std::result::Result<(Bound, Bound), String> {
+        let (a, b) = r.split_once(':').ok_or_else(bad)?;
+        Ok((parse_bound(a)?, parse_bound(b)?))
+    };
+    match (range(x)?, range(y)?) {
+        ((Bound::Pixel(x0), Bound::Pixel(x1)), (Bound::Pixel(y0), Bound::Pixel(y1))) => {
+            Ok(CropWindow::Pixels { x: x0..x1, y: y0..y1 })
+        }
+        ((Bound::Length(x0), Bound::Length(x1)), (Bound::Length(y0), Bound::Length(y1))) => {
+            Ok(CropWindow::Physical { x: (x0, x1), y: (y0, y1) })
+        }
+        _ => Err(format!("'{s}' mixes pixel indices and lengths")),
+    }
+}
