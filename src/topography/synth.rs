@@ -444,6 +444,7 @@ impl SyntheticSurface {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::topography::resample::compound;
     use crate::topography::stats::tests::log_slope;
     use crate::topography::stats::{height_stats, psd, rms_slope, Window};
 
@@ -562,6 +563,19 @@ mod tests {
             assert_eq!(cap.channel, "cap");
             assert_eq!(t.heights, &roughness.heights + &cap.heights);
         }
+    }
+
+    #[test]
+    fn a_synthetic_wafer_compounds_with_a_synthetic_ball() {
+        let ball = SyntheticSurface { grid: (128, 128), ..SyntheticSurface::default() }.generate().unwrap();
+        let wafer = SelfAffine::silicon_wafer().generate((40e-6, 40e-6), (256, 256), 1).unwrap();
+        assert!((height_stats(&wafer).unwrap().rms_height / 0.2e-9 - 1.0).abs() < 1e-12);
+        let h = compound(&ball, &wafer).unwrap();
+        assert!(!h.periodic && h.physical_size == ball.physical_size);
+        // What the wafer takes away is its own roughness, seen through the ball's window.
+        let wafer_part = &ball.heights - &h.heights;
+        let rms = wafer_part.std(0.0);
+        assert!((0.1e-9..0.3e-9).contains(&rms), "{rms}");
     }
 
     #[test]
