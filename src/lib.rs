@@ -11,6 +11,7 @@ pub mod error;
 pub mod fft;
 pub mod friction;
 pub mod output;
+pub mod plot;
 pub mod topography;
 
 pub use error::{Error, Result};
