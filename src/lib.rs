@@ -12,6 +12,7 @@ pub mod fft;
 pub mod friction;
 pub mod output;
 pub mod plot;
+pub mod shs;
 pub mod topography;
 
 pub use error::{Error, Result};

@@ -3,6 +3,7 @@
 pub mod contact;
 pub mod onset;
 pub mod topo;
+pub mod shs;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
