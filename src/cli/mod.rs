@@ -2,8 +2,8 @@
 
 pub mod contact;
 pub mod onset;
-pub mod topo;
 pub mod shs;
+pub mod topo;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
