@@ -20,6 +20,9 @@ use crate::error::{Error, Result};
 /// Draw `figure` and write it as a PNG at `png` and as an SVG beside it (same name, extension
 /// `.svg`), each atomically. Returns the SVG's path.
 pub fn write_figure(png: &Path, figure: &impl Draw) -> Result<PathBuf> {
+    if !png.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        return Err(Error::file(png, "a figure is written as .png, with its .svg beside it: name the .png"));
+    }
     style::register_fonts();
     let (width, height) = figure.size();
     let failed = |e: &dyn std::fmt::Display| Error::file(png, format!("cannot draw the figure: {e}"));
@@ -149,5 +152,7 @@ mod tests {
         assert!(svg.starts_with("<svg") && svg.contains("friction drop") && svg.contains("normal load [N]"));
         let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(names.len(), 2, "no temporary files left: {names:?}");
+        let e = write_figure(&dir.path().join("all.svg"), &figure).unwrap_err().to_string();
+        assert!(e.contains("all.svg") && e.contains(".png"), "{e}");
     }
 }

@@ -5,10 +5,11 @@
 //! at zero shear for a hold time, and slides again. After each restart the static friction
 //! force F_S is the peak, and the dynamic friction force F_D the mean over a window of steady
 //! sliding after the peak (≈ 1 µm); the normal force N is averaged over the same window. The
-//! initial slide before the first hold is not a restart. How holds and restarts are found is
-//! described in the `detect` module: on the friction signal relative to its own sliding level,
-//! with hysteresis and minimum durations, and — when the trace records displacement — with a
-//! check that nothing slid during the hold.
+//! initial slide before the first hold is not a restart, nor is the first slide of a trace that
+//! starts at rest. How holds and restarts are found is described in the `detect` module: on
+//! the friction signal relative to its own sliding level, with hysteresis and minimum
+//! durations, and — when the trace records displacement — with a check that nothing slid
+//! during the hold.
 //!
 //! When the trace has no displacement column, displacement is derived from time and the
 //! sliding speed, counted from each restart: a hold is then seen in the friction signal only,
