@@ -11,6 +11,8 @@ pub mod error;
 pub mod fft;
 pub mod friction;
 pub mod output;
+pub mod plot;
+pub mod shs;
 pub mod topography;
 
 pub use error::{Error, Result};

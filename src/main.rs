@@ -25,6 +25,8 @@ enum Command {
     Onset(cli::onset::Args),
     /// Topographies: inspect, prepare, synthesise, analyse (`topo info | convert | generate | psd`).
     Topo(cli::topo::TopoArgs),
+    /// Static and dynamic friction after each hold of a slide-hold-slide trace
+    Shs(cli::shs::Args),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +38,7 @@ fn main() -> ExitCode {
         Command::Contact(args) => cli::contact::run(args),
         Command::Onset(args) => cli::onset::run(args),
         Command::Topo(args) => cli::topo::run(args),
+        Command::Shs(args) => cli::shs::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

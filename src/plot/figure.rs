@@ -1,0 +1,558 @@
+//! A figure as plain data — panels of axes and series — drawn on any plotters backend.
+
+use plotters::chart::SeriesAnno;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::style;
+
+/// What drawing on a plotters area returns, for the backend `DB`.
+pub type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+/// Anything that draws itself onto an area of any backend (bitmap, SVG, a movie frame).
+pub trait Draw {
+    /// Canvas [px] this drawing is laid out for.
+    fn size(&self) -> (u32, u32) {
+        style::SIZE
+    }
+
+    /// Draw onto `area` (already filled with the background).
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB>;
+}
+
+/// One axis of a panel: its label (quantity and unit), linear or logarithmic, and its range
+/// (fitted to the data unless fixed).
+#[derive(Clone, Debug)]
+pub struct Axis {
+    label: String,
+    log: bool,
+    range: Option<(f64, f64)>,
+}
+
+impl Axis {
+    /// An axis for `quantity` in `unit`, labelled "quantity [unit]".
+    pub fn new(quantity: &str, unit: &str) -> Self {
+        Axis { label: format!("{quantity} [{unit}]"), log: false, range: None }
+    }
+
+    /// An axis for a dimensionless quantity (a ratio, a coefficient), labelled by its name.
+    pub fn dimensionless(quantity: &str) -> Self {
+        Axis { label: quantity.to_string(), log: false, range: None }
+    }
+
+    /// Logarithmic scale: only positive values are shown.
+    pub fn log(mut self) -> Self {
+        self.log = true;
+        self
+    }
+
+    /// Fix the range to `lo..hi` (in the axis' unit) instead of fitting it to the data.
+    pub fn range(mut self, lo: f64, hi: f64) -> Self {
+        self.range = Some((lo, hi));
+        self
+    }
+
+    fn shows(&self, v: f64) -> bool {
+        v.is_finite() && (!self.log || v > 0.0)
+    }
+
+    /// The range to draw: the fixed one, or the data's padded by a few percent.
+    fn resolve(&self, values: impl Iterator<Item = f64>) -> (f64, f64) {
+        if let Some(r) = self.range {
+            return r;
+        }
+        let (lo, hi) = values
+            .filter(|&v| self.shows(v))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        const PAD: f64 = 0.04;
+        if self.log {
+            let (lo, hi) = if lo > hi {
+                (1.0, 10.0)
+            } else if lo == hi {
+                (lo / 2.0, hi * 2.0)
+            } else {
+                (lo, hi)
+            };
+            let f = (hi / lo).powf(PAD);
+            (lo / f, hi * f)
+        } else {
+            let (lo, hi) = if lo > hi {
+                (0.0, 1.0)
+            } else if lo == hi {
+                let d = if lo == 0.0 { 1.0 } else { lo.abs() * 0.1 };
+                (lo - d, hi + d)
+            } else {
+                (lo, hi)
+            };
+            let d = (hi - lo) * PAD;
+            (lo - d, hi + d)
+        }
+    }
+}
+
+/// Marker of a scatter series.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Cross,
+}
+
+/// The geometry of a series, in the units of the panel's axes.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    /// A polyline through `points`, `width` px wide.
+    Line { points: Vec<(f64, f64)>, width: u32, dashed: bool },
+    /// Markers at `points`, with optional symmetric vertical error bars (± `y_err`).
+    Scatter { points: Vec<(f64, f64)>, y_err: Option<Vec<f64>>, marker: Marker, filled: bool },
+    /// The area between `lower(x)` and `upper(x)`.
+    Band { x: Vec<f64>, lower: Vec<f64>, upper: Vec<f64> },
+    /// A vertical stripe from `x0` to `x1` over the whole height of the panel.
+    Span { x0: f64, x1: f64 },
+}
+
+/// A series: a shape with its colour, opacity and legend entry.
+#[derive(Clone, Debug)]
+pub struct Series {
+    pub shape: Shape,
+    pub colour: RGBColor,
+    /// 1 opaque, 0 invisible.
+    pub opacity: f64,
+    /// Legend text; unlabelled series are left out of the legend.
+    pub label: Option<String>,
+}
+
+impl Series {
+    /// A solid line.
+    pub fn line(points: Vec<(f64, f64)>, colour: RGBColor) -> Self {
+        Series::new(Shape::Line { points, width: style::LINE_WIDTH, dashed: false }, colour, 1.0)
+    }
+
+    /// Filled markers.
+    pub fn scatter(points: Vec<(f64, f64)>, marker: Marker, colour: RGBColor) -> Self {
+        Series::new(Shape::Scatter { points, y_err: None, marker, filled: true }, colour, 1.0)
+    }
+
+    /// A translucent band between two curves sampled at the same `x`.
+    pub fn band(x: Vec<f64>, lower: Vec<f64>, upper: Vec<f64>, colour: RGBColor) -> Self {
+        assert!(x.len() == lower.len() && x.len() == upper.len(), "a band needs x, lower and upper of one length");
+        Series::new(Shape::Band { x, lower, upper }, colour, 0.25)
+    }
+
+    /// A translucent vertical stripe from `x0` to `x1`.
+    pub fn span(x0: f64, x1: f64, colour: RGBColor) -> Self {
+        Series::new(Shape::Span { x0, x1 }, colour, 0.15)
+    }
+
+    fn new(shape: Shape, colour: RGBColor, opacity: f64) -> Self {
+        Series { shape, colour, opacity, label: None }
+    }
+
+    /// Name the series in the legend.
+    pub fn label(mut self, label: impl Into<String>) -> Self {
+        self.label = Some(label.into());
+        self
+    }
+
+    pub fn opacity(mut self, opacity: f64) -> Self {
+        self.opacity = opacity;
+        self
+    }
+
+    /// Line width [px]; lines only.
+    pub fn width(mut self, px: u32) -> Self {
+        match &mut self.shape {
+            Shape::Line { width, .. } => *width = px,
+            _ => panic!("Series::width applies to lines"),
+        }
+        self
+    }
+
+    /// Dashed instead of solid; lines only.
+    pub fn dashed(mut self) -> Self {
+        match &mut self.shape {
+            Shape::Line { dashed, .. } => *dashed = true,
+            _ => panic!("Series::dashed applies to lines"),
+        }
+        self
+    }
+
+    /// Outlined instead of filled markers; scatter only.
+    pub fn hollow(mut self) -> Self {
+        match &mut self.shape {
+            Shape::Scatter { filled, .. } => *filled = false,
+            _ => panic!("Series::hollow applies to scatter series"),
+        }
+        self
+    }
+
+    /// Vertical error bars of half-length `y_err[i]` on point i; scatter only.
+    pub fn errors(mut self, err: Vec<f64>) -> Self {
+        match &mut self.shape {
+            Shape::Scatter { points, y_err, .. } => {
+                assert_eq!(points.len(), err.len(), "one error bar per point");
+                *y_err = Some(err);
+            }
+            _ => panic!("Series::errors applies to scatter series"),
+        }
+        self
+    }
+
+    /// Drawing order: stripes and bands under lines under markers.
+    fn layer(&self) -> u8 {
+        match self.shape {
+            Shape::Span { .. } => 0,
+            Shape::Band { .. } => 1,
+            Shape::Line { .. } => 2,
+            Shape::Scatter { .. } => 3,
+        }
+    }
+
+    fn xs(&self) -> Box<dyn Iterator<Item = f64> + '_> {
+        match &self.shape {
+            Shape::Line { points, .. } | Shape::Scatter { points, .. } => Box::new(points.iter().map(|p| p.0)),
+            Shape::Band { x, .. } => Box::new(x.iter().copied()),
+            Shape::Span { x0, x1 } => Box::new([*x0, *x1].into_iter()),
+        }
+    }
+
+    fn ys(&self) -> Box<dyn Iterator<Item = f64> + '_> {
+        match &self.shape {
+            Shape::Line { points, .. } | Shape::Scatter { points, y_err: None, .. } => {
+                Box::new(points.iter().map(|p| p.1))
+            }
+            Shape::Scatter { points, y_err: Some(e), .. } => {
+                Box::new(points.iter().zip(e).flat_map(|(p, e)| [p.1 - e.abs(), p.1 + e.abs()]))
+            }
+            Shape::Band { lower, upper, .. } => Box::new(lower.iter().chain(upper).copied()),
+            Shape::Span { .. } => Box::new(std::iter::empty()),
+        }
+    }
+}
+
+/// One set of axes with its series and an optional legend.
+#[derive(Clone, Debug)]
+pub struct Panel {
+    pub title: Option<String>,
+    pub x: Axis,
+    pub y: Axis,
+    pub series: Vec<Series>,
+    pub legend: Option<SeriesLabelPosition>,
+}
+
+impl Panel {
+    pub fn new(x: Axis, y: Axis) -> Self {
+        Panel { title: None, x, y, series: Vec::new(), legend: None }
+    }
+
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+
+    /// Show the labelled series in a legend at `position`.
+    pub fn legend(mut self, position: SeriesLabelPosition) -> Self {
+        self.legend = Some(position);
+        self
+    }
+
+    pub fn push(&mut self, series: Series) {
+        self.series.push(series);
+    }
+
+    fn draw_on<DB, X, Y>(&self, area: &DrawingArea<DB, Shift>, x: X, y: Y, y_range: (f64, f64)) -> DrawResult<DB>
+    where
+        DB: DrawingBackend,
+        X: AsRangedCoord<Value = f64>,
+        Y: AsRangedCoord<Value = f64>,
+        X::CoordDescType: ValueFormatter<f64>,
+        Y::CoordDescType: ValueFormatter<f64>,
+    {
+        let mut builder = ChartBuilder::on(area);
+        builder.margin(style::MARGIN).x_label_area_size(70).y_label_area_size(105);
+        if let Some(title) = &self.title {
+            builder.caption(title, (style::FONT, style::TITLE_SIZE));
+        }
+        let mut chart = builder.build_cartesian_2d(x, y)?;
+        chart
+            .configure_mesh()
+            .x_desc(self.x.label.as_str())
+            .y_desc(self.y.label.as_str())
+            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
+            .label_style((style::FONT, style::TICK_LABEL_SIZE))
+            .x_label_formatter(&tick_label)
+            .y_label_formatter(&tick_label)
+            .bold_line_style(RGBColor(220, 220, 220))
+            .light_line_style(RGBColor(242, 242, 242))
+            .axis_style(BLACK.stroke_width(style::LINE_WIDTH))
+            .draw()?;
+
+        let (xa, ya) = (&self.x, &self.y);
+        let shown = |&(px, py): &(f64, f64)| xa.shows(px) && ya.shows(py);
+        let mut order: Vec<&Series> = self.series.iter().collect();
+        order.sort_by_key(|s| s.layer());
+        for s in order {
+            let colour = s.colour.mix(s.opacity);
+            match &s.shape {
+                Shape::Line { points, width, dashed } => {
+                    let line = colour.stroke_width(*width);
+                    let pts = points.iter().copied().filter(shown);
+                    let anno = if *dashed {
+                        let dash = 4 * *width as i32;
+                        chart.draw_series(DashedLineSeries::new(pts, dash + 4, dash, line))?
+                    } else {
+                        chart.draw_series(LineSeries::new(pts, line))?
+                    };
+                    add_legend(anno, s, colour);
+                }
+                Shape::Scatter { points, y_err, marker, filled } => {
+                    if let Some(err) = y_err {
+                        let bar = colour.stroke_width(style::LINE_WIDTH);
+                        let cap = style::MARKER_SIZE as i32;
+                        for (&(px, py), e) in points.iter().zip(err) {
+                            let (lo, hi) = (py - e.abs(), py + e.abs());
+                            if !(shown(&(px, py)) && ya.shows(lo)) {
+                                continue;
+                            }
+                            chart.draw_series([PathElement::new(vec![(px, lo), (px, hi)], bar)])?;
+                            chart.draw_series([lo, hi].map(|y| {
+                                EmptyElement::at((px, y)) + PathElement::new(vec![(-cap, 0), (cap, 0)], bar)
+                            }))?;
+                        }
+                    }
+                    let pts: Vec<_> = points.iter().copied().filter(shown).collect();
+                    let style = if *filled { colour.filled() } else { colour.stroke_width(style::LINE_WIDTH) };
+                    let r = style::MARKER_SIZE as i32;
+                    let anno =
+                        match marker {
+                            Marker::Circle => chart.draw_series(pts.into_iter().map(|p| Circle::new(p, r, style)))?,
+                            Marker::Square => chart.draw_series(
+                                pts.into_iter()
+                                    .map(|p| EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], style)),
+                            )?,
+                            Marker::Triangle if *filled => chart
+                                .draw_series(pts.into_iter().map(|p| {
+                                    EmptyElement::at(p) + Polygon::new(triangle((0, 0), r + 2, false), style)
+                                }))?,
+                            Marker::Triangle => chart.draw_series(pts.into_iter().map(|p| {
+                                EmptyElement::at(p) + PathElement::new(triangle((0, 0), r + 2, true), style)
+                            }))?,
+                            Marker::Cross => chart.draw_series(pts.into_iter().map(|p| Cross::new(p, r, style)))?,
+                        };
+                    add_legend(anno, s, colour);
+                }
+                Shape::Band { x, lower, upper } => {
+                    let mut outline: Vec<(f64, f64)> = x.iter().copied().zip(upper.iter().copied()).collect();
+                    outline.extend(x.iter().copied().zip(lower.iter().copied()).rev());
+                    outline.retain(shown);
+                    let anno = chart.draw_series(std::iter::once(Polygon::new(outline, colour.filled())))?;
+                    add_legend(anno, s, colour);
+                }
+                Shape::Span { x0, x1 } => {
+                    let anno = chart.draw_series(std::iter::once(Rectangle::new(
+                        [(*x0, y_range.0), (*x1, y_range.1)],
+                        colour.filled(),
+                    )))?;
+                    add_legend(anno, s, colour);
+                }
+            }
+        }
+        if let Some(position) = &self.legend {
+            if self.series.iter().any(|s| s.label.is_some()) {
+                chart
+                    .configure_series_labels()
+                    .position(position.clone())
+                    .margin(12)
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK.mix(0.6))
+                    .label_font((style::FONT, style::LEGEND_SIZE))
+                    .draw()?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Draw for Panel {
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let (x0, x1) = self.x.resolve(self.series.iter().flat_map(|s| s.xs()));
+        let (y0, y1) = self.y.resolve(self.series.iter().flat_map(|s| s.ys()));
+        let (xr, yr) = (x0..x1, y0..y1);
+        let log_x = || xr.clone().log_scale().with_key_points(log_ticks(x0, x1));
+        let log_y = || yr.clone().log_scale().with_key_points(log_ticks(y0, y1));
+        match (self.x.log, self.y.log) {
+            (false, false) => self.draw_on(area, xr.clone(), yr.clone(), (y0, y1)),
+            (true, false) => self.draw_on(area, log_x(), yr.clone(), (y0, y1)),
+            (false, true) => self.draw_on(area, xr.clone(), log_y(), (y0, y1)),
+            (true, true) => self.draw_on(area, log_x(), log_y(), (y0, y1)),
+        }
+    }
+}
+
+/// Ticks for a log axis from `lo` to `hi`: decades, or 1-2-5 or 1…9 per decade when the range
+/// is short, or evenly spaced round values when it spans less than one decade.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    const MANTISSAS: [&[f64]; 3] = [&[1.0], &[1.0, 2.0, 5.0], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]];
+    let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    for mantissas in MANTISSAS {
+        let ticks: Vec<f64> = (d0..=d1)
+            .flat_map(|d| mantissas.iter().map(move |m| m * 10f64.powi(d)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect();
+        if ticks.len() >= 3 {
+            // Keep at most about a dozen labels on very wide ranges.
+            let every = ticks.len().div_ceil(12);
+            return ticks.into_iter().step_by(every).collect();
+        }
+    }
+    linear_ticks(lo, hi)
+}
+
+/// About six round-valued ticks (steps of 1, 2 or 5 × 10^k) between `lo` and `hi`.
+fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let k0 = (hi - lo).log10().floor() as i32;
+    let count = |step: f64| (hi / step).floor() - (lo / step).ceil() + 1.0;
+    let step = (k0 - 2..=k0)
+        .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+        .min_by(|a, b| (count(*a) - 6.0).abs().total_cmp(&(count(*b) - 6.0).abs()))
+        .expect("candidate steps");
+    let (first, last) = ((lo / step).ceil() as i64, (hi / step).floor() as i64);
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// Panels stacked top to bottom, each given a share of the height proportional to its weight.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    size: (u32, u32),
+    rows: Vec<(Panel, u32)>,
+}
+
+impl Figure {
+    /// A figure of one panel on the default canvas.
+    pub fn new(panel: Panel) -> Self {
+        Figure { size: style::SIZE, rows: vec![(panel, 1)] }
+    }
+
+    /// Panels stacked vertically with relative heights.
+    pub fn stack(rows: Vec<(Panel, u32)>) -> Self {
+        assert!(!rows.is_empty() && rows.iter().all(|r| r.1 > 0), "a figure needs panels of positive weight");
+        Figure { size: style::SIZE, rows }
+    }
+
+    /// Canvas size [px].
+    pub fn with_size(mut self, width: u32, height: u32) -> Self {
+        self.size = (width, height);
+        self
+    }
+}
+
+impl Draw for Figure {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let total: u32 = self.rows.iter().map(|r| r.1).sum();
+        let height = area.dim_in_pixel().1 as f64;
+        let mut acc = 0;
+        let breaks: Vec<i32> = self.rows[..self.rows.len() - 1]
+            .iter()
+            .map(|r| {
+                acc += r.1;
+                (height * f64::from(acc) / f64::from(total)).round() as i32
+            })
+            .collect();
+        let areas = area.split_by_breakpoints::<i32, i32, _, _>([], breaks);
+        for ((panel, _), sub) in self.rows.iter().zip(&areas) {
+            panel.draw(sub)?;
+        }
+        Ok(())
+    }
+}
+
+fn add_legend<'a, DB: DrawingBackend + 'a>(anno: &mut SeriesAnno<'a, DB>, s: &Series, colour: RGBAColor) {
+    if let Some(label) = &s.label {
+        let shape = s.shape.clone();
+        anno.label(label.as_str()).legend(move |(lx, ly)| legend_glyph(&shape, colour, lx, ly));
+    }
+}
+
+fn legend_glyph<DB: DrawingBackend>(
+    shape: &Shape,
+    colour: RGBAColor,
+    x: i32,
+    y: i32,
+) -> DynElement<'static, DB, (i32, i32)> {
+    let r = style::MARKER_SIZE as i32;
+    match shape {
+        Shape::Line { width, .. } => {
+            PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(*width)).into_dyn()
+        }
+        Shape::Scatter { marker, filled, .. } => {
+            let style = if *filled { colour.filled() } else { colour.stroke_width(style::LINE_WIDTH) };
+            let c = (x + 12, y);
+            match marker {
+                Marker::Circle => Circle::new(c, r, style).into_dyn(),
+                Marker::Square => Rectangle::new([(c.0 - r, y - r), (c.0 + r, y + r)], style).into_dyn(),
+                Marker::Triangle if *filled => Polygon::new(triangle(c, r + 2, false), style).into_dyn(),
+                Marker::Triangle => PathElement::new(triangle(c, r + 2, true), style).into_dyn(),
+                Marker::Cross => Cross::new(c, r, style).into_dyn(),
+            }
+        }
+        Shape::Band { .. } | Shape::Span { .. } => {
+            Rectangle::new([(x, y - 8), (x + 24, y + 8)], colour.filled()).into_dyn()
+        }
+    }
+}
+
+/// The outline of an upward triangle of circumradius `r` [px] around `c`, closed (first corner
+/// repeated) when `closed`. Plotters' own triangle marker is always filled.
+fn triangle(c: (i32, i32), r: i32, closed: bool) -> Vec<(i32, i32)> {
+    let (dx, dy) = ((f64::from(r) * 0.866).round() as i32, r / 2);
+    let mut corners = vec![(c.0, c.1 - r), (c.0 + dx, c.1 + dy), (c.0 - dx, c.1 + dy)];
+    if closed {
+        corners.push(corners[0]);
+    }
+    corners
+}
+
+/// Tick labels with at most four significant digits, in scientific notation for very large or
+/// very small magnitudes ("0.3", "250", "1e-4", "2.5e6").
+pub fn tick_label(v: &f64) -> String {
+    let v = *v;
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { v.to_string() };
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.3e}");
+        let (mantissa, exp) = s.split_once('e').expect("{:e} output has an exponent");
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exp}");
+    }
+    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_adapt_to_the_range() {
+        assert_eq!(log_ticks(5e-5, 2.0), vec![1e-4, 1e-3, 1e-2, 1e-1, 1.0]);
+        assert_eq!(log_ticks(0.8, 12.0), vec![1.0, 2.0, 5.0, 10.0]);
+        let short = log_ticks(1.15, 2.25);
+        assert_eq!(short.len(), 6, "{short:?}");
+        assert!((short[0] - 1.2).abs() < 1e-12 && (short[5] - 2.2).abs() < 1e-12, "{short:?}");
+        let wide = log_ticks(1e-30, 1e30).len();
+        assert!((10..=12).contains(&wide), "{wide} ticks over 60 decades");
+    }
+}

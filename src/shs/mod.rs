@@ -1,0 +1,191 @@
+//! Slide-hold-slide (SHS) experiments: from a raw friction trace to the static and dynamic
+//! friction after each hold, as the paper measures them on its rheometer.
+//!
+//! In an SHS trace the interface slides at a constant speed (0.3 µm/s in the paper), is held
+//! at zero shear for a hold time, and slides again. After each restart the static friction
+//! force F_S is the peak, and the dynamic friction force F_D the mean over a window of steady
+//! sliding after the peak (≈ 1 µm); the normal force N is averaged over the same window. The
+//! initial slide before the first hold is not a restart, nor is the first slide of a trace that
+//! starts at rest. How holds and restarts are found is described in the `detect` module: on
+//! the friction signal relative to its own sliding level, with hysteresis and minimum
+//! durations, and — when the trace records displacement — with a check that nothing slid
+//! during the hold.
+//!
+//! When the trace has no displacement column, displacement is derived from time and the
+//! sliding speed, counted from each restart: a hold is then seen in the friction signal only,
+//! and the windows are `window / speed` long in time.
+
+mod detect;
+mod figure;
+mod points;
+mod trace;
+
+pub use figure::trace_figure;
+pub use points::{read_points, write_points, ShsPoint};
+pub use trace::{newtons_per, read_trace, seconds_per, Trace, TraceFormat, DISPLACEMENT_COLUMN};
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+
+/// How restarts are found and measured. Lengths in metres, times in seconds.
+#[derive(Clone, Debug)]
+pub struct ShsOptions {
+    /// Sliding speed [m/s], for displacement derived from time when the trace has none.
+    pub speed: f64,
+    /// Sliding displacement after the peak over which F_D and N are averaged [m].
+    pub window: f64,
+    /// Sliding displacement after the restart within which the peak F_S is sought [m].
+    pub peak_within: f64,
+    /// Shortest hold and shortest slide [s]: briefer dips or bursts of friction are noise.
+    pub min_duration: f64,
+    /// Friction below this fraction of the sliding level is near zero: a hold.
+    pub hold_fraction: f64,
+    /// Friction above this fraction of the sliding level is sliding: a restart.
+    pub slide_fraction: f64,
+    /// Hold times within this relative spread of a group's shortest join that group.
+    pub group_tolerance: f64,
+}
+
+impl Default for ShsOptions {
+    fn default() -> Self {
+        ShsOptions {
+            speed: 0.3e-6,
+            window: 1e-6,
+            peak_within: 2e-6,
+            min_duration: 1.0,
+            hold_fraction: 0.2,
+            slide_fraction: 0.5,
+            group_tolerance: 0.25,
+        }
+    }
+}
+
+impl ShsOptions {
+    /// Check every value; errors name the command-line option.
+    pub fn validate(&self) -> Result<()> {
+        let positive = [
+            ("--speed", self.speed, "m/s"),
+            ("--window", self.window, "m"),
+            ("--peak-within", self.peak_within, "m"),
+            ("--min-duration", self.min_duration, "s"),
+        ];
+        for (option, v, unit) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(option, format!("{v} {unit} must be positive")));
+            }
+        }
+        if !(0.0 < self.hold_fraction && self.hold_fraction < self.slide_fraction && self.slide_fraction < 1.0) {
+            return Err(Error::invalid(
+                "--hold-fraction/--slide-fraction",
+                format!("need 0 < {} < {} < 1", self.hold_fraction, self.slide_fraction),
+            ));
+        }
+        if !(self.group_tolerance.is_finite() && self.group_tolerance >= 0.0) {
+            return Err(Error::invalid("--group-tolerance", format!("{} must be ≥ 0", self.group_tolerance)));
+        }
+        Ok(())
+    }
+}
+
+/// One restart after a hold. Forces in newtons, times in seconds from the trace's clock.
+#[derive(Clone, Debug, Serialize)]
+pub struct Cycle {
+    /// Time spent at zero shear before the restart [s].
+    pub hold_s: f64,
+    /// F_S: the friction peak after the restart [N].
+    pub static_force_n: f64,
+    /// F_D: mean friction over the window after the peak [N].
+    pub dynamic_force_n: f64,
+    /// N: mean normal force over the same window [N].
+    pub normal_force_n: f64,
+    /// mu_s = F_S / N.
+    pub static_coefficient: f64,
+    /// mu_d = F_D / N.
+    pub dynamic_coefficient: f64,
+    /// F_S / F_D (= mu_s / mu_d).
+    pub friction_drop: f64,
+    /// When the friction had settled at the hold level [s].
+    pub hold_start_s: f64,
+    /// The last sample of the hold, just before the friction rises [s].
+    pub restart_s: f64,
+    /// The sample of the peak F_S [s].
+    pub peak_s: f64,
+    /// The last sample of the dynamic window [s].
+    pub window_end_s: f64,
+}
+
+/// Mean and sample standard deviation of one quantity over a group's restarts (`std` is
+/// `None` for a single restart).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Stat {
+    pub mean: f64,
+    pub std: Option<f64>,
+}
+
+impl Stat {
+    fn of(values: impl Iterator<Item = f64> + Clone) -> Stat {
+        let n = values.clone().count() as f64;
+        let mean = values.clone().sum::<f64>() / n;
+        let std = (n > 1.0).then(|| (values.map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt());
+        Stat { mean, std }
+    }
+}
+
+/// Restarts after holds of similar length, summarised.
+#[derive(Clone, Debug, Serialize)]
+pub struct Group {
+    pub n_restarts: usize,
+    pub hold_s: Stat,
+    pub static_force_n: Stat,
+    pub dynamic_force_n: Stat,
+    pub normal_force_n: Stat,
+    pub static_coefficient: Stat,
+    pub dynamic_coefficient: Stat,
+    pub friction_drop: Stat,
+}
+
+/// What a trace yields: its restarts in time order, their groups by hold time (shortest
+/// first), and the holds that gave no measurement, each with the reason.
+#[derive(Clone, Debug, Serialize)]
+pub struct Analysis {
+    pub cycles: Vec<Cycle>,
+    pub groups: Vec<Group>,
+    pub skipped: Vec<String>,
+}
+
+/// Find every hold and restart in `trace` and measure each restart. An error, naming the
+/// trace, when no hold or no complete restart is found.
+pub fn analyse(trace: &Trace, options: &ShsOptions) -> Result<Analysis> {
+    detect::analyse(trace, options)
+}
+
+/// Group restarts by hold time: sorted by hold, a restart joins the current group while its
+/// hold is within `tolerance` (relative) of the group's shortest.
+pub fn group_by_hold(cycles: &[Cycle], tolerance: f64) -> Vec<Group> {
+    let mut sorted: Vec<&Cycle> = cycles.iter().collect();
+    sorted.sort_by(|a, b| a.hold_s.total_cmp(&b.hold_s));
+    let mut groups: Vec<Vec<&Cycle>> = Vec::new();
+    for c in sorted {
+        match groups.last_mut() {
+            Some(g) if c.hold_s <= g[0].hold_s * (1.0 + tolerance) => g.push(c),
+            _ => groups.push(vec![c]),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|g| {
+            let stat = |q: fn(&Cycle) -> f64| Stat::of(g.iter().map(|c| q(c)));
+            Group {
+                n_restarts: g.len(),
+                hold_s: stat(|c| c.hold_s),
+                static_force_n: stat(|c| c.static_force_n),
+                dynamic_force_n: stat(|c| c.dynamic_force_n),
+                normal_force_n: stat(|c| c.normal_force_n),
+                static_coefficient: stat(|c| c.static_coefficient),
+                dynamic_coefficient: stat(|c| c.dynamic_coefficient),
+                friction_drop: stat(|c| c.friction_drop),
+            }
+        })
+        .collect()
+}
