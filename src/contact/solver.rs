@@ -29,6 +29,9 @@ use rayon::prelude::*;
 use super::influence::{Boundary, Influence};
 use crate::error::{Error, Result};
 
+/// Iterations without a new best residual after which the conjugate gradient restarts.
+const STALL: usize = 50;
+
 /// Pixels per reduction chunk. Fixed, so sums (and results) do not depend on the thread count.
 const CHUNK: usize = 8192;
 
@@ -250,6 +253,9 @@ impl ContactSolver {
         let mut step = 0.0;
         let mut conjugate = false;
         let mut gap_norm_old = 1.0;
+        // Best residual so far and when it was reached: a stalled search restarts from the
+        // steepest descent direction.
+        let (mut best, mut best_at) = (f64::INFINITY, 0);
         let mut exact = true;
         let mut iterations = 0;
         let mut applications = 1;
@@ -274,6 +280,11 @@ impl ContactSolver {
                 });
             }
             iterations += 1;
+            if s.residual < best {
+                (best, best_at) = (s.residual, iterations);
+            } else if iterations - best_at > STALL {
+                (conjugate, best_at) = (false, iterations);
+            }
             let beta = if conjugate { s.gap_norm / gap_norm_old } else { 0.0 };
             gap_norm_old = s.gap_norm;
 
@@ -296,7 +307,10 @@ impl ContactSolver {
                 self.restore_load(p_mean * n as f64);
                 s = self.refresh(p_mean, norm);
                 applications += 1;
-                conjugate = !pass.added;
+                // Unlike Polonsky & Keer, conjugacy is kept when points enter the contact set:
+                // resetting it there makes load sweeps, where the set keeps growing, converge
+                // like steepest descent (2–3× more iterations on rough spheres).
+                conjugate = true;
                 exact = true;
             } else {
                 s = Shifts {
