@@ -1,0 +1,186 @@
+//! Gwyddion native `.gwy` files (GWYP serialisation).
+//!
+//! After the magic `GWYP`, one serialised object: its type name (NUL-terminated), the byte
+//! size of its components (u32, little-endian), then the components, each a NUL-terminated
+//! name, a one-letter type and a value: `b` bool, `c` char, `i` i32, `q` i64, `d` f64, `s`
+//! string, `o` object; upper case for arrays (`C I Q D S O`) prefixed by a u32 count. The top
+//! object is a `GwyContainer` whose `/N/data` components are the channels (`GwyDataField`:
+//! `xres`, `yres`, `xreal`, `yreal`, `si_unit_xy`, `si_unit_z`, `data`) and `/N/data/title`
+//! their titles. Values are in base SI units; rows are stored top first.
+//!
+//! Masks (`/N/mask`) are user selections, not missing data: they are ignored.
+
+use std::collections::BTreeMap;
+
+use super::binary::{self, Cursor, Endian, Sample};
+use super::{Channel, Format};
+use crate::topography::units::metres_per;
+
+pub struct Gwy;
+
+/// Objects nest (containers in containers); deeper nesting than this is a corrupt file, and
+/// refusing it keeps recursion off the end of the stack.
+const MAX_DEPTH: usize = 32;
+
+impl Format for Gwy {
+    fn name(&self) -> &'static str {
+        "gwy"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &["gwy"]
+    }
+
+    fn sniff(&self, head: &[u8]) -> bool {
+        head.starts_with(b"GWYP")
+    }
+
+    fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
+        let body = bytes.strip_prefix(b"GWYP").ok_or("not a Gwyddion file: no GWYP magic")?;
+        let mut c = Cursor::new(body, Endian::Little);
+        let top = Object::parse(&mut c, 0)?;
+        if top.name != "GwyContainer" {
+            return Err(format!("not a Gwyddion data file: its top object is a {}", top.name));
+        }
+        let mut fields: BTreeMap<u32, &Object> = BTreeMap::new();
+        let mut titles: BTreeMap<u32, &str> = BTreeMap::new();
+        for (key, value) in &top.items {
+            let Some((id, rest)) = key.strip_prefix('/').and_then(|k| k.split_once('/')) else { continue };
+            let Ok(id) = id.parse::<u32>() else { continue };
+            match (rest, value) {
+                ("data", Value::Object(o)) if o.name == "GwyDataField" => {
+                    fields.insert(id, o);
+                }
+                ("data/title", Value::Str(t)) => {
+                    titles.insert(id, t);
+                }
+                _ => {}
+            }
+        }
+        if fields.is_empty() {
+            return Err("the Gwyddion file holds no image channel (GwyDataField)".into());
+        }
+        fields.into_iter().map(|(id, o)| data_field(o, titles.get(&id).copied(), id)).collect()
+    }
+}
+
+/// A deserialised value. Large numeric arrays stay as byte slices, decoded only when used.
+enum Value<'a> {
+    Int(i64),
+    Double(f64),
+    Str(String),
+    Object(Object<'a>),
+    Doubles(&'a [u8]),
+    Other,
+}
+
+struct Object<'a> {
+    name: String,
+    items: Vec<(String, Value<'a>)>,
+}
+
+impl<'a> Object<'a> {
+    fn parse(c: &mut Cursor<'a>, depth: usize) -> Result<Object<'a>, String> {
+        if depth > MAX_DEPTH {
+            return Err("corrupt Gwyddion file: objects nested too deep".into());
+        }
+        let name = c.cstr("object name")?;
+        let size = c.u32("object size")? as usize;
+        // The components must lie within the declared size, which must lie within the file.
+        let body = c.take(size, &format!("object {name}"))?;
+        let mut inner = Cursor::new(body, Endian::Little);
+        let mut items = Vec::new();
+        while inner.pos() < size {
+            let key = inner.cstr("component name")?;
+            let kind = inner.u8("component type")?;
+            let value = Value::parse(&mut inner, kind, depth).map_err(|e| format!("{name}/{key}: {e}"))?;
+            items.push((key, value));
+        }
+        Ok(Object { name, items })
+    }
+
+    fn get(&self, key: &str) -> Option<&Value<'a>> {
+        self.items.iter().find(|(k, _)| k == key).map(|(_, v)| v)
+    }
+}
+
+impl<'a> Value<'a> {
+    fn parse(c: &mut Cursor<'a>, kind: u8, depth: usize) -> Result<Value<'a>, String> {
+        Ok(match kind {
+            b'b' | b'c' => Value::Int(c.u8("value")?.into()),
+            b'i' => Value::Int(c.i32("value")?.into()),
+            b'q' => Value::Int(c.i64("value")?),
+            b'd' => Value::Double(c.f64("value")?),
+            b's' => Value::Str(c.cstr("string")?),
+            b'o' => Value::Object(Object::parse(c, depth + 1)?),
+            b'C' | b'I' | b'Q' | b'D' => {
+                let size = match kind {
+                    b'C' => 1,
+                    b'I' => 4,
+                    _ => 8,
+                };
+                let n = c.u32("array length")? as usize;
+                let len = n.checked_mul(size).ok_or("the declared array length overflows")?;
+                let raw = c.take(len, "array")?;
+                if kind == b'D' {
+                    Value::Doubles(raw)
+                } else {
+                    Value::Other
+                }
+            }
+            b'S' | b'O' => {
+                // Each element takes at least one byte, so the count is bounded by the bytes
+                // present; nothing is allocated from it.
+                let n = c.u32("array length")?;
+                for _ in 0..n {
+                    if kind == b'S' {
+                        c.cstr("string")?;
+                    } else {
+                        Object::parse(c, depth + 1)?;
+                    }
+                }
+                Value::Other
+            }
+            k => return Err(format!("corrupt Gwyddion file: unknown component type {:?}", char::from(k))),
+        })
+    }
+}
+
+fn data_field(o: &Object, title: Option<&str>, id: u32) -> Result<Channel, String> {
+    let name = title.map(str::to_string).unwrap_or_else(|| format!("Unknown channel {id}"));
+    let what = format!("channel '{name}'");
+    let int = |k: &str| match o.get(k) {
+        Some(Value::Int(v)) => usize::try_from(*v).map_err(|_| format!("{what}: negative {k}")),
+        _ => Err(format!("{what}: no {k}")),
+    };
+    let real = |k: &str| match o.get(k) {
+        Some(Value::Double(v)) if v.is_finite() && *v > 0.0 => Some(*v),
+        _ => None,
+    };
+    let unit = |k: &str| match o.get(k) {
+        Some(Value::Object(u)) => match u.get("unitstr") {
+            Some(Value::Str(s)) => s.trim().to_string(),
+            _ => String::new(),
+        },
+        _ => String::new(),
+    };
+    let (nx, ny) = (int("xres")?, int("yres")?);
+    let Some(Value::Doubles(raw)) = o.get("data") else {
+        return Err(format!("{what}: no data array"));
+    };
+    let n = binary::grid_points(nx, ny).map_err(|e| format!("{what}: {e}"))?;
+    if raw.len() / 8 != n {
+        return Err(format!("{what}: {} values for a {nx} x {ny} grid", raw.len() / 8));
+    }
+    // Gwyddion keeps values in the base unit whatever prefix the unit string carries.
+    let (z_unit, xy_unit) = (unit("si_unit_z"), unit("si_unit_xy"));
+    let data = binary::grid(raw, 0, (nx, ny), Sample::F64, Endian::Little, &what, |v| v)?;
+    let physical_size = metres_per(&xy_unit).and(real("xreal").zip(real("yreal")));
+    Ok(Channel {
+        name,
+        data,
+        physical_size,
+        is_height: metres_per(&z_unit).is_some(),
+        unit: Some(z_unit).filter(|u| !u.is_empty()),
+    })
+}
