@@ -21,10 +21,8 @@ fn samples(c: &mut Criterion) {
         let file = entry["file"].as_str().expect("file name");
         let path = dir.join(file);
         // Bare arrays carry no size: give one, as a user must.
-        let opts = ReadOptions {
-            physical_size: entry.get("array_shape").map(|_| (1e-6, 1e-6)),
-            ..ReadOptions::default()
-        };
+        let opts =
+            ReadOptions { physical_size: entry.get("array_shape").map(|_| (1e-6, 1e-6)), ..ReadOptions::default() };
         if let Err(e) = read(&path, &opts) {
             eprintln!("skipping {file}: {e}");
             continue;

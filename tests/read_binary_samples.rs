@@ -71,7 +71,8 @@ fn manifest_entries_are_reproduced() {
         let rms = (defined.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n).sqrt();
         let min = defined.iter().copied().fold(f64::INFINITY, f64::min);
         let max = defined.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        for (what, got, key) in [("mean", mean, "mean_m"), ("rms", rms, "rms_m"), ("min", min, "min_m"), ("max", max, "max_m")]
+        for (what, got, key) in
+            [("mean", mean, "mean_m"), ("rms", rms, "rms_m"), ("min", min, "min_m"), ("max", max, "max_m")]
         {
             let want = e[key].as_f64().unwrap();
             assert!(close(got, want, 1e-4), "{file}: {what} {got:e} vs {want:e}");
@@ -96,7 +97,22 @@ fn files_marked_error_are_refused_in_one_line() {
 /// (its `heights().T`, rows top first as Gwyddion shows them): pins the orientation.
 #[test]
 fn orientation_matches_gwyddion() {
-    let cases: &[(&str, [f64; 4])] = &[];
+    let cases: &[(&str, [f64; 4])] = &[
+        ("di-1.di", [6.059980111183002e-09, -9.740178655504912e-09, 2.8431591669378123e-09, -3.030637489364063e-08]),
+        ("di-3.di", [5.6401630244078e-07, 1.271481837872279e-07, 6.43150486755908e-08, -6.164760426047413e-07]),
+        (
+            "nid-1.nid",
+            [-9.253918035998941e-07, -1.7202278458178043e-06, -1.2321653798371554e-06, -1.982578380569816e-06],
+        ),
+        ("mi-1.mi", [-4.986900329589845e-07, -5.981623077392578e-07, -5.122423553466797e-07, -6.289871978759767e-07]),
+        (
+            "si-ball-roughness.gwy",
+            [-5.365768854699441e-09, 5.647449179743057e-09, -1.9209035197942668e-09, 4.601261227944038e-09],
+        ),
+        ("x3p-2.x3p", [6.579781341223288e-08, -4.133318658776711e-08, 9.597611341223287e-08, -3.276918658776711e-08]),
+        // Igor stores x fastest: the step between 1 and 2 lies along each row.
+        ("10x10-one_channel_without_name.ibw", [1.0, 2.0, 1.0, 2.0]),
+    ];
     for (file, [top_left, top_right, bottom_left, bottom_right]) in cases {
         let t = read(&samples().join(file), &ReadOptions::default()).unwrap();
         let (ny, nx) = (t.ny() - 1, t.nx() - 1);

@@ -182,6 +182,28 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// A reason as one readable line: text quoted from a corrupt file may hold newlines, control
+/// characters or kilobytes of binary; those become `?` and the line is cut at 300 characters.
+pub fn one_line(reason: String) -> String {
+    const MAX: usize = 300;
+    let mut out: String = reason.chars().take(MAX).map(|c| if c.is_control() { '?' } else { c }).collect();
+    if reason.chars().nth(MAX).is_some() {
+        out.push('…');
+    }
+    out
+}
+
+/// Text from a file as it may be quoted in a message: at most 40 characters, control
+/// characters as `?`.
+pub fn printable(s: &str) -> String {
+    let short: String = s.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
+    if s.chars().nth(40).is_some() {
+        short + "…"
+    } else {
+        short
+    }
+}
+
 /// A header count or size read as a signed integer, refused when negative.
 pub fn non_negative(v: i64, what: &str) -> Result<usize, String> {
     usize::try_from(v).map_err(|_| format!("the header declares a negative {what} ({v})"))
@@ -228,6 +250,14 @@ mod tests {
         // A declared grid of 2^62 points must be refused without trying to allocate it.
         assert!(grid(&b, 0, (1 << 31, 1 << 31), Sample::F64, Endian::Little, "data", |v| v).is_err());
         assert!(grid(&b, 0, (0, 3), Sample::F64, Endian::Little, "data", |v| v).is_err());
+    }
+
+    #[test]
+    fn reasons_stay_on_one_short_line() {
+        assert_eq!(one_line("a\nb\r".into()), "a?b?");
+        assert_eq!(one_line("x".repeat(500)).chars().count(), 301);
+        assert_eq!(printable("ab\u{1}"), "ab?");
+        assert_eq!(printable(&"y".repeat(50)), format!("{}…", "y".repeat(40)));
     }
 
     #[test]

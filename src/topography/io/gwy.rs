@@ -36,32 +36,37 @@ impl Format for Gwy {
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        let body = bytes.strip_prefix(b"GWYP").ok_or("not a Gwyddion file: no GWYP magic")?;
-        let mut c = Cursor::new(body, Endian::Little);
-        let top = Object::parse(&mut c, 0)?;
-        if top.name != "GwyContainer" {
-            return Err(format!("not a Gwyddion data file: its top object is a {}", top.name));
-        }
-        let mut fields: BTreeMap<u32, &Object> = BTreeMap::new();
-        let mut titles: BTreeMap<u32, &str> = BTreeMap::new();
-        for (key, value) in &top.items {
-            let Some((id, rest)) = key.strip_prefix('/').and_then(|k| k.split_once('/')) else { continue };
-            let Ok(id) = id.parse::<u32>() else { continue };
-            match (rest, value) {
-                ("data", Value::Object(o)) if o.name == "GwyDataField" => {
-                    fields.insert(id, o);
-                }
-                ("data/title", Value::Str(t)) => {
-                    titles.insert(id, t);
-                }
-                _ => {}
-            }
-        }
-        if fields.is_empty() {
-            return Err("the Gwyddion file holds no image channel (GwyDataField)".into());
-        }
-        fields.into_iter().map(|(id, o)| data_field(o, titles.get(&id).copied(), id)).collect()
+        decode(bytes).map_err(binary::one_line)
     }
+}
+
+/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    let body = bytes.strip_prefix(b"GWYP").ok_or("not a Gwyddion file: no GWYP magic")?;
+    let mut c = Cursor::new(body, Endian::Little);
+    let top = Object::parse(&mut c, 0)?;
+    if top.name != "GwyContainer" {
+        return Err(format!("not a Gwyddion data file: its top object is a {}", binary::printable(&top.name)));
+    }
+    let mut fields: BTreeMap<u32, &Object> = BTreeMap::new();
+    let mut titles: BTreeMap<u32, &str> = BTreeMap::new();
+    for (key, value) in &top.items {
+        let Some((id, rest)) = key.strip_prefix('/').and_then(|k| k.split_once('/')) else { continue };
+        let Ok(id) = id.parse::<u32>() else { continue };
+        match (rest, value) {
+            ("data", Value::Object(o)) if o.name == "GwyDataField" => {
+                fields.insert(id, o);
+            }
+            ("data/title", Value::Str(t)) => {
+                titles.insert(id, t);
+            }
+            _ => {}
+        }
+    }
+    if fields.is_empty() {
+        return Err("the Gwyddion file holds no image channel (GwyDataField)".into());
+    }
+    fields.into_iter().map(|(id, o)| data_field(o, titles.get(&id).copied(), id)).collect()
 }
 
 /// A deserialised value. Large numeric arrays stay as byte slices, decoded only when used.
@@ -87,13 +92,14 @@ impl<'a> Object<'a> {
         let name = c.cstr("object name")?;
         let size = c.u32("object size")? as usize;
         // The components must lie within the declared size, which must lie within the file.
-        let body = c.take(size, &format!("object {name}"))?;
+        let body = c.take(size, &format!("object {}", binary::printable(&name)))?;
         let mut inner = Cursor::new(body, Endian::Little);
         let mut items = Vec::new();
         while inner.pos() < size {
             let key = inner.cstr("component name")?;
             let kind = inner.u8("component type")?;
-            let value = Value::parse(&mut inner, kind, depth).map_err(|e| format!("{name}/{key}: {e}"))?;
+            let value = Value::parse(&mut inner, kind, depth)
+                .map_err(|e| format!("{}/{}: {e}", binary::printable(&name), binary::printable(&key)))?;
             items.push((key, value));
         }
         Ok(Object { name, items })
@@ -148,7 +154,7 @@ impl<'a> Value<'a> {
 
 fn data_field(o: &Object, title: Option<&str>, id: u32) -> Result<Channel, String> {
     let name = title.map(str::to_string).unwrap_or_else(|| format!("Unknown channel {id}"));
-    let what = format!("channel '{name}'");
+    let what = format!("channel '{}'", binary::printable(&name));
     let int = |k: &str| match o.get(k) {
         Some(Value::Int(v)) => usize::try_from(*v).map_err(|_| format!("{what}: negative {k}")),
         _ => Err(format!("{what}: no {k}")),

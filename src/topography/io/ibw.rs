@@ -57,23 +57,27 @@ impl Format for Ibw {
     }
 
     fn sniff(&self, head: &[u8]) -> bool {
-        version(head).is_some_and(|(endian, v)| {
-            header_sizes(v).is_some_and(|(bin, wave)| checksum_ok(head, endian, bin + wave))
-        })
+        version(head)
+            .is_some_and(|(endian, v)| header_sizes(v).is_some_and(|(bin, wave)| checksum_ok(head, endian, bin + wave)))
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        let (endian, v) = version(bytes).ok_or("not an Igor binary wave: unknown version number")?;
-        let (bin, wave) = header_sizes(v).ok_or("not an Igor binary wave: unknown version number")?;
-        binary::extent(bytes, 0, bin + wave, "the Igor wave headers")?;
-        if !checksum_ok(bytes, endian, bin + wave) {
-            return Err("corrupt Igor binary wave: the header checksum does not match".into());
-        }
-        if v == 5 {
-            read_v5(bytes, endian)
-        } else {
-            read_v1_3(bytes, endian, bin)
-        }
+        decode(bytes).map_err(binary::one_line)
+    }
+}
+
+/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    let (endian, v) = version(bytes).ok_or("not an Igor binary wave: unknown version number")?;
+    let (bin, wave) = header_sizes(v).ok_or("not an Igor binary wave: unknown version number")?;
+    binary::extent(bytes, 0, bin + wave, "the Igor wave headers")?;
+    if !checksum_ok(bytes, endian, bin + wave) {
+        return Err("corrupt Igor binary wave: the header checksum does not match".into());
+    }
+    if v == 5 {
+        read_v5(bytes, endian)
+    } else {
+        read_v1_3(bytes, endian, bin)
     }
 }
 
@@ -127,8 +131,10 @@ fn read_v5(bytes: &[u8], endian: Endian) -> Result<Vec<Channel>, String> {
     let formula_size = size("formulaSize")?;
     let note_size = size("noteSize")?;
     let data_e_units_size = size("dataEUnitsSize")?;
-    let dim_e_units_size = [size("dimEUnitsSize")?, size("dimEUnitsSize")?, size("dimEUnitsSize")?, size("dimEUnitsSize")?];
-    let dim_labels_size = [size("dimLabelsSize")?, size("dimLabelsSize")?, size("dimLabelsSize")?, size("dimLabelsSize")?];
+    let dim_e_units_size =
+        [size("dimEUnitsSize")?, size("dimEUnitsSize")?, size("dimEUnitsSize")?, size("dimEUnitsSize")?];
+    let dim_labels_size =
+        [size("dimLabelsSize")?, size("dimLabelsSize")?, size("dimLabelsSize")?, size("dimLabelsSize")?];
 
     let mut w = Cursor::new(&bytes[64..], endian);
     w.skip(12, "wave header")?; // next, creationDate, modDate
@@ -182,7 +188,8 @@ fn read_v5(bytes: &[u8], endian: Endian) -> Result<Vec<Channel>, String> {
         labels.push(block(len, "the dimension labels")?);
     }
 
-    let prefer = |extended: &str, short: &str| if extended.is_empty() { short.to_string() } else { extended.to_string() };
+    let prefer =
+        |extended: &str, short: &str| if extended.is_empty() { short.to_string() } else { extended.to_string() };
     let data_unit = prefer(&data_e_unit, &data_unit_field);
     let (x_unit, y_unit) = (prefer(&dim_e_units[0], &dim_unit_fields[0]), prefer(&dim_e_units[1], &dim_unit_fields[1]));
     let physical_size = match (metres_per(&x_unit), metres_per(&y_unit)) {
@@ -211,7 +218,15 @@ fn read_v5(bytes: &[u8], endian: Endian) -> Result<Vec<Channel>, String> {
             .and_then(|b| b.checked_mul(k))
             .and_then(|b| b.checked_add(data_offset))
             .ok_or("the declared wave size overflows")?;
-        let data = binary::grid(bytes, offset, (nx, ny), sample, endian, &format!("channel '{name}'"), |v| v)?;
+        let data = binary::grid(
+            bytes,
+            offset,
+            (nx, ny),
+            sample,
+            endian,
+            &format!("channel '{}'", binary::printable(&name)),
+            |v| v,
+        )?;
         // Igor's y axis points up: the last line is the top of the image.
         channels.push(channel(name, binary::flip_rows(data), physical_size, &unit));
     }
@@ -224,7 +239,13 @@ fn channel(name: String, mut data: ndarray::Array2<f64>, physical_size: Option<(
     if let Some(m) = m {
         data.mapv_inplace(|v| v * m);
     }
-    Channel { name, data, physical_size, unit: Some(unit.to_string()).filter(|u| !u.is_empty()), is_height: m.is_some() }
+    Channel {
+        name,
+        data,
+        physical_size,
+        unit: Some(unit.to_string()).filter(|u| !u.is_empty()),
+        is_height: m.is_some(),
+    }
 }
 
 /// The `Key: value` lines of an Asylum Research wave note.

@@ -30,84 +30,85 @@ impl Format for Mi {
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        if !bytes.starts_with(b"fileType") {
-            return Err("not a PicoView .mi file: it does not start with 'fileType'".into());
-        }
-        let mut header: Vec<(String, String)> = Vec::new();
-        let mut buffers: Vec<Buffer> = Vec::new();
-        let mut data = None;
-        let mut pos = 0;
-        while pos < bytes.len() {
-            let end = bytes[pos..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| pos + i);
-            let line = binary::latin1(&bytes[pos..end]);
-            let line = line.trim_end_matches('\r');
-            pos = (end + 1).min(bytes.len());
-            let split = line.char_indices().nth(KEY_WIDTH).map_or(line.len(), |(i, _)| i);
-            let (key, value) = (line[..split].trim(), line[split..].trim());
-            match key {
-                "data" => {
-                    data = Some((value.to_string(), pos));
-                    break;
-                }
-                "bufferLabel" => buffers.push(Buffer { label: value.to_string(), unit: None, range: None }),
-                "bufferUnit" | "bufferRange" if !buffers.is_empty() => {
-                    if let Some(b) = buffers.last_mut() {
-                        if key == "bufferUnit" {
-                            b.unit = Some(value.to_string());
-                        } else {
-                            b.range = value.parse::<f64>().ok().filter(|r| r.is_finite());
-                        }
+        decode(bytes).map_err(binary::one_line)
+    }
+}
+
+/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    if !bytes.starts_with(b"fileType") {
+        return Err("not a PicoView .mi file: it does not start with 'fileType'".into());
+    }
+    let mut header: Vec<(String, String)> = Vec::new();
+    let mut buffers: Vec<Buffer> = Vec::new();
+    let mut data = None;
+    let mut pos = 0;
+    while pos < bytes.len() {
+        let end = bytes[pos..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| pos + i);
+        let line = binary::latin1(&bytes[pos..end]);
+        let line = line.trim_end_matches('\r');
+        pos = (end + 1).min(bytes.len());
+        let split = line.char_indices().nth(KEY_WIDTH).map_or(line.len(), |(i, _)| i);
+        let (key, value) = (line[..split].trim(), line[split..].trim());
+        match key {
+            "data" => {
+                data = Some((value.to_string(), pos));
+                break;
+            }
+            "bufferLabel" => buffers.push(Buffer { label: value.to_string(), unit: None, range: None }),
+            "bufferUnit" | "bufferRange" if !buffers.is_empty() => {
+                if let Some(b) = buffers.last_mut() {
+                    if key == "bufferUnit" {
+                        b.unit = Some(value.to_string());
+                    } else {
+                        b.range = value.parse::<f64>().ok().filter(|r| r.is_finite());
                     }
                 }
-                _ => header.push((key.to_string(), value.to_string())),
             }
+            _ => header.push((key.to_string(), value.to_string())),
         }
-        let get = |k: &str| header.iter().find(|(key, _)| key == k).map(|(_, v)| v.as_str());
-        match get("fileType") {
-            Some("Image") => {}
-            Some(t) => return Err(format!("PicoView '{t}' files are not topographies (only 'Image')")),
-            None => return Err("not a PicoView .mi file: no fileType".into()),
-        }
-        let (encoding, data_start) = data.ok_or("truncated PicoView header: no 'data' line")?;
-        let sample = match encoding.as_str() {
-            "BINARY" => Sample::I16,
-            "BINARY_32" => Sample::I32,
-            e => return Err(format!("PicoView data encoding '{e}' is not supported (only BINARY, BINARY_32)")),
-        };
-        let count = |k: &str| get(k).and_then(|v| v.parse::<usize>().ok()).ok_or_else(|| format!("no valid {k} count"));
-        let (nx, ny) = (count("xPixels")?, count("yPixels")?);
-        let length = |k: &str| get(k).and_then(|v| v.parse::<f64>().ok()).filter(|l| *l > 0.0 && l.is_finite());
-        let physical_size = length("xLength").zip(length("yLength"));
-        if buffers.is_empty() {
-            return Err("the PicoView header declares no buffer (bufferLabel)".into());
-        }
-
-        let block = binary::grid_points(nx, ny)?
-            .checked_mul(sample.size())
-            .ok_or("the declared data size overflows")?;
-        let full_scale = if sample == Sample::I16 { 32768.0 } else { 2147483648.0 };
-        let mut channels = Vec::with_capacity(buffers.len());
-        for (k, b) in buffers.into_iter().enumerate() {
-            let what = format!("buffer '{}'", b.label);
-            let range = b.range.ok_or_else(|| format!("{what}: no valid bufferRange"))?;
-            let unit = binary::normalise_unit(b.unit.as_deref().unwrap_or(""));
-            let to_metres = metres_per(&unit);
-            let step = range / full_scale * to_metres.unwrap_or(1.0);
-            let offset = block
-                .checked_mul(k)
-                .and_then(|o| o.checked_add(data_start))
-                .ok_or("the declared data size overflows")?;
-            let data = binary::grid(bytes, offset, (nx, ny), sample, Endian::Little, &what, |v| v * step)?;
-            channels.push(Channel {
-                name: b.label,
-                data: binary::flip_rows(data),
-                physical_size,
-                unit: Some(unit).filter(|u| !u.is_empty()),
-                is_height: to_metres.is_some(),
-            });
-        }
-        Ok(channels)
     }
+    let get = |k: &str| header.iter().find(|(key, _)| key == k).map(|(_, v)| v.as_str());
+    match get("fileType") {
+        Some("Image") => {}
+        Some(t) => return Err(format!("PicoView '{t}' files are not topographies (only 'Image')")),
+        None => return Err("not a PicoView .mi file: no fileType".into()),
+    }
+    let (encoding, data_start) = data.ok_or("truncated PicoView header: no 'data' line")?;
+    let sample = match encoding.as_str() {
+        "BINARY" => Sample::I16,
+        "BINARY_32" => Sample::I32,
+        e => return Err(format!("PicoView data encoding '{e}' is not supported (only BINARY, BINARY_32)")),
+    };
+    let count = |k: &str| get(k).and_then(|v| v.parse::<usize>().ok()).ok_or_else(|| format!("no valid {k} count"));
+    let (nx, ny) = (count("xPixels")?, count("yPixels")?);
+    let length = |k: &str| get(k).and_then(|v| v.parse::<f64>().ok()).filter(|l| *l > 0.0 && l.is_finite());
+    let physical_size = length("xLength").zip(length("yLength"));
+    if buffers.is_empty() {
+        return Err("the PicoView header declares no buffer (bufferLabel)".into());
+    }
+
+    let block = binary::grid_points(nx, ny)?.checked_mul(sample.size()).ok_or("the declared data size overflows")?;
+    let full_scale = if sample == Sample::I16 { 32768.0 } else { 2147483648.0 };
+    let mut channels = Vec::with_capacity(buffers.len());
+    for (k, b) in buffers.into_iter().enumerate() {
+        let what = format!("buffer '{}'", binary::printable(&b.label));
+        let range = b.range.ok_or_else(|| format!("{what}: no valid bufferRange"))?;
+        let unit = binary::normalise_unit(b.unit.as_deref().unwrap_or(""));
+        let to_metres = metres_per(&unit);
+        let step = range / full_scale * to_metres.unwrap_or(1.0);
+        let offset =
+            block.checked_mul(k).and_then(|o| o.checked_add(data_start)).ok_or("the declared data size overflows")?;
+        let data = binary::grid(bytes, offset, (nx, ny), sample, Endian::Little, &what, |v| v * step)?;
+        channels.push(Channel {
+            name: b.label,
+            data: binary::flip_rows(data),
+            physical_size,
+            unit: Some(unit).filter(|u| !u.is_empty()),
+            is_height: to_metres.is_some(),
+        });
+    }
+    Ok(channels)
 }
 
 /// One channel declared in the header.

@@ -36,17 +36,22 @@ impl Format for Nanoscope {
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        let header = Header::parse(bytes)?;
-        let version = header
-            .global("version")
-            .and_then(|v| u32::from_str_radix(v.trim().trim_start_matches("0x").trim_start_matches("0X"), 16).ok())
-            .unwrap_or(0);
-        let images: Vec<&Section> = header.sections.iter().filter(|s| IMAGE_SECTIONS.contains(&s.name.as_str())).collect();
-        if images.is_empty() {
-            return Err("no image in this NanoScope file (force curves and spectra are not topographies)".into());
-        }
-        images.into_iter().map(|s| read_image(bytes, &header, s, version)).collect()
+        decode(bytes).map_err(binary::one_line)
     }
+}
+
+/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    let header = Header::parse(bytes)?;
+    let version = header
+        .global("version")
+        .and_then(|v| u32::from_str_radix(v.trim().trim_start_matches("0x").trim_start_matches("0X"), 16).ok())
+        .unwrap_or(0);
+    let images: Vec<&Section> = header.sections.iter().filter(|s| IMAGE_SECTIONS.contains(&s.name.as_str())).collect();
+    if images.is_empty() {
+        return Err("no image in this NanoScope file (force curves and spectra are not topographies)".into());
+    }
+    images.into_iter().map(|s| read_image(bytes, &header, s, version)).collect()
 }
 
 /// One `\*Section` with its `(lower-case key, value)` entries in file order.
@@ -168,7 +173,7 @@ fn number_and_unit(s: &str) -> Option<(f64, &str)> {
 
 fn read_image(bytes: &[u8], header: &Header, s: &Section, version: u32) -> Result<Channel, String> {
     let name = channel_name(s);
-    let what = format!("channel '{name}'");
+    let what = format!("channel '{}'", binary::printable(&name));
     let int = |key: &str| -> Result<usize, String> {
         let v = s.get(key).ok_or_else(|| format!("{what}: no '{key}' in its image header"))?;
         v.trim().parse::<usize>().map_err(|_| format!("{what}: '{key}' is not a count: '{v}'"))
@@ -230,8 +235,11 @@ fn z_scale(header: &Header, s: &Section, bytes_per_pixel: usize) -> Result<(f64,
     let soft = z.soft_scale.and_then(|name| header.global(&format!("@{}", name.to_ascii_lowercase())));
     if let Some((soft, soft_unit)) = soft.and_then(|v| number_and_unit(Value::parse(v).hard)) {
         if let Some((num, den)) = soft_unit.split_once('/') {
-            if den.trim() == hard_unit {
-                return Ok((hard_per_lsb * soft, binary::normalise_unit(num)));
+            // The soft scale is per volt, the hard value may be in mV: convert between them.
+            let ratio =
+                if den.trim() == hard_unit { Some(1.0) } else { volts(hard_unit).zip(volts(den)).map(|(h, d)| h / d) };
+            if let Some(ratio) = ratio {
+                return Ok((hard_per_lsb * ratio * soft, binary::normalise_unit(num)));
             }
         } else {
             return Ok((hard_per_lsb * soft, binary::normalise_unit(hard_unit)));
@@ -239,6 +247,16 @@ fn z_scale(header: &Header, s: &Section, bytes_per_pixel: usize) -> Result<(f64,
     }
     // No usable soft scale: the values stay in the hard unit (volts, degrees…).
     Ok((hard_per_lsb, binary::normalise_unit(hard_unit)))
+}
+
+/// Volts per `unit`, for the voltage units of Z scales.
+fn volts(unit: &str) -> Option<f64> {
+    match unit.trim() {
+        "V" => Some(1.0),
+        "mV" => Some(1e-3),
+        "uV" | "µV" | "~V" => Some(1e-6),
+        _ => None,
+    }
 }
 
 /// Physical size (lx, ly) [m] from `Scan Size: 500 500 nm` (or a single number for a scan

@@ -30,63 +30,70 @@ impl Format for Nid {
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        let data_start = bytes
-            .windows(3)
-            .position(|w| w == b"\n#!")
-            .map(|i| i + 3)
-            .ok_or("not a Nanosurf file: no '#!' marker before the data")?;
-        let header = Ini::parse(&String::from_utf8_lossy(&bytes[..data_start - 3]));
-        let dataset = header.section("DataSet").ok_or("not a Nanosurf file: no [DataSet] section")?;
-
-        // `GrG-ChC=DataSet-G:C` entries in (G, C) order: the order of the data blocks.
-        let mut list: Vec<((usize, usize), &str)> = dataset
-            .iter()
-            .filter_map(|(k, v)| {
-                let (g, c) = k.strip_prefix("Gr")?.split_once("-Ch")?;
-                Some(((g.parse().ok()?, c.parse().ok()?), v.as_str()))
-            })
-            .collect();
-        list.sort_by_key(|&(gc, _)| gc);
-        if list.is_empty() {
-            return Err("the Nanosurf header lists no channel".into());
-        }
-
-        let mut offset = data_start;
-        let mut channels = Vec::new();
-        for ((g, _), section) in list {
-            let s = header.section(section).ok_or_else(|| format!("the header lists [{section}] but has no such section"))?;
-            let block = Block::parse(s).map_err(|e| format!("[{section}]: {e}"))?;
-            let len = block.bytes().map_err(|e| format!("[{section}]: {e}"))?;
-            let here = offset;
-            offset = offset.checked_add(len).ok_or("the declared data size overflows")?;
-            // Every block must be present, also those not returned: a short file is truncated.
-            binary::extent(bytes, here, len, &format!("[{section}]"))?;
-            let Some(to_metres) = metres_per(&block.z_unit) else { continue };
-            let frame = block
-                .frame
-                .clone()
-                .or_else(|| dataset.get(&format!("Gr{g}-Name")).cloned())
-                .unwrap_or_else(|| format!("Group {g}"));
-            let name = format!("{frame} ({})", block.z_name);
-            let step = block.z_range / 2f64.powi(block.bits as i32);
-            // Signed integers are centred on the middle of the range.
-            let base = block.z_min + if block.signed { block.z_range * 0.5 } else { 0.0 };
-            let data = binary::grid(bytes, here, (block.nx, block.ny), block.sample, block.endian, &name, |v| {
-                (base + v * step) * to_metres
-            })?;
-            channels.push(Channel {
-                name,
-                data: binary::flip_rows(data),
-                physical_size: block.physical_size,
-                unit: Some(block.z_unit),
-                is_height: true,
-            });
-        }
-        if channels.is_empty() {
-            return Err("the Nanosurf file holds no topography channel (no channel in a length unit)".into());
-        }
-        Ok(channels)
+        decode(bytes).map_err(binary::one_line)
     }
+}
+
+/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    let data_start = bytes
+        .windows(3)
+        .position(|w| w == b"\n#!")
+        .map(|i| i + 3)
+        .ok_or("not a Nanosurf file: no '#!' marker before the data")?;
+    let header = Ini::parse(&String::from_utf8_lossy(&bytes[..data_start - 3]));
+    let dataset = header.section("DataSet").ok_or("not a Nanosurf file: no [DataSet] section")?;
+
+    // `GrG-ChC=DataSet-G:C` entries in (G, C) order: the order of the data blocks.
+    let mut list: Vec<((usize, usize), &str)> = dataset
+        .iter()
+        .filter_map(|(k, v)| {
+            let (g, c) = k.strip_prefix("Gr")?.split_once("-Ch")?;
+            Some(((g.parse().ok()?, c.parse().ok()?), v.as_str()))
+        })
+        .collect();
+    list.sort_by_key(|&(gc, _)| gc);
+    if list.is_empty() {
+        return Err("the Nanosurf header lists no channel".into());
+    }
+
+    let mut offset = data_start;
+    let mut channels = Vec::new();
+    for ((g, _), section) in list {
+        let quoted = binary::printable(section);
+        let s =
+            header.section(section).ok_or_else(|| format!("the header lists [{quoted}] but has no such section"))?;
+        let block = Block::parse(s).map_err(|e| format!("[{quoted}]: {e}"))?;
+        let len = block.bytes().map_err(|e| format!("[{quoted}]: {e}"))?;
+        let here = offset;
+        offset = offset.checked_add(len).ok_or("the declared data size overflows")?;
+        // Every block must be present, also those not returned: a short file is truncated.
+        binary::extent(bytes, here, len, &format!("[{quoted}]"))?;
+        let Some(to_metres) = metres_per(&block.z_unit) else { continue };
+        let frame = block
+            .frame
+            .clone()
+            .or_else(|| dataset.get(&format!("Gr{g}-Name")).cloned())
+            .unwrap_or_else(|| format!("Group {g}"));
+        let name = format!("{frame} ({})", block.z_name);
+        let step = block.z_range / 2f64.powi(block.bits as i32);
+        // Signed integers are centred on the middle of the range.
+        let base = block.z_min + if block.signed { block.z_range * 0.5 } else { 0.0 };
+        let data = binary::grid(bytes, here, (block.nx, block.ny), block.sample, block.endian, &name, |v| {
+            (base + v * step) * to_metres
+        })?;
+        channels.push(Channel {
+            name,
+            data: binary::flip_rows(data),
+            physical_size: block.physical_size,
+            unit: Some(block.z_unit),
+            is_height: true,
+        });
+    }
+    if channels.is_empty() {
+        return Err("the Nanosurf file holds no topography channel (no channel in a length unit)".into());
+    }
+    Ok(channels)
 }
 
 /// INI sections in file order, each with its `(key, value)` entries.

@@ -30,43 +30,50 @@ impl Format for X3p {
 
     fn sniff(&self, head: &[u8]) -> bool {
         // A zip whose first entry is main.xml or the point data; other zips go by extension.
-        head.starts_with(b"PK\x03\x04") && (head.get(30..38) == Some(b"main.xml") || head.get(30..38) == Some(b"bindata/"))
+        head.starts_with(b"PK\x03\x04")
+            && (head.get(30..38) == Some(b"main.xml") || head.get(30..38) == Some(b"bindata/"))
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a readable x3p (zip) file: {e}"))?;
-        let xml = entry(&mut zip, "main.xml", MAX_MAIN_XML)?;
-        let xml = String::from_utf8(xml).map_err(|_| "main.xml is not UTF-8 text".to_string())?;
-        let doc = roxmltree::Document::parse(&xml).map_err(|e| format!("main.xml: {e}"))?;
-        let m = Main::parse(&doc)?;
-
-        let n = binary::grid_points(m.nx, m.ny)?;
-        let len = n.checked_mul(m.sample.size()).ok_or("the declared data size overflows")?;
-        let raw = entry(&mut zip, &m.data_link, len as u64)?;
-        if raw.len() != len {
-            return Err(format!(
-                "{}: {} bytes where a {} x {} grid of {}-byte values needs {len}",
-                m.data_link,
-                raw.len(),
-                m.nx,
-                m.ny,
-                m.sample.size()
-            ));
-        }
-        let (inc, off) = (m.z_increment, m.z_offset);
-        let mut data = binary::grid(&raw, 0, (m.nx, m.ny), m.sample, Endian::Little, &m.data_link, |v| off + inc * v)?;
-        if let Some(link) = &m.valid_link {
-            let bits = entry(&mut zip, link, n.div_ceil(8) as u64)?;
-            apply_validity(&mut data, &bits).map_err(|e| format!("{link}: {e}"))?;
-        }
-        Ok(vec![Channel {
-            name: "Default".into(),
-            data,
-            physical_size: Some((m.nx as f64 * m.dx, m.ny as f64 * m.dy)),
-            unit: Some("m".into()),
-            is_height: true,
-        }])
+        decode(bytes).map_err(binary::one_line)
     }
+}
+
+/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    let mut zip =
+        zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a readable x3p (zip) file: {e}"))?;
+    let xml = entry(&mut zip, "main.xml", MAX_MAIN_XML)?;
+    let xml = String::from_utf8(xml).map_err(|_| "main.xml is not UTF-8 text".to_string())?;
+    let doc = roxmltree::Document::parse(&xml).map_err(|e| format!("main.xml: {e}"))?;
+    let m = Main::parse(&doc)?;
+
+    let n = binary::grid_points(m.nx, m.ny)?;
+    let len = n.checked_mul(m.sample.size()).ok_or("the declared data size overflows")?;
+    let raw = entry(&mut zip, &m.data_link, len as u64)?;
+    if raw.len() != len {
+        return Err(format!(
+            "{}: {} bytes where a {} x {} grid of {}-byte values needs {len}",
+            m.data_link,
+            raw.len(),
+            m.nx,
+            m.ny,
+            m.sample.size()
+        ));
+    }
+    let (inc, off) = (m.z_increment, m.z_offset);
+    let mut data = binary::grid(&raw, 0, (m.nx, m.ny), m.sample, Endian::Little, &m.data_link, |v| off + inc * v)?;
+    if let Some(link) = &m.valid_link {
+        let bits = entry(&mut zip, link, n.div_ceil(8) as u64)?;
+        apply_validity(&mut data, &bits).map_err(|e| format!("{link}: {e}"))?;
+    }
+    Ok(vec![Channel {
+        name: "Default".into(),
+        data,
+        physical_size: Some((m.nx as f64 * m.dx, m.ny as f64 * m.dy)),
+        unit: Some("m".into()),
+        is_height: true,
+    }])
 }
 
 /// The content of the zip entry `name`, at most `limit` bytes (plus one, so that an entry
