@@ -37,29 +37,6 @@ impl Sample {
             Sample::F64 => 8,
         }
     }
-
-    fn decode(self, b: &[u8], endian: Endian) -> f64 {
-        macro_rules! num {
-            ($t:ty, $n:expr) => {{
-                let mut a = [0u8; $n];
-                a.copy_from_slice(&b[..$n]);
-                match endian {
-                    Endian::Little => <$t>::from_le_bytes(a),
-                    Endian::Big => <$t>::from_be_bytes(a),
-                }
-            }};
-        }
-        match self {
-            Sample::I8 => f64::from(b[0] as i8),
-            Sample::U8 => f64::from(b[0]),
-            Sample::I16 => f64::from(num!(i16, 2)),
-            Sample::U16 => f64::from(num!(u16, 2)),
-            Sample::I32 => f64::from(num!(i32, 4)),
-            Sample::U32 => f64::from(num!(u32, 4)),
-            Sample::F32 => f64::from(num!(f32, 4)),
-            Sample::F64 => num!(f64, 8),
-        }
-    }
 }
 
 /// The number of points of an `nx` × `ny` grid, refusing empty grids and overflow.
@@ -81,30 +58,72 @@ pub fn extent<'a>(bytes: &'a [u8], offset: usize, len: usize, what: &str) -> Res
     }
 }
 
-/// An `ny` × `nx` grid of `sample`s stored row by row at `offset`, as `f64`, each value mapped
-/// by `scale`. The extent is checked before the array is allocated.
+/// How a grid of numbers is stored.
+#[derive(Debug, Clone, Copy)]
+pub struct Stored {
+    pub sample: Sample,
+    pub endian: Endian,
+    /// The file stores the bottom line first (most instruments); it is returned as row
+    /// `ny - 1`, so that row 0 is the top of the image, as Gwyddion shows it.
+    pub bottom_first: bool,
+}
+
+/// An `ny` × `nx` grid stored row by row at `offset`, as `f64`, each value mapped by `scale`.
+/// The extent is checked before the array is allocated.
 pub fn grid(
     bytes: &[u8],
     offset: usize,
     (nx, ny): (usize, usize),
-    sample: Sample,
-    endian: Endian,
+    stored: Stored,
     what: &str,
     scale: impl Fn(f64) -> f64,
 ) -> Result<Array2<f64>, String> {
     let n = grid_points(nx, ny)?;
-    let len = n.checked_mul(sample.size()).ok_or_else(|| format!("{what}: the declared data size overflows"))?;
+    let len = n.checked_mul(stored.sample.size()).ok_or_else(|| format!("{what}: the declared data size overflows"))?;
     let raw = extent(bytes, offset, len, what)?;
-    let values: Vec<f64> = raw.chunks_exact(sample.size()).map(|b| scale(sample.decode(b, endian))).collect();
+    // Only now, with the bytes known to be there, is room made for the values.
+    let mut values = Vec::with_capacity(n);
+    macro_rules! decode {
+        ($t:ty, $n:literal) => {
+            match stored.endian {
+                Endian::Little => {
+                    rows::<$n>(raw, nx, stored.bottom_first, &mut values, |a| scale(<$t>::from_le_bytes(a) as f64))
+                }
+                Endian::Big => {
+                    rows::<$n>(raw, nx, stored.bottom_first, &mut values, |a| scale(<$t>::from_be_bytes(a) as f64))
+                }
+            }
+        };
+    }
+    match stored.sample {
+        Sample::I8 => decode!(i8, 1),
+        Sample::U8 => decode!(u8, 1),
+        Sample::I16 => decode!(i16, 2),
+        Sample::U16 => decode!(u16, 2),
+        Sample::I32 => decode!(i32, 4),
+        Sample::U32 => decode!(u32, 4),
+        Sample::F32 => decode!(f32, 4),
+        Sample::F64 => decode!(f64, 8),
+    }
     Array2::from_shape_vec((ny, nx), values).map_err(|e| format!("{what}: {e}"))
 }
 
-/// Reverse the row order: files that store the bottom line first are turned to the top-first
-/// order every reader returns (row 0 = top of the image, as Gwyddion displays it).
-pub fn flip_rows(a: Array2<f64>) -> Array2<f64> {
-    let mut a = a;
-    a.invert_axis(ndarray::Axis(0));
-    a.as_standard_layout().into_owned()
+/// Append the rows of `raw` (each `nx` values of `N` bytes) to `out`, in file order or reversed,
+/// each value decoded by `f`. One monomorphised loop per type and byte order keeps it fast.
+fn rows<const N: usize>(raw: &[u8], nx: usize, reversed: bool, out: &mut Vec<f64>, f: impl Fn([u8; N]) -> f64) {
+    let mut push = |row: &[u8]| {
+        out.extend(row.chunks_exact(N).map(|c| {
+            let mut a = [0u8; N];
+            a.copy_from_slice(c);
+            f(a)
+        }))
+    };
+    let lines = raw.chunks_exact(nx * N);
+    if reversed {
+        lines.rev().for_each(&mut push);
+    } else {
+        lines.for_each(&mut push);
+    }
 }
 
 /// Sequential little- or big-endian reading of a binary header.
@@ -244,12 +263,19 @@ mod tests {
     #[test]
     fn grid_decodes_and_checks_before_allocating() {
         let b: Vec<u8> = [1i16, -2, 3, -4, 5, -6].iter().flat_map(|v| v.to_be_bytes()).collect();
-        let a = grid(&b, 0, (3, 2), Sample::I16, Endian::Big, "data", |v| v * 0.5).unwrap();
+        let stored = Stored { sample: Sample::I16, endian: Endian::Big, bottom_first: false };
+        let a = grid(&b, 0, (3, 2), stored, "data", |v| v * 0.5).unwrap();
         assert_eq!(a, ndarray::array![[0.5, -1.0, 1.5], [-2.0, 2.5, -3.0]]);
-        assert_eq!(flip_rows(a)[[0, 0]], -2.0);
+        let flipped = grid(&b, 0, (3, 2), Stored { bottom_first: true, ..stored }, "data", |v| v).unwrap();
+        assert_eq!(flipped, ndarray::array![[-4.0, 5.0, -6.0], [1.0, -2.0, 3.0]]);
+        let le: Vec<u8> = [1.5f32, -2.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let f32s = Stored { sample: Sample::F32, endian: Endian::Little, bottom_first: false };
+        assert_eq!(grid(&le, 0, (1, 2), f32s, "data", |v| v).unwrap(), ndarray::array![[1.5], [-2.0]]);
         // A declared grid of 2^62 points must be refused without trying to allocate it.
-        assert!(grid(&b, 0, (1 << 31, 1 << 31), Sample::F64, Endian::Little, "data", |v| v).is_err());
-        assert!(grid(&b, 0, (0, 3), Sample::F64, Endian::Little, "data", |v| v).is_err());
+        let f64s = Stored { sample: Sample::F64, endian: Endian::Little, bottom_first: false };
+        assert!(grid(&b, 0, (1 << 31, 1 << 31), f64s, "data", |v| v).is_err());
+        assert!(grid(&b, 0, (0, 3), f64s, "data", |v| v).is_err());
+        assert!(grid(&b, 2, (3, 2), stored, "data", |v| v).unwrap_err().contains("truncated"));
     }
 
     #[test]

@@ -12,7 +12,7 @@
 
 use std::collections::BTreeMap;
 
-use super::binary::{self, Cursor, Endian, Sample};
+use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
 
@@ -21,6 +21,8 @@ pub struct Gwy;
 /// Objects nest (containers in containers); deeper nesting than this is a corrupt file, and
 /// refusing it keeps recursion off the end of the stack.
 const MAX_DEPTH: usize = 32;
+
+const TOP_FIRST_F64: Stored = Stored { sample: Sample::F64, endian: Endian::Little, bottom_first: false };
 
 impl Format for Gwy {
     fn name(&self) -> &'static str {
@@ -180,7 +182,7 @@ fn data_field(o: &Object, title: Option<&str>, id: u32) -> Result<Channel, Strin
     }
     // Gwyddion keeps values in the base unit whatever prefix the unit string carries.
     let (z_unit, xy_unit) = (unit("si_unit_z"), unit("si_unit_xy"));
-    let data = binary::grid(raw, 0, (nx, ny), Sample::F64, Endian::Little, &what, |v| v)?;
+    let data = binary::grid(raw, 0, (nx, ny), TOP_FIRST_F64, &what, |v| v)?;
     let physical_size = metres_per(&xy_unit).and(real("xreal").zip(real("yreal")));
     Ok(Channel {
         name,

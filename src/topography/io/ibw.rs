@@ -8,7 +8,7 @@
 //! `nx × ny × channels`, stored column-major (x fastest), its channels named by the labels of
 //! the third dimension. Versions 1–3 hold a single profile, read as one line.
 
-use super::binary::{self, Cursor, Endian, Sample};
+use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
 
@@ -118,7 +118,14 @@ fn read_v1_3(bytes: &[u8], endian: Endian, bin: usize) -> Result<Vec<Channel>, S
     if data_bytes > wfm_size {
         return Err(format!("corrupt Igor wave: {n} points do not fit the declared wave size {wfm_size}"));
     }
-    let data = binary::grid(bytes, data_offset, (n, 1), sample, endian, "the wave data", |v| v)?;
+    let data = binary::grid(
+        bytes,
+        data_offset,
+        (n, 1),
+        Stored { sample, endian, bottom_first: false },
+        "the wave data",
+        |v| v,
+    )?;
     let physical_size = metres_per(&x_unit).map(|m| (n as f64 * dx.abs() * m, dx.abs() * m));
     Ok(vec![channel("no name (1)".into(), data, physical_size, &data_unit)])
 }
@@ -222,13 +229,12 @@ fn read_v5(bytes: &[u8], endian: Endian) -> Result<Vec<Channel>, String> {
             bytes,
             offset,
             (nx, ny),
-            sample,
-            endian,
+            // Igor's y axis points up: the last line is the top of the image.
+            Stored { sample, endian, bottom_first: true },
             &format!("channel '{}'", binary::printable(&name)),
             |v| v,
         )?;
-        // Igor's y axis points up: the last line is the top of the image.
-        channels.push(channel(name, binary::flip_rows(data), physical_size, &unit));
+        channels.push(channel(name, data, physical_size, &unit));
     }
     Ok(channels)
 }

@@ -7,7 +7,7 @@
 //! full integer range spanning ±`bufferRange`. Lines are stored bottom first; they are
 //! returned top first.
 
-use super::binary::{self, Endian, Sample};
+use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
 
@@ -89,6 +89,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     }
 
     let block = binary::grid_points(nx, ny)?.checked_mul(sample.size()).ok_or("the declared data size overflows")?;
+    let stored = Stored { sample, endian: Endian::Little, bottom_first: true };
     let full_scale = if sample == Sample::I16 { 32768.0 } else { 2147483648.0 };
     let mut channels = Vec::with_capacity(buffers.len());
     for (k, b) in buffers.into_iter().enumerate() {
@@ -99,10 +100,10 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         let step = range / full_scale * to_metres.unwrap_or(1.0);
         let offset =
             block.checked_mul(k).and_then(|o| o.checked_add(data_start)).ok_or("the declared data size overflows")?;
-        let data = binary::grid(bytes, offset, (nx, ny), sample, Endian::Little, &what, |v| v * step)?;
+        let data = binary::grid(bytes, offset, (nx, ny), stored, &what, |v| v * step)?;
         channels.push(Channel {
             name: b.label,
-            data: binary::flip_rows(data),
+            data,
             physical_size,
             unit: Some(unit).filter(|u| !u.is_empty()),
             is_height: to_metres.is_some(),

@@ -9,7 +9,7 @@
 //! value spread over the full integer range, so one LSB is `hard / 2^(8·bytes) · soft`, here
 //! in nm. Lines are stored bottom first; they are returned top first.
 
-use super::binary::{self, Endian, Sample};
+use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
 
@@ -200,10 +200,17 @@ fn read_image(bytes: &[u8], header: &Header, s: &Section, version: u32) -> Resul
     let to_metres = metres_per(&unit);
     let factor = per_lsb * to_metres.unwrap_or(1.0);
     let sample = if stored == 4 { Sample::I32 } else { Sample::I16 };
-    let data = binary::grid(bytes, offset, (nx, ny), sample, Endian::Little, &what, |v| v * factor)?;
+    let data = binary::grid(
+        bytes,
+        offset,
+        (nx, ny),
+        Stored { sample, endian: Endian::Little, bottom_first: true },
+        &what,
+        |v| v * factor,
+    )?;
     Ok(Channel {
         name,
-        data: binary::flip_rows(data),
+        data,
         physical_size: scan_size(header, s, nx, ny),
         unit: Some(unit).filter(|u| !u.is_empty()),
         is_height: to_metres.is_some(),

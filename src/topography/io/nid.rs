@@ -10,7 +10,7 @@
 //! Only the topography channels (those whose `Dim2Unit` is a length) are listed, named
 //! `Frame (Dim2Name)`, e.g. "Scan forward (Z-Axis)"; force and voltage channels are skipped.
 
-use super::binary::{self, Endian, Sample};
+use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
 
@@ -79,12 +79,11 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         let step = block.z_range / 2f64.powi(block.bits as i32);
         // Signed integers are centred on the middle of the range.
         let base = block.z_min + if block.signed { block.z_range * 0.5 } else { 0.0 };
-        let data = binary::grid(bytes, here, (block.nx, block.ny), block.sample, block.endian, &name, |v| {
-            (base + v * step) * to_metres
-        })?;
+        let data =
+            binary::grid(bytes, here, (block.nx, block.ny), block.stored(), &name, |v| (base + v * step) * to_metres)?;
         channels.push(Channel {
             name,
-            data: binary::flip_rows(data),
+            data,
             physical_size: block.physical_size,
             unit: Some(block.z_unit),
             is_height: true,
@@ -193,6 +192,11 @@ impl Block {
             z_min: number("Dim2Min")?,
             physical_size: size(0).zip(size(1)),
         })
+    }
+
+    /// Storage of the block: lines bottom first.
+    fn stored(&self) -> Stored {
+        Stored { sample: self.sample, endian: self.endian, bottom_first: true }
     }
 
     /// Size of the block in bytes, checked.

@@ -11,7 +11,7 @@ use std::io::{Cursor, Read};
 
 use ndarray::Array2;
 
-use super::binary::{self, Endian, Sample};
+use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 
 pub struct X3p;
@@ -62,7 +62,8 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         ));
     }
     let (inc, off) = (m.z_increment, m.z_offset);
-    let mut data = binary::grid(&raw, 0, (m.nx, m.ny), m.sample, Endian::Little, &m.data_link, |v| off + inc * v)?;
+    let stored = Stored { sample: m.sample, endian: Endian::Little, bottom_first: false };
+    let mut data = binary::grid(&raw, 0, (m.nx, m.ny), stored, &m.data_link, |v| off + inc * v)?;
     if let Some(link) = &m.valid_link {
         let bits = entry(&mut zip, link, n.div_ceil(8) as u64)?;
         apply_validity(&mut data, &bits).map_err(|e| format!("{link}: {e}"))?;
