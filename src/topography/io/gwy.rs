@@ -192,3 +192,87 @@ fn data_field(o: &Object, title: Option<&str>, id: u32) -> Result<Channel, Strin
         unit: Some(z_unit).filter(|u| !u.is_empty()),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A serialised object: name, size, components.
+    fn object(name: &str, components: &[Vec<u8>]) -> Vec<u8> {
+        let body: Vec<u8> = components.concat();
+        let mut out = [name.as_bytes(), b"\0"].concat();
+        out.extend_from_slice(&(body.len() as u32).to_le_bytes());
+        out.extend(body);
+        out
+    }
+
+    fn component(name: &str, kind: u8, value: &[u8]) -> Vec<u8> {
+        [name.as_bytes(), b"\0", &[kind], value].concat()
+    }
+
+    fn string(s: &str) -> Vec<u8> {
+        [s.as_bytes(), b"\0"].concat()
+    }
+
+    fn unit(s: &str) -> Vec<u8> {
+        object("GwySIUnit", &[component("unitstr", b's', &string(s))])
+    }
+
+    fn field(nx: u32, ny: u32, values: &[f64], z_unit: &str) -> Vec<u8> {
+        let data: Vec<u8> = (values.len() as u32)
+            .to_le_bytes()
+            .into_iter()
+            .chain(values.iter().flat_map(|v| v.to_le_bytes()))
+            .collect();
+        object(
+            "GwyDataField",
+            &[
+                component("xres", b'i', &nx.to_le_bytes()),
+                component("yres", b'i', &ny.to_le_bytes()),
+                component("xreal", b'd', &4e-6f64.to_le_bytes()),
+                component("yreal", b'd', &2e-6f64.to_le_bytes()),
+                component("si_unit_xy", b'o', &unit("m")),
+                component("si_unit_z", b'o', &unit(z_unit)),
+                component("data", b'D', &data),
+            ],
+        )
+    }
+
+    #[test]
+    fn channels_in_id_order_with_titles_and_other_components_skipped() {
+        let container = object(
+            "GwyContainer",
+            &[
+                component("/3/data", b'o', &field(2, 1, &[5.0, 6.0], "V")),
+                component("/0/data/title", b's', &string("Topography")),
+                // Components the reader must step over: arrays of every kind, a nested object.
+                component("/0/meta/strings", b'S', &[2u32.to_le_bytes().to_vec(), string("a"), string("bc")].concat()),
+                component("/0/ints", b'I', &[1u32.to_le_bytes(), 7u32.to_le_bytes()].concat()),
+                component("/0/flag", b'b', &[1]),
+                component("/0/objs", b'O', &[1u32.to_le_bytes().to_vec(), unit("s")].concat()),
+                component("/0/data", b'o', &field(2, 2, &[1e-9, 2e-9, 3e-9, 4e-9], "m")),
+                component("/0/mask", b'o', &field(2, 2, &[0.0, 1.0, 0.0, 0.0], "")),
+            ],
+        );
+        let bytes = [b"GWYP".to_vec(), container].concat();
+        let ch = Gwy.read(&bytes).unwrap();
+        assert_eq!(ch.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(), ["Topography", "Unknown channel 3"]);
+        assert_eq!(ch[0].data, ndarray::array![[1e-9, 2e-9], [3e-9, 4e-9]]);
+        assert_eq!(ch[0].physical_size, Some((4e-6, 2e-6)));
+        assert!(ch[0].is_height && !ch[1].is_height);
+        assert_eq!(ch[1].unit.as_deref(), Some("V"));
+
+        // The object size pointing past the end of the file.
+        let mut bad = bytes.clone();
+        let at = 4 + "GwyContainer\0".len();
+        bad[at..at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(Gwy.read(&bad).unwrap_err().contains("truncated"));
+    }
+
+    #[test]
+    fn a_data_count_not_matching_the_grid_is_refused() {
+        let container = object("GwyContainer", &[component("/0/data", b'o', &field(3, 2, &[1.0; 5], "m"))]);
+        let err = Gwy.read(&[b"GWYP".to_vec(), container].concat()).unwrap_err();
+        assert!(err.contains("5 values for a 3 x 2 grid"), "{err}");
+    }
+}

@@ -300,4 +300,133 @@ mod tests {
         assert_eq!(asylum_unit("NapPhaseRetrace", &note).as_deref(), Some("deg"));
         assert_eq!(asylum_unit("UserIn0Trace", &note), None);
     }
+
+    /// Bytes of a number in the wave's byte order.
+    fn put(out: &mut Vec<u8>, at: usize, b: &[u8], endian: Endian) {
+        let mut b = b.to_vec();
+        if endian == Endian::Big {
+            b.reverse();
+        }
+        out[at..at + b.len()].copy_from_slice(&b);
+    }
+
+    /// Set the checksum word at `at` so that the 16-bit words of `out[..len]` sum to zero.
+    fn seal(out: &mut [u8], at: usize, len: usize, endian: Endian) {
+        out[at..at + 2].fill(0);
+        let word = |w: &[u8]| {
+            if endian == Endian::Little {
+                u16::from_le_bytes([w[0], w[1]])
+            } else {
+                u16::from_be_bytes([w[0], w[1]])
+            }
+        };
+        let sum = out[..len].chunks_exact(2).fold(0u16, |s, w| s.wrapping_add(word(w)));
+        let fix = 0u16.wrapping_sub(sum);
+        out[at..at + 2].copy_from_slice(&if endian == Endian::Little { fix.to_le_bytes() } else { fix.to_be_bytes() });
+    }
+
+    /// A version 5 wave of f32 `layers`, each nx × ny (x fastest), in metres with pixel size
+    /// `dx`, its layers labelled, and an Asylum-style note.
+    fn wave5(endian: Endian, nx: usize, ny: usize, layers: &[Vec<f32>], labels: &[&str], note: &str) -> Vec<u8> {
+        let npnts = nx * ny * layers.len();
+        let wfm_size = 320 + 4 * npnts;
+        let label_block = if labels.is_empty() { 0 } else { LABEL_BYTES * (layers.len() + 1) };
+        let mut out = vec![0u8; 64 + wfm_size + note.len() + label_block];
+        put(&mut out, 0, &5i16.to_le_bytes(), endian);
+        put(&mut out, 4, &(wfm_size as i32).to_le_bytes(), endian);
+        put(&mut out, 12, &(note.len() as i32).to_le_bytes(), endian);
+        put(&mut out, 44, &(label_block as i32).to_le_bytes(), endian); // dimLabelsSize[2]
+        let w = 64;
+        put(&mut out, w + 12, &(npnts as i32).to_le_bytes(), endian);
+        put(&mut out, w + 16, &2i16.to_le_bytes(), endian); // NT_FP32
+        for (d, n) in [nx, ny, layers.len()].into_iter().enumerate() {
+            put(&mut out, w + 68 + 4 * d, &(n as i32).to_le_bytes(), endian);
+        }
+        for d in 0..2 {
+            put(&mut out, w + 84 + 8 * d, &2e-9f64.to_le_bytes(), endian); // sfA
+            out[w + 152 + 4 * d] = b'm'; // dimUnits
+        }
+        out[w + 148] = b'm'; // dataUnits
+        let mut at = 64 + 320;
+        for v in layers.iter().flatten() {
+            put(&mut out, at, &v.to_le_bytes(), endian);
+            at += 4;
+        }
+        out[at..at + note.len()].copy_from_slice(note.as_bytes());
+        at += note.len();
+        for (k, l) in std::iter::once(&"").chain(labels).enumerate() {
+            out[at + k * LABEL_BYTES..][..l.len()].copy_from_slice(l.as_bytes());
+        }
+        seal(&mut out, 2, 384, endian);
+        out
+    }
+
+    #[test]
+    fn version_5_in_both_byte_orders_with_labelled_layers() {
+        // Layer 0 holds heights 0..6 [m], layer 1 a phase; three columns, two lines.
+        let height: Vec<f32> = (0..6).map(|v| v as f32 * 1e-9).collect();
+        let phase = vec![10.0f32; 6];
+        for endian in [Endian::Little, Endian::Big] {
+            let bytes = wave5(
+                endian,
+                3,
+                2,
+                &[height.clone(), phase.clone()],
+                &["HeightTrace", "Phase1Retrace"],
+                "ScanRate: 1\r",
+            );
+            assert!(Ibw.sniff(&bytes), "{endian:?}");
+            let ch = Ibw.read(&bytes).unwrap();
+            assert_eq!(ch.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(), ["HeightTrace", "Phase1Retrace"]);
+            let h = &ch[0];
+            assert!(h.is_height && !ch[1].is_height);
+            assert_eq!(ch[1].unit.as_deref(), Some("deg"));
+            let (lx, ly) = h.physical_size.unwrap();
+            assert!((lx - 6e-9).abs() < 1e-24 && (ly - 4e-9).abs() < 1e-24, "{lx} {ly}");
+            // Igor's first line (0, 1, 2 nm) is the bottom of the image.
+            let want = ndarray::array![[3e-9, 4e-9, 5e-9], [0.0, 1e-9, 2e-9]];
+            assert!(h.data.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-15), "{endian:?}: {}", h.data);
+            assert!(ch[1].data.iter().all(|&p| p == 10.0));
+        }
+    }
+
+    #[test]
+    fn unlabelled_layers_are_numbered_and_corrupt_headers_refused() {
+        let layer = vec![1.0f32; 4];
+        let bytes = wave5(Endian::Little, 2, 2, &[layer.clone(), layer], &[], "");
+        let names: Vec<String> = Ibw.read(&bytes).unwrap().into_iter().map(|c| c.name).collect();
+        assert_eq!(names, ["no name (1)", "no name (2)"]);
+        let mut bad = bytes.clone();
+        bad[100] ^= 1;
+        assert!(Ibw.read(&bad).unwrap_err().contains("checksum"));
+        // npnts no longer matching the dimensions, checksum restored: refused all the same.
+        let mut bad = bytes;
+        put(&mut bad, 64 + 12, &9i32.to_le_bytes(), Endian::Little);
+        seal(&mut bad, 2, 384, Endian::Little);
+        assert!(Ibw.read(&bad).unwrap_err().contains("do not match"));
+    }
+
+    #[test]
+    fn version_2_profile() {
+        // BinHeader2 (16 bytes) and WaveHeader2 (110 bytes), then 4 doubles, big-endian.
+        let endian = Endian::Big;
+        let mut out = vec![0u8; 126 + 32];
+        put(&mut out, 0, &2i16.to_le_bytes(), endian);
+        put(&mut out, 2, &(110 + 32i32).to_le_bytes(), endian); // wfmSize
+        put(&mut out, 16, &4i16.to_le_bytes(), endian); // NT_FP64
+        out[16 + 34] = b'm'; // dataUnits
+        out[16 + 38..16 + 40].copy_from_slice(b"um"); // xUnits
+        put(&mut out, 16 + 42, &4i32.to_le_bytes(), endian); // npnts
+        put(&mut out, 16 + 48, &0.5f64.to_le_bytes(), endian); // hsA
+        for (i, v) in [1e-9f64, 2e-9, 3e-9, 4e-9].iter().enumerate() {
+            put(&mut out, 126 + 8 * i, &v.to_le_bytes(), endian);
+        }
+        seal(&mut out, 14, 126, endian);
+        let ch = Ibw.read(&out).unwrap();
+        assert_eq!(ch[0].data, ndarray::array![[1e-9, 2e-9, 3e-9, 4e-9]]);
+        assert_eq!(ch[0].physical_size, Some((2e-6, 0.5e-6)));
+        assert!(ch[0].is_height);
+        out.truncate(140);
+        assert!(Ibw.read(&out).unwrap_err().contains("truncated"));
+    }
 }

@@ -118,3 +118,39 @@ struct Buffer {
     unit: Option<String>,
     range: Option<f64>,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 16-bit variant, made from the real 32-bit sample by keeping the upper half of
+    /// each integer: the same image to within one 16-bit step.
+    #[test]
+    fn sixteen_bit_data_match_the_32_bit_original() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples/mi-1.mi");
+        let original = std::fs::read(path).unwrap();
+        let marker = b"data          BINARY_32\n";
+        let start = original.windows(marker.len()).position(|w| w == marker).unwrap();
+        let mut short = original[..start].to_vec();
+        short.extend_from_slice(b"data          BINARY\n");
+        for v in original[start + marker.len()..].chunks_exact(4) {
+            let v = i32::from_le_bytes([v[0], v[1], v[2], v[3]]);
+            short.extend_from_slice(&((v >> 16) as i16).to_le_bytes());
+        }
+        let (a, b) = (Mi.read(&original).unwrap(), Mi.read(&short).unwrap());
+        assert_eq!(b.len(), 4);
+        // Topography: bufferRange 2.9025 µm over 2^15 steps.
+        let step = 2.9025e-6 / 32768.0;
+        let worst = a[0].data.iter().zip(&b[0].data).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+        assert!(worst <= step, "largest difference {worst:e} vs step {step:e}");
+        assert_eq!(b[0].unit.as_deref(), Some("µm"));
+    }
+
+    #[test]
+    fn spectroscopy_and_text_data_are_refused() {
+        let head = "fileType      Spectroscopy\nxPixels       2\n";
+        assert!(Mi.read(head.as_bytes()).unwrap_err().contains("Spectroscopy"));
+        let text = "fileType      Image\nxPixels       2\nyPixels       1\nbufferLabel   Topography\ndata          ASCII\n1 2\n";
+        assert!(Mi.read(text.as_bytes()).unwrap_err().contains("ASCII"));
+    }
+}

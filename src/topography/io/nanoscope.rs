@@ -288,3 +288,69 @@ fn scan_size(header: &Header, s: &Section, nx: usize, ny: usize) -> Option<(f64,
     let (lx, ly) = (sx * m, sy * m);
     (lx > 0.0 && ly > 0.0 && lx.is_finite() && ly.is_finite()).then_some((lx, ly))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A NanoScope file of one 2 × 2 image with the given version, pixel scaling, storage
+    /// (`wide`: 32-bit integers) and scan size.
+    fn file(version: &str, bytes_per_pixel: usize, wide: bool, stored: &[i32], scan_size: &str) -> Vec<u8> {
+        let offset = 1024;
+        let header = format!(
+            "\\*File list\r\n\\Version: {version}\r\n\\*Scanner list\r\n\\@Sens. Zsens: V 10.0 nm/V\r\n\
+             \\*Ciao scan list\r\n\\Aspect Ratio: 2:1\r\n\\*Ciao image list\r\n\\Data offset: {offset}\r\n\
+             \\Data length: {}\r\n\\Bytes/pixel: {bytes_per_pixel}\r\n\\Samps/line: 2\r\n\\Number of lines: 2\r\n\
+             \\Scan Size: {scan_size}\r\n\\@2:Image Data: S [] \"Height\"\r\n\
+             \\@2:Z scale: V [Sens. Zsens] (0.001 V/LSB) 65536.0 mV\r\n\\*File list end\r\n\x1a",
+            stored.len() * if wide { 4 } else { 2 }
+        );
+        let mut out = header.into_bytes();
+        out.resize(offset, 0);
+        for v in stored {
+            if wide {
+                out.extend_from_slice(&v.to_le_bytes());
+            } else {
+                out.extend_from_slice(&(*v as i16).to_le_bytes());
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn scale_chain_with_millivolt_hard_value_and_single_scan_size() {
+        // One LSB: 65536 mV / 2^16 = 1 mV = 1e-3 V, times 10 nm/V = 0.01 nm.
+        let ch = Nanoscope.read(&file("0x05300000", 2, false, &[100, 200, 300, 400], "1 ~m")).unwrap();
+        assert_eq!(ch[0].name, "Height");
+        assert_eq!(ch[0].unit.as_deref(), Some("nm"));
+        let want = ndarray::array![[3e-9, 4e-9], [1e-9, 2e-9]]; // bottom line first
+        assert!(ch[0].data.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-21), "{}", ch[0].data);
+        // A single size with aspect ratio 2:1: the y size is half the x size.
+        assert_eq!(ch[0].physical_size, Some((1e-6, 0.5e-6)));
+    }
+
+    #[test]
+    fn from_version_9_2_pixels_are_32_bit_scaled_by_bytes_per_pixel() {
+        // Bytes/pixel 4: one LSB is 65536 mV / 2^32.
+        let ch = Nanoscope.read(&file("0x09200000", 4, true, &[1 << 16, 0, 0, 0], "2 2 um")).unwrap();
+        assert!((ch[0].data[[1, 0]] - 1e-11).abs() < 1e-24, "{}", ch[0].data);
+        assert_eq!(ch[0].physical_size, Some((2e-6, 2e-6)));
+    }
+
+    #[test]
+    fn truncated_data_and_header_are_refused() {
+        let mut f = file("0x05300000", 2, false, &[1, 2, 3, 4], "1 um");
+        f.truncate(f.len() - 1);
+        assert!(Nanoscope.read(&f).unwrap_err().contains("truncated"));
+        let f = file("0x05300000", 2, false, &[1, 2, 3, 4], "1 um");
+        let end = f.windows(15).position(|w| w == b"\\*File list end").unwrap();
+        assert!(Nanoscope.read(&f[..end]).unwrap_err().contains("File list end"));
+    }
+
+    #[test]
+    fn values_with_nested_parentheses() {
+        let v = Value::parse("V [Sens. FVLogModulusSens] (0.1 log(Pa)/LSB) 2.5 log(Pa)");
+        assert_eq!(v.soft_scale, Some("Sens. FVLogModulusSens"));
+        assert_eq!(number_and_unit(v.hard), Some((2.5, "log(Pa)")));
+    }
+}

@@ -190,3 +190,67 @@ fn number(node: roxmltree::Node, name: &str) -> Result<Option<f64>, String> {
         _ => Err(format!("main.xml: <{name}> is not a number: '{}'", text(c))),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::io::Write;
+
+    use super::*;
+
+    /// An x3p of `nx` × `ny` points of type `ty` with the given raw data and validity bits.
+    fn x3p(ty: &str, (nx, ny): (usize, usize), data: &[u8], valid: Option<&[u8]>, feature: &str) -> Vec<u8> {
+        let valid_link = if valid.is_some() { "<ValidPointsLink>bindata/valid.bin</ValidPointsLink>" } else { "" };
+        let xml = format!(
+            r#"<?xml version="1.0" encoding="UTF-8"?>
+<p:ISO5436_2 xmlns:p="http://www.opengps.eu/2008/ISO5436_2">
+  <Record1><Revision>ISO5436 - 2000</Revision><FeatureType>{feature}</FeatureType>
+    <Axes>
+      <CX><AxisType>I</AxisType><DataType>D</DataType><Increment>2.5e-7</Increment><Offset>0</Offset></CX>
+      <CY><AxisType>I</AxisType><DataType>D</DataType><Increment>5e-7</Increment><Offset>0</Offset></CY>
+      <CZ><AxisType>A</AxisType><DataType>{ty}</DataType><Increment>1e-9</Increment><Offset>1e-6</Offset></CZ>
+    </Axes>
+  </Record1>
+  <Record3><MatrixDimension><SizeX>{nx}</SizeX><SizeY>{ny}</SizeY><SizeZ>1</SizeZ></MatrixDimension>
+    <DataLink><PointDataLink>bindata/data.bin</PointDataLink>{valid_link}</DataLink>
+  </Record3>
+</p:ISO5436_2>"#
+        );
+        let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+        let opts = zip::write::SimpleFileOptions::default();
+        let mut files = vec![("main.xml", xml.as_bytes()), ("bindata/data.bin", data)];
+        files.extend(valid.map(|v| ("bindata/valid.bin", v)));
+        for (name, content) in files {
+            w.start_file(name, opts).unwrap();
+            w.write_all(content).unwrap();
+        }
+        w.finish().unwrap().into_inner()
+    }
+
+    #[test]
+    fn integer_data_are_scaled_and_masked() {
+        // 3 × 2 points of type L: z = 1e-6 + 1e-9 · raw; points 1 and 5 invalid.
+        let raw: Vec<u8> = [0i32, 1, 2, 3, -4, 5].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let bytes = x3p("L", (3, 2), &raw, Some(&[0b0001_1101]), "SUR");
+        let ch = X3p.read(&bytes).unwrap();
+        let d = &ch[0].data;
+        assert_eq!(d.dim(), (2, 3));
+        assert!(d[[0, 1]].is_nan() && d[[1, 2]].is_nan());
+        for (got, want) in [(d[[0, 0]], 1e-6), (d[[0, 2]], 1.002e-6), (d[[1, 0]], 1.003e-6), (d[[1, 1]], 0.996e-6)] {
+            assert!((got - want).abs() < 1e-18, "{got} vs {want}");
+        }
+        let (lx, ly) = ch[0].physical_size.unwrap();
+        assert!((lx - 7.5e-7).abs() < 1e-20 && (ly - 1e-6).abs() < 1e-20);
+    }
+
+    #[test]
+    fn sixteen_bit_data_and_refusals() {
+        let raw: Vec<u8> = [-1i16, 7].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let ch = X3p.read(&x3p("I", (2, 1), &raw, None, "SUR")).unwrap();
+        assert!((ch[0].data[[0, 1]] - 1.007e-6).abs() < 1e-18);
+        assert!(X3p.read(&x3p("I", (2, 1), &raw, None, "PRF")).unwrap_err().contains("not a surface"));
+        // The header promises 3 points, the data hold 2.
+        let err = X3p.read(&x3p("I", (3, 1), &raw, None, "SUR")).unwrap_err();
+        assert!(err.contains("bindata/data.bin") && err.contains("needs 6"), "{err}");
+        assert!(X3p.read(&x3p("Q", (2, 1), &raw, None, "SUR")).unwrap_err().contains("data type"));
+    }
+}
