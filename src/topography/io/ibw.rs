@@ -302,7 +302,7 @@ mod tests {
     }
 
     /// Bytes of a number in the wave's byte order.
-    fn put(out: &mut Vec<u8>, at: usize, b: &[u8], endian: Endian) {
+    fn put(out: &mut [u8], at: usize, b: &[u8], endian: Endian) {
         let mut b = b.to_vec();
         if endian == Endian::Big {
             b.reverse();
