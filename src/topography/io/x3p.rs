@@ -43,14 +43,14 @@ impl Format for X3p {
 fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     let mut zip =
         zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a readable x3p (zip) file: {e}"))?;
-    let xml = entry(&mut zip, "main.xml", MAX_MAIN_XML)?;
+    let xml = entry(&mut zip, "main.xml", MAX_MAIN_XML, bytes.len())?;
     let xml = String::from_utf8(xml).map_err(|_| "main.xml is not UTF-8 text".to_string())?;
     let doc = roxmltree::Document::parse(&xml).map_err(|e| format!("main.xml: {e}"))?;
     let m = Main::parse(&doc)?;
 
     let n = binary::grid_points(m.nx, m.ny)?;
     let len = n.checked_mul(m.sample.size()).ok_or("the declared data size overflows")?;
-    let raw = entry(&mut zip, &m.data_link, len as u64)?;
+    let raw = entry(&mut zip, &m.data_link, len as u64, bytes.len())?;
     if raw.len() != len {
         return Err(format!(
             "{}: {} bytes where a {} x {} grid of {}-byte values needs {len}",
@@ -65,7 +65,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     let stored = Stored { sample: m.sample, endian: Endian::Little, bottom_first: false };
     let mut data = binary::grid(&raw, 0, (m.nx, m.ny), stored, &m.data_link, |v| off + inc * v)?;
     if let Some(link) = &m.valid_link {
-        let bits = entry(&mut zip, link, n.div_ceil(8) as u64)?;
+        let bits = entry(&mut zip, link, n.div_ceil(8) as u64, bytes.len())?;
         apply_validity(&mut data, &bits).map_err(|e| format!("{link}: {e}"))?;
     }
     Ok(vec![Channel {
@@ -78,11 +78,19 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
 }
 
 /// The content of the zip entry `name`, at most `limit` bytes (plus one, so that an entry
-/// longer than expected shows). The buffer grows with the bytes actually inflated, never to a
-/// size the archive merely declares.
-fn entry<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>, name: &str, limit: u64) -> Result<Vec<u8>, String> {
+/// longer than expected shows). Room is made beforehand only for what the compressed bytes
+/// present in the file (`file_len` in all) can plausibly inflate to; past that the buffer grows
+/// with the bytes actually inflated, never to a size the archive merely declares.
+fn entry<R: Read + std::io::Seek>(
+    zip: &mut zip::ZipArchive<R>,
+    name: &str,
+    limit: u64,
+    file_len: usize,
+) -> Result<Vec<u8>, String> {
     let f = zip.by_name(name).map_err(|e| format!("{name}: {e}"))?;
-    let mut out = Vec::new();
+    // Deflate rarely shrinks measured heights below a quarter of their size.
+    let plausible = f.compressed_size().min(file_len as u64).saturating_mul(4).min(limit);
+    let mut out = Vec::with_capacity(usize::try_from(plausible).unwrap_or(0));
     f.take(limit.saturating_add(1)).read_to_end(&mut out).map_err(|e| format!("{name}: {e}"))?;
     if out.len() as u64 > limit {
         return Err(format!("{name}: larger than the {limit} bytes the header declares"));
