@@ -126,7 +126,7 @@ fn read_v1_3(bytes: &[u8], endian: Endian, bin: usize) -> Result<Vec<Channel>, S
         "the wave data",
         |v| v,
     )?;
-    let physical_size = metres_per(&x_unit).map(|m| (n as f64 * dx.abs() * m, dx.abs() * m));
+    let physical_size = physical_size_m((n as f64 * dx.abs(), &x_unit), (dx.abs(), &x_unit));
     Ok(vec![channel("no name (1)".into(), data, physical_size, &data_unit)])
 }
 
@@ -199,10 +199,7 @@ fn read_v5(bytes: &[u8], endian: Endian) -> Result<Vec<Channel>, String> {
         |extended: &str, short: &str| if extended.is_empty() { short.to_string() } else { extended.to_string() };
     let data_unit = prefer(&data_e_unit, &data_unit_field);
     let (x_unit, y_unit) = (prefer(&dim_e_units[0], &dim_unit_fields[0]), prefer(&dim_e_units[1], &dim_unit_fields[1]));
-    let physical_size = match (metres_per(&x_unit), metres_per(&y_unit)) {
-        (Some(mx), Some(my)) => Some((nx as f64 * sf_a[0].abs() * mx, ny as f64 * sf_a[1].abs() * my)),
-        _ => None,
-    };
+    let physical_size = physical_size_m((nx as f64 * sf_a[0].abs(), &x_unit), (ny as f64 * sf_a[1].abs(), &y_unit));
 
     // Label 0 names the dimension itself, labels 1… its layers (the channels).
     let channel_labels: Vec<String> =
@@ -239,9 +236,24 @@ fn read_v5(bytes: &[u8], endian: Endian) -> Result<Vec<Channel>, String> {
     Ok(channels)
 }
 
+/// Metres per `unit`. Igor writes SI symbols: "A" is the ampere, not the ångström.
+fn metres(unit: &str) -> Option<f64> {
+    if unit.trim() == "A" {
+        None
+    } else {
+        metres_per(unit)
+    }
+}
+
+/// Physical size [m] from two lengths in their units, when both are positive lengths.
+fn physical_size_m((lx, x_unit): (f64, &str), (ly, y_unit): (f64, &str)) -> Option<(f64, f64)> {
+    let (lx, ly) = (lx * metres(x_unit)?, ly * metres(y_unit)?);
+    (lx > 0.0 && ly > 0.0 && lx.is_finite() && ly.is_finite()).then_some((lx, ly))
+}
+
 /// A channel with its values converted to metres when its unit is a length.
 fn channel(name: String, mut data: ndarray::Array2<f64>, physical_size: Option<(f64, f64)>, unit: &str) -> Channel {
-    let m = metres_per(unit);
+    let m = metres(unit);
     if let Some(m) = m {
         data.mapv_inplace(|v| v * m);
     }
@@ -299,6 +311,9 @@ mod tests {
         assert_eq!(asylum_unit("AmplitudeMod2Trace", &note).as_deref(), Some("V"));
         assert_eq!(asylum_unit("NapPhaseRetrace", &note).as_deref(), Some("deg"));
         assert_eq!(asylum_unit("UserIn0Trace", &note), None);
+        assert_eq!(asylum_unit("CurrentTrace", &note).as_deref(), Some("A"));
+        assert_eq!(metres("A"), None, "Igor's A is the ampere");
+        assert_eq!(metres("nm"), Some(1e-9));
     }
 
     /// Bytes of a number in the wave's byte order.
