@@ -5,12 +5,19 @@
 //! metres. Each format module knows only its own bytes; paths, options and the choice of
 //! channel are handled here once.
 
+mod binary;
 mod gsf;
+mod gwy;
 mod gwyddion_txt;
+mod ibw;
 mod matrix;
+mod mi;
+mod nanoscope;
+mod nid;
 pub mod npy;
 mod sdf;
 mod text;
+mod x3p;
 mod xyz;
 
 pub use gsf::write_gsf;
@@ -59,6 +66,12 @@ pub trait Format: Sync {
 /// Every format, in the order magic bytes are tried (most specific first).
 static FORMATS: &[&dyn Format] = &[
     &npy::Npy,
+    &gwy::Gwy,
+    &nanoscope::Nanoscope,
+    &nid::Nid,
+    &mi::Mi,
+    &x3p::X3p,
+    &ibw::Ibw,
     // Text formats after the binary ones; among them, a Gwyddion header before x y z points
     // (tables of three columns) before any other table of numbers.
     &gsf::Gsf,
