@@ -493,7 +493,6 @@ impl ContactSolver {
         let [clipped, added, gap_norm, complementarity, penetration, _] = sum_partials(&self.partials);
         PressurePass {
             changed: clipped > 0.0 || added > 0.0,
-            added: added > 0.0,
             gap_norm,
             residual: complementarity + p_mean * penetration,
         }
@@ -502,7 +501,6 @@ impl ContactSolver {
 
 struct PressurePass {
     changed: bool,
-    added: bool,
     gap_norm: f64,
     /// Unnormalised residual.
     residual: f64,
