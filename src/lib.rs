@@ -13,6 +13,7 @@ pub mod friction;
 pub mod output;
 pub mod plot;
 pub mod shs;
+pub mod study;
 pub mod topography;
 
 pub use error::{Error, Result};

@@ -260,6 +260,13 @@ impl ContactSolver {
         let mut iterations = 0;
         let mut applications = 1;
         loop {
+            if !s.residual.is_finite() {
+                self.warm = false;
+                return Err(Error::invalid(
+                    "contact solver",
+                    format!("broke down at iteration {iterations} (non-finite residual)"),
+                ));
+            }
             if s.residual <= self.options.tolerance {
                 if exact {
                     break;
@@ -285,7 +292,7 @@ impl ContactSolver {
             } else if iterations - best_at > STALL {
                 (conjugate, best_at) = (false, iterations);
             }
-            let beta = if conjugate { s.gap_norm / gap_norm_old } else { 0.0 };
+            let beta = if conjugate && gap_norm_old > 0.0 { s.gap_norm / gap_norm_old } else { 0.0 };
             gap_norm_old = s.gap_norm;
 
             let (along, direction_sum) = self.update_direction(&s, beta);

@@ -1,0 +1,215 @@
+//! The numerical study of the paper: elastic contact and the stick-slip transition model over
+//! loads × topographies × friction laws, with the results as a table and the data behind the
+//! figures.
+//!
+//! This file holds the data that the study's runner produces and its figures consume:
+//! [`Row`] (one line of `results.csv`) and [`MapSnapshot`] (the contact region of one solve,
+//! kept for the maps, distributions, curves and movies).
+
+use std::path::Path;
+
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::friction::{ClassShare, Onset};
+
+/// One result: one topography × friction law × load.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// Normal load N [N].
+    pub load_n: f64,
+    /// Topography name.
+    pub topography: String,
+    /// Friction law name.
+    pub law: String,
+    /// Local static and dynamic friction coefficients of the law.
+    pub mu_s: f64,
+    pub mu_d: f64,
+    /// Contact elements (pixels with p > 0).
+    pub contact_points: usize,
+    /// Contact patches (4-connected clusters).
+    pub patches: usize,
+    /// Fraction of the window in contact.
+    pub contact_fraction: f64,
+    /// F_S / N.
+    pub static_coefficient: f64,
+    /// mu_d.
+    pub dynamic_coefficient: f64,
+    /// F_S / (mu_d N).
+    pub friction_drop: f64,
+    /// Element classes at the critical state: count, fraction of N, fraction of F_S.
+    pub critical_count: usize,
+    pub critical_normal_fraction: f64,
+    pub critical_friction_fraction: f64,
+    pub pre_sliding_count: usize,
+    pub pre_sliding_normal_fraction: f64,
+    pub pre_sliding_friction_fraction: f64,
+    pub subcritical_count: usize,
+    pub subcritical_normal_fraction: f64,
+    pub subcritical_friction_fraction: f64,
+    /// Contact solver iterations and wall-clock time [s] of the solve this row comes from.
+    pub iterations: usize,
+    pub seconds: f64,
+}
+
+impl Row {
+    /// The row for `onset`, computed on a solve of `topography` at `load_n`.
+    pub fn new(topography: &str, load_n: f64, solve: &SolveFacts, onset: &Onset) -> Row {
+        let share = |c: &ClassShare| (c.count, c.normal_fraction, c.friction_fraction);
+        let (cc, cn, cf) = share(&onset.critical);
+        let (pc, pn, pf) = share(&onset.pre_sliding);
+        let (sc, sn, sf) = share(&onset.subcritical);
+        Row {
+            load_n,
+            topography: topography.to_string(),
+            law: onset.law.name.clone().unwrap_or_else(|| format!("mu_s={} mu_d={}", onset.law.mu_s, onset.law.mu_d)),
+            mu_s: onset.law.mu_s,
+            mu_d: onset.law.mu_d,
+            contact_points: solve.contact_points,
+            patches: solve.patches,
+            contact_fraction: solve.contact_fraction,
+            static_coefficient: onset.static_coefficient(),
+            dynamic_coefficient: onset.dynamic_coefficient(),
+            friction_drop: onset.friction_drop(),
+            critical_count: cc,
+            critical_normal_fraction: cn,
+            critical_friction_fraction: cf,
+            pre_sliding_count: pc,
+            pre_sliding_normal_fraction: pn,
+            pre_sliding_friction_fraction: pf,
+            subcritical_count: sc,
+            subcritical_normal_fraction: sn,
+            subcritical_friction_fraction: sf,
+            iterations: solve.iterations,
+            seconds: solve.seconds,
+        }
+    }
+}
+
+/// What a row needs to know of the contact solve behind it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SolveFacts {
+    pub contact_points: usize,
+    pub patches: usize,
+    pub contact_fraction: f64,
+    pub iterations: usize,
+    pub seconds: f64,
+}
+
+/// The contact region of one solve, kept for the figures: the pressure inside the bounding box
+/// of the contact points (all of them: the stick-slip model sees the same elements as on the
+/// whole window), with where that box sits in the window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapSnapshot {
+    pub topography: String,
+    /// Normal load N [N].
+    pub load_n: f64,
+    /// Pressure [Pa] on the box, shape (rows, columns).
+    pub pressure: Array2<f64>,
+    /// (row, column) of the box's first pixel in the window.
+    pub origin: (usize, usize),
+    /// The window's grid (ny, nx).
+    pub grid: (usize, usize),
+    /// Pixel size (dx, dy) [m].
+    pub pixel_size: (f64, f64),
+}
+
+/// `MapSnapshot` without its array, as stored beside it.
+#[derive(Serialize, Deserialize)]
+struct SnapshotMeta {
+    topography: String,
+    load_n: f64,
+    origin: (usize, usize),
+    grid: (usize, usize),
+    pixel_size_m: (f64, f64),
+}
+
+impl MapSnapshot {
+    /// The box around the contact points of `pressure` (shape `grid`), with `margin` pixels
+    /// around it where the window allows. `None` when nothing is in contact.
+    pub fn crop(
+        topography: &str,
+        load_n: f64,
+        pressure: &Array2<f64>,
+        pixel_size: (f64, f64),
+        margin: usize,
+    ) -> Option<MapSnapshot> {
+        let (ny, nx) = pressure.dim();
+        let (mut r0, mut r1, mut c0, mut c1) = (usize::MAX, 0, usize::MAX, 0);
+        for ((r, c), p) in pressure.indexed_iter() {
+            if *p > 0.0 {
+                (r0, r1, c0, c1) = (r0.min(r), r1.max(r), c0.min(c), c1.max(c));
+            }
+        }
+        if r0 == usize::MAX {
+            return None;
+        }
+        let (r0, c0) = (r0.saturating_sub(margin), c0.saturating_sub(margin));
+        let (r1, c1) = ((r1 + margin + 1).min(ny), (c1 + margin + 1).min(nx));
+        Some(MapSnapshot {
+            topography: topography.to_string(),
+            load_n,
+            pressure: pressure.slice(ndarray::s![r0..r1, c0..c1]).to_owned(),
+            origin: (r0, c0),
+            grid: (ny, nx),
+            pixel_size,
+        })
+    }
+
+    /// Area of one pixel [m²].
+    pub fn pixel_area(&self) -> f64 {
+        self.pixel_size.0 * self.pixel_size.1
+    }
+
+    /// Write as `<stem>.npy` (pressure, float64, Pa) and `<stem>.json`, atomically.
+    pub fn save(&self, dir: &Path, stem: &str) -> Result<()> {
+        crate::output::write_npy(&dir.join(format!("{stem}.npy")), &self.pressure)?;
+        let meta = SnapshotMeta {
+            topography: self.topography.clone(),
+            load_n: self.load_n,
+            origin: self.origin,
+            grid: self.grid,
+            pixel_size_m: self.pixel_size,
+        };
+        crate::output::write_json(&dir.join(format!("{stem}.json")), &meta)
+    }
+
+    /// Read what [`MapSnapshot::save`] wrote.
+    pub fn load(dir: &Path, stem: &str) -> Result<MapSnapshot> {
+        let json = dir.join(format!("{stem}.json"));
+        let text = std::fs::read_to_string(&json).map_err(|e| Error::io(&json, e))?;
+        let meta: SnapshotMeta = serde_json::from_str(&text).map_err(|e| Error::file(&json, e.to_string()))?;
+        let npy = dir.join(format!("{stem}.npy"));
+        let bytes = std::fs::read(&npy).map_err(|e| Error::io(&npy, e))?;
+        let pressure = crate::topography::io::npy::read_f64(&bytes).map_err(|r| Error::file(&npy, r))?;
+        Ok(MapSnapshot {
+            topography: meta.topography,
+            load_n: meta.load_n,
+            pressure,
+            origin: meta.origin,
+            grid: meta.grid,
+            pixel_size: meta.pixel_size_m,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crop_keeps_every_contact_point_and_round_trips() {
+        let mut p = Array2::zeros((20, 30));
+        p[[5, 7]] = 1.0;
+        p[[9, 12]] = 2.0;
+        let snap = MapSnapshot::crop("t", 1e-3, &p, (1e-8, 2e-8), 2).unwrap();
+        assert_eq!(snap.origin, (3, 5));
+        assert_eq!(snap.pressure.dim(), (9, 10));
+        assert_eq!(snap.pressure.sum(), 3.0);
+        let dir = tempfile::tempdir().unwrap();
+        snap.save(dir.path(), "m").unwrap();
+        assert_eq!(MapSnapshot::load(dir.path(), "m").unwrap(), snap);
+        assert!(MapSnapshot::crop("t", 1.0, &Array2::zeros((3, 3)), (1.0, 1.0), 0).is_none());
+    }
+}
