@@ -12,7 +12,8 @@ use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::friction::{ClassShare, Onset};
+use crate::friction::{ClassShare, FrictionLaw, Onset};
+use crate::shs::ShsPoint;
 
 /// One result: one topography × friction law × load.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -192,6 +193,66 @@ impl MapSnapshot {
             pixel_size: meta.pixel_size_m,
         })
     }
+}
+
+/// The figures a study can draw, as the config file and the report name them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FigureKind {
+    /// Friction drop vs load, a band over the topographies per law, measured points (Fig. 2).
+    FrictionDrop,
+    /// p(σ) of the local normal stress at 0.1, 1 and 10 mN (Fig. 3).
+    PressureDistribution,
+    /// Contact maps at 0.1, 1, 10 and 100 mN (Fig. S4).
+    ContactMaps,
+    /// Element classes at the critical state at 10 mN (Fig. 4f).
+    ClassMap,
+    /// Fractions of N and of F_S carried by each class vs load (Fig. 4g).
+    ClassFractions,
+    /// Friction coefficient vs imposed displacement at 0.1 mN (Fig. 4a).
+    FrictionCurve,
+    /// Stress-ratio maps at δ/δ_peak = 0.25 … 1 for 0.1, 1 and 10 mN (Fig. S6).
+    StressRatioSnapshots,
+    /// Animated GIFs of the stress-ratio map as δ grows, at 0.1, 1 and 10 mN (the movies).
+    Movies,
+}
+
+impl FigureKind {
+    /// Every figure, in the report's order.
+    pub const ALL: [FigureKind; 8] = [
+        FigureKind::FrictionDrop,
+        FigureKind::PressureDistribution,
+        FigureKind::ContactMaps,
+        FigureKind::ClassMap,
+        FigureKind::ClassFractions,
+        FigureKind::FrictionCurve,
+        FigureKind::StressRatioSnapshots,
+        FigureKind::Movies,
+    ];
+}
+
+/// The loads [N] at which the paper shows maps, distributions, curves and movies; a study keeps
+/// a [`MapSnapshot`] of its first topography at the swept load nearest to each (in log scale).
+pub const FIGURE_LOADS_N: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
+
+/// Everything the study's figures and report are drawn from.
+pub struct FigureInput<'a> {
+    /// Every result row.
+    pub rows: &'a [Row],
+    /// Topography names, in the study's order.
+    pub topographies: &'a [String],
+    /// Friction laws, in the study's order; maps, curves and movies use the first.
+    pub laws: &'a [FrictionLaw],
+    /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].
+    pub maps: &'a [MapSnapshot],
+    /// Measured points to overlay on the friction-drop figure (may be empty).
+    pub experiments: &'a [ShsPoint],
+    /// Which figures to draw.
+    pub figures: &'a [FigureKind],
+    /// δ/δ_peak of the stress-ratio snapshots.
+    pub snapshot_fractions: &'a [f64],
+    /// The study's parameters as run (the resolved config), shown in the report.
+    pub parameters: &'a serde_json::Value,
 }
 
 #[cfg(test)]
