@@ -2,20 +2,36 @@
 //!
 //! A [`Fft2`] is a reusable plan; the buffers it works in ([`Fft2Work`]) and the spectra belong
 //! to the caller, so iterative solvers transform many times without allocating. Spectra are
-//! stored *transposed*, shape (nx/2 + 1, ny): row = qx, column = qy. That saves one transpose
-//! per direction; pointwise operators (influence kernels, filters) only need to agree on it,
-//! which [`Fft2::wavevectors`] makes easy.
+//! stored *transposed*, shape (nx/2 + 1, ny): row = qx, column = qy. Pointwise operators
+//! (influence kernels, filters) only need to agree on it, which [`Fft2::wavevectors`] makes
+//! easy.
+//!
+//! A transform is a row pass (real FFTs along x) and a column pass (complex FFTs along y). The
+//! transpose between them is done a few rows or columns at a time inside the passes, so that
+//! data is reorganised while it is in cache rather than in a pass of its own. Both passes
+//! take caller code ([`Fft2::forward_rows`], [`Fft2::forward_columns`],
+//! [`Fft2::inverse_columns`], [`Fft2::inverse_rows`]) so that iterative solvers compute their
+//! fields as they go instead of streaming them through memory once more.
 //!
 //! Transforms are unnormalised (`inverse(forward(f)) = nx·ny·f`); kernels fold the 1/(nx·ny) in.
 //! Inputs may be smaller than the grid (zero-padded, for the free half-space) and outputs
 //! cropped, which skips the rows that are known to be zero or not wanted.
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
+
+/// Spectrum rows (qx) transposed and transformed together in the column passes: 16 rows of
+/// 1500 values are 384 KiB, at home in L2.
+const BAND: usize = 16;
+
+/// Grid rows gathered together from the transposed spectrum in the inverse row pass: four
+/// complex values fill one cache line.
+const GROUP: usize = 8;
 
 /// A plan for 2-D real FFTs on an (ny, nx) grid.
 pub struct Fft2 {
@@ -25,19 +41,26 @@ pub struct Fft2 {
     c2r: Arc<dyn ComplexToReal<f64>>,
     col_forward: Arc<dyn Fft<f64>>,
     col_inverse: Arc<dyn Fft<f64>>,
-    /// Number of parallel tasks, one scratch slot each.
+    /// Number of parallel tasks, one work slot each.
     tasks: usize,
 }
 
 /// Working memory for one [`Fft2`], owned by the caller and reused across transforms.
 pub struct Fft2Work {
-    /// Half spectrum in natural layout (ny, nx/2 + 1), between the row and column passes.
-    rows: Vec<Complex64>,
-    /// One real line of length nx per task.
-    lines: Vec<f64>,
-    /// FFT scratch, one slot per task.
+    /// Half spectrum in natural layout (ny, nx/2 + 1), between the forward row and column passes.
+    half: Vec<Complex64>,
+    /// One slot per task.
+    slots: Vec<Slot>,
+}
+
+/// The buffers of one task.
+struct Slot {
+    /// A real grid row (nx).
+    line: Vec<f64>,
+    /// FFT scratch.
     scratch: Vec<Complex64>,
-    scratch_len: usize,
+    /// [`GROUP`] rows of the half spectrum, natural layout.
+    group: Vec<Complex64>,
 }
 
 impl Fft2 {
@@ -78,7 +101,7 @@ impl Fft2 {
 
     /// Working memory for this plan.
     pub fn make_work(&self) -> Fft2Work {
-        let scratch_len = [
+        let scratch = [
             self.r2c.get_scratch_len(),
             self.c2r.get_scratch_len(),
             self.col_forward.get_inplace_scratch_len(),
@@ -89,10 +112,14 @@ impl Fft2 {
         .unwrap_or(0)
         .max(1);
         Fft2Work {
-            rows: vec![Complex64::default(); self.ny * self.nxh()],
-            lines: vec![0.0; self.tasks * self.nx],
-            scratch: vec![Complex64::default(); self.tasks * scratch_len],
-            scratch_len,
+            half: vec![Complex64::default(); self.ny * self.nxh()],
+            slots: (0..self.tasks)
+                .map(|_| Slot {
+                    line: vec![0.0; self.nx],
+                    scratch: vec![Complex64::default(); scratch],
+                    group: vec![Complex64::default(); GROUP * self.nxh()],
+                })
+                .collect(),
         }
     }
 
@@ -106,25 +133,18 @@ impl Fft2 {
     /// Forward transform of `input` (shape (in_ny, in_nx), placed at the grid's top-left corner,
     /// zeros elsewhere) into `spectrum` (transposed layout).
     pub fn forward(&self, input: &[f64], in_ny: usize, in_nx: usize, spectrum: &mut [Complex64], work: &mut Fft2Work) {
-        let (ny, nx, nxh) = (self.ny, self.nx, self.nxh());
-        assert!(in_ny <= ny && in_nx <= nx && input.len() == in_ny * in_nx);
-        assert_eq!(spectrum.len(), self.spectrum_len());
-        let Fft2Work { rows, lines, scratch, scratch_len } = work;
-        let (live, zero) = rows.split_at_mut(in_ny * nxh);
-        zero.par_iter_mut().for_each(|c| *c = Complex64::default());
-        let rows_per_task = in_ny.div_ceil(self.tasks).max(1);
-        live.par_chunks_mut(rows_per_task * nxh)
-            .zip(input.par_chunks(rows_per_task * in_nx))
-            .zip(lines.par_chunks_mut(nx).zip(scratch.par_chunks_mut(*scratch_len)))
-            .for_each(|((out, inp), (line, scr))| {
-                for (o, i) in out.chunks_exact_mut(nxh).zip(inp.chunks_exact(in_nx)) {
-                    line[..in_nx].copy_from_slice(i);
-                    line[in_nx..].fill(0.0);
-                    self.r2c.process_with_scratch(line, o, scr).expect("buffer sizes match the plan");
-                }
-            });
-        transpose(rows, ny, nxh, spectrum, self.tasks);
-        self.columns(spectrum, &*self.col_forward, scratch, *scratch_len);
+        assert!(in_ny <= self.ny && in_nx <= self.nx && input.len() == in_ny * in_nx);
+        self.forward_rows(
+            in_ny,
+            work,
+            (0, input),
+            |st, mid| split_rows(st, mid, in_nx),
+            |(first, rows), y, line| {
+                line[..in_nx].copy_from_slice(&rows[(y - *first) * in_nx..][..in_nx]);
+                true
+            },
+        );
+        self.forward_columns(work, spectrum, |_, _| (), &mut []);
     }
 
     /// Inverse transform of `spectrum` (destroyed) into `output` (shape (out_ny, out_nx), the
@@ -137,64 +157,200 @@ impl Fft2 {
         out_nx: usize,
         work: &mut Fft2Work,
     ) {
-        let (ny, nx, nxh) = (self.ny, self.nx, self.nxh());
-        assert!(out_ny <= ny && out_nx <= nx && output.len() == out_ny * out_nx);
-        assert_eq!(spectrum.len(), self.spectrum_len());
-        let Fft2Work { rows, lines, scratch, scratch_len } = work;
-        self.columns(spectrum, &*self.col_inverse, scratch, *scratch_len);
-        let live = &mut rows[..out_ny * nxh];
-        transpose_rows(spectrum, nxh, ny, live, out_ny, self.tasks);
-        let rows_per_task = out_ny.div_ceil(self.tasks).max(1);
-        live.par_chunks_mut(rows_per_task * nxh)
-            .zip(output.par_chunks_mut(rows_per_task * out_nx))
-            .zip(lines.par_chunks_mut(nx).zip(scratch.par_chunks_mut(*scratch_len)))
-            .for_each(|((inp, out), (line, scr))| {
-                for (i, o) in inp.chunks_exact_mut(nxh).zip(out.chunks_exact_mut(out_nx)) {
-                    // The field is real: round-off in the imaginary parts of the real-valued
-                    // modes (qx = 0 and the Nyquist column) is dropped, as it must be.
-                    i[0].im = 0.0;
-                    if nx % 2 == 0 {
-                        i[nxh - 1].im = 0.0;
-                    }
-                    self.c2r.process_with_scratch(i, line, scr).expect("buffer sizes match the plan");
-                    o.copy_from_slice(&line[..out_nx]);
-                }
-            });
+        assert!(out_ny <= self.ny && out_nx <= self.nx && output.len() == out_ny * out_nx);
+        self.inverse_columns(spectrum, work, |_, _| ());
+        let split = |st, mid| split_rows_mut(st, mid, out_nx);
+        self.inverse_rows(spectrum, out_ny, work, (0, output), split, |(first, rows), y, line| {
+            rows[(y - *first) * out_nx..][..out_nx].copy_from_slice(&line[..out_nx]);
+        });
     }
 
-    /// Complex FFTs along qy: every row of the transposed spectrum.
-    fn columns(&self, spectrum: &mut [Complex64], fft: &dyn Fft<f64>, scratch: &mut [Complex64], scratch_len: usize) {
-        let per_task = self.nxh().div_ceil(self.tasks).max(1) * self.ny;
-        spectrum.par_chunks_mut(per_task).zip(scratch.par_chunks_mut(scratch_len)).for_each(|(chunk, scr)| {
-            let need = fft.get_inplace_scratch_len();
-            fft.process_with_scratch(chunk, &mut scr[..need]);
+    /// The row pass of a forward transform, the first half of [`Fft2::forward`] for callers
+    /// that compute their input as they go. Rows `0..rows` are cut into one block per task;
+    /// `split(state, row)` cuts the caller's `state` the same way (into the parts for the rows
+    /// below `row` and from `row` on). `fill(state, y, line)` writes row y into `line` (zeroed,
+    /// length nx) and returns whether the row holds anything; rows from `rows` on are zero.
+    pub fn forward_rows<S: Send>(
+        &self,
+        rows: usize,
+        work: &mut Fft2Work,
+        state: S,
+        split: impl Fn(S, usize) -> (S, S) + Sync,
+        fill: impl Fn(&mut S, usize, &mut [f64]) -> bool + Sync,
+    ) {
+        let nxh = self.nxh();
+        assert!(rows <= self.ny);
+        let (live, zero) = work.half.split_at_mut(rows * nxh);
+        zero.par_iter_mut().for_each(|c| *c = Complex64::default());
+        row_blocks(
+            0..rows,
+            &mut work.slots,
+            (state, (0, live)),
+            &|(s, out), mid| {
+                let (a, b) = split(s, mid);
+                let (oa, ob) = split_rows_mut(out, mid, nxh);
+                ((a, oa), (b, ob))
+            },
+            &|ys, (mut s, (first, out)), slot| {
+                for y in ys {
+                    slot.line.fill(0.0);
+                    let o = &mut out[(y - first) * nxh..][..nxh];
+                    if fill(&mut s, y, &mut slot.line) {
+                        self.r2c
+                            .process_with_scratch(&mut slot.line, o, &mut slot.scratch)
+                            .expect("buffer sizes match the plan");
+                    } else {
+                        o.fill(Complex64::default());
+                    }
+                }
+            },
+        );
+    }
+
+    /// The column pass of a forward transform, after [`Fft2::forward_rows`]: the spectrum,
+    /// transposed. Then `each(kx, row)` sees every spectrum row (all qy of one qx) while it is
+    /// in cache; its results are stored in `out[kx]` (an empty `out` keeps none).
+    pub fn forward_columns<A: Send>(
+        &self,
+        work: &mut Fft2Work,
+        spectrum: &mut [Complex64],
+        each: impl Fn(usize, &mut [Complex64]) -> A + Sync,
+        out: &mut [A],
+    ) {
+        let (ny, nxh) = (self.ny, self.nxh());
+        assert_eq!(spectrum.len(), self.spectrum_len());
+        assert!(out.is_empty() || out.len() == nxh);
+        let per_task = nxh.div_ceil(self.tasks);
+        let fft = &*self.col_forward;
+        let half = &work.half;
+        let run = |task: usize, chunk: &mut [Complex64], slot: &mut Slot, mut results: Option<&mut [A]>| {
+            let kx0 = task * per_task;
+            for (b, band) in chunk.chunks_mut(BAND * ny).enumerate() {
+                // This band of the transpose, then its transforms while it is in cache.
+                let width = band.len() / ny;
+                for y in 0..ny {
+                    for (k, v) in half[y * nxh + kx0 + b * BAND..][..width].iter().enumerate() {
+                        band[k * ny + y] = *v;
+                    }
+                }
+                for (k, row) in band.chunks_exact_mut(ny).enumerate() {
+                    fft.process_with_scratch(row, &mut slot.scratch);
+                    let a = each(kx0 + b * BAND + k, row);
+                    if let Some(r) = results.as_deref_mut() {
+                        r[b * BAND + k] = a;
+                    }
+                }
+            }
+        };
+        let tasks = spectrum.par_chunks_mut(per_task * ny).zip(work.slots.par_iter_mut()).enumerate();
+        if out.is_empty() {
+            tasks.for_each(|(task, (chunk, slot))| run(task, chunk, slot, None));
+        } else {
+            tasks
+                .zip(out.par_chunks_mut(per_task))
+                .for_each(|((task, (chunk, slot)), r)| run(task, chunk, slot, Some(r)));
+        }
+    }
+
+    /// The column pass of an inverse transform, in place: `each(kx, row)` prepares every
+    /// spectrum row (a kernel product, say) before its inverse FFT along qy.
+    pub fn inverse_columns(
+        &self,
+        spectrum: &mut [Complex64],
+        work: &mut Fft2Work,
+        each: impl Fn(usize, &mut [Complex64]) + Sync,
+    ) {
+        let ny = self.ny;
+        assert_eq!(spectrum.len(), self.spectrum_len());
+        let per_task = self.nxh().div_ceil(self.tasks);
+        let fft = &*self.col_inverse;
+        spectrum.par_chunks_mut(per_task * ny).zip(work.slots.par_iter_mut()).enumerate().for_each(
+            |(task, (chunk, slot))| {
+                for (k, row) in chunk.chunks_exact_mut(ny).enumerate() {
+                    each(task * per_task + k, row);
+                    fft.process_with_scratch(row, &mut slot.scratch);
+                }
+            },
+        );
+    }
+
+    /// The row pass of an inverse transform, after [`Fft2::inverse_columns`] on `spectrum`:
+    /// `consume(state, y, line)` receives row y (length nx) of the result for y in `0..rows`,
+    /// with the caller's state cut into blocks as in [`Fft2::forward_rows`].
+    pub fn inverse_rows<S: Send>(
+        &self,
+        spectrum: &[Complex64],
+        rows: usize,
+        work: &mut Fft2Work,
+        state: S,
+        split: impl Fn(S, usize) -> (S, S) + Sync,
+        consume: impl Fn(&mut S, usize, &[f64]) + Sync,
+    ) {
+        let (ny, nx, nxh) = (self.ny, self.nx, self.nxh());
+        assert!(rows <= ny && spectrum.len() == self.spectrum_len());
+        row_blocks(0..rows, &mut work.slots, state, &split, &|ys, mut s, slot| {
+            let mut y0 = ys.start;
+            while y0 < ys.end {
+                // A few rows of the transpose at a time: each spectrum row gives one cache line.
+                let group = (ys.end - y0).min(GROUP);
+                for kx in 0..nxh {
+                    for (r, v) in spectrum[kx * ny + y0..][..group].iter().enumerate() {
+                        slot.group[r * nxh + kx] = *v;
+                    }
+                }
+                for r in 0..group {
+                    let row = &mut slot.group[r * nxh..][..nxh];
+                    // The field is real: round-off in the imaginary parts of the real-valued
+                    // modes (qx = 0 and the Nyquist column) is dropped, as it must be.
+                    row[0].im = 0.0;
+                    if nx % 2 == 0 {
+                        row[nxh - 1].im = 0.0;
+                    }
+                    self.c2r
+                        .process_with_scratch(row, &mut slot.line, &mut slot.scratch)
+                        .expect("buffer sizes match the plan");
+                    consume(&mut s, y0 + r, &slot.line);
+                }
+                y0 += group;
+            }
         });
     }
 }
 
-/// Transpose `src` (rows × cols) into `dst` (cols × rows), in parallel over bands of `dst` rows.
-fn transpose(src: &[Complex64], rows: usize, cols: usize, dst: &mut [Complex64], tasks: usize) {
-    transpose_rows(src, rows, cols, dst, cols, tasks)
+/// Cut `(first row, rows of `width` values from it)` at row `mid`: the rows below and from it.
+pub fn split_rows<T>((first, rows): (usize, &[T]), mid: usize, width: usize) -> ((usize, &[T]), (usize, &[T])) {
+    let (a, b) = rows.split_at((mid - first) * width);
+    ((first, a), (mid, b))
 }
 
-/// Transpose the first `keep` columns of `src` (rows × cols) into `dst` (keep × rows).
-fn transpose_rows(src: &[Complex64], rows: usize, cols: usize, dst: &mut [Complex64], keep: usize, tasks: usize) {
-    const TILE: usize = 32;
-    debug_assert_eq!(dst.len(), keep * rows);
-    let band = keep.div_ceil(tasks * 4).max(1);
-    dst.par_chunks_mut(band * rows).enumerate().for_each(|(b, out)| {
-        let c0 = b * band;
-        let nc = out.len() / rows;
-        for r0 in (0..rows).step_by(TILE) {
-            let r1 = (r0 + TILE).min(rows);
-            for c in 0..nc {
-                let o = &mut out[c * rows + r0..c * rows + r1];
-                for (k, v) in o.iter_mut().enumerate() {
-                    *v = src[(r0 + k) * cols + c0 + c];
-                }
-            }
-        }
-    });
+/// [`split_rows`] for mutable rows.
+pub fn split_rows_mut<T>(
+    (first, rows): (usize, &mut [T]),
+    mid: usize,
+    width: usize,
+) -> ((usize, &mut [T]), (usize, &mut [T])) {
+    let (a, b) = rows.split_at_mut((mid - first) * width);
+    ((first, a), (mid, b))
+}
+
+/// Run `body(rows, state, slot)` on contiguous blocks of rows, one per slot, in parallel,
+/// cutting `state` with `split`.
+fn row_blocks<S: Send>(
+    rows: Range<usize>,
+    slots: &mut [Slot],
+    state: S,
+    split: &(impl Fn(S, usize) -> (S, S) + Sync),
+    body: &(impl Fn(Range<usize>, S, &mut Slot) + Sync),
+) {
+    if slots.len() <= 1 || rows.len() <= 1 {
+        body(rows, state, &mut slots[0]);
+        return;
+    }
+    let half = slots.len() / 2;
+    let mid = rows.start + rows.len() * half / slots.len();
+    let (a, b) = split(state, mid);
+    let (sa, sb) = slots.split_at_mut(half);
+    rayon::join(|| row_blocks(rows.start..mid, sa, a, split, body), || row_blocks(mid..rows.end, sb, b, split, body));
 }
 
 #[cfg(test)]

@@ -81,7 +81,7 @@ struct LoadEntry {
     patches: usize,
     largest_patch_points: usize,
     iterations: usize,
-    operator_applications: usize,
+    operator_applications: f64,
     residual: f64,
     seconds: f64,
     pressure_file: String,

@@ -101,6 +101,17 @@ impl Influence {
         (self.ny, self.nx)
     }
 
+    /// The plan, the kernel (spectrum layout, normalisation folded in), a spectrum buffer and
+    /// the work buffers, for solvers that fuse their own passes into the transforms.
+    pub fn parts(&mut self) -> (&Fft2, &[f64], &mut Vec<Complex64>, &mut Fft2Work) {
+        (&self.fft, &self.kernel, &mut self.spectrum, &mut self.work)
+    }
+
+    /// The FFT plan (on the padded grid for the free boundary).
+    pub fn fft(&self) -> &Fft2 {
+        &self.fft
+    }
+
     /// Displacement [m] of the window's points under `pressure` [Pa], both row-major (ny, nx).
     pub fn apply(&mut self, pressure: &[f64], displacement: &mut [f64]) {
         let Influence { ny, nx, fft, kernel, spectrum, work } = self;
