@@ -317,18 +317,19 @@ impl Fft2 {
     }
 }
 
+/// Rows of `width` values from row `first` on, as the row passes cut them between tasks.
+pub type Rows<'a, T> = (usize, &'a [T]);
+/// [`Rows`], mutable.
+pub type RowsMut<'a, T> = (usize, &'a mut [T]);
+
 /// Cut `(first row, rows of `width` values from it)` at row `mid`: the rows below and from it.
-pub fn split_rows<T>((first, rows): (usize, &[T]), mid: usize, width: usize) -> ((usize, &[T]), (usize, &[T])) {
+pub fn split_rows<T>((first, rows): Rows<T>, mid: usize, width: usize) -> (Rows<T>, Rows<T>) {
     let (a, b) = rows.split_at((mid - first) * width);
     ((first, a), (mid, b))
 }
 
 /// [`split_rows`] for mutable rows.
-pub fn split_rows_mut<T>(
-    (first, rows): (usize, &mut [T]),
-    mid: usize,
-    width: usize,
-) -> ((usize, &mut [T]), (usize, &mut [T])) {
+pub fn split_rows_mut<T>((first, rows): RowsMut<T>, mid: usize, width: usize) -> (RowsMut<T>, RowsMut<T>) {
     let (a, b) = rows.split_at_mut((mid - first) * width);
     ((first, a), (mid, b))
 }

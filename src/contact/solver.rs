@@ -40,6 +40,32 @@ use crate::fft::{split_rows, split_rows_mut};
 /// Iterations without a new best residual after which the conjugate gradient restarts.
 const STALL: usize = 50;
 
+/// Partial sums kept per grid row.
+const SUMS: usize = 10;
+
+/// Up to this many grid rows with changes, their transform is summed directly inside the
+/// column passes (a few axpys per spectrum row) rather than computed by FFT.
+const DIRECT_ROWS: usize = 8;
+
+/// How the transform of the pending changes D is at hand.
+#[derive(Clone, Copy, PartialEq)]
+enum ChangeTransform {
+    /// Nothing pending.
+    None,
+    /// In `change_spectrum`.
+    Dense,
+    /// As `change_rows`: D̂(qx, qy) = Σ_rows R_y(qx) · e^{−2πi qy y / ny}.
+    Rows,
+}
+
+/// One grid row of changes, transformed along x: R_y(qx) = Σ δ e^{−2πi qx x / nx}, with the
+/// phases e^{−2πi qy y / ny} that carry it along y.
+#[derive(Default)]
+struct ChangeRow {
+    spectrum: Vec<Complex64>,
+    phase: Vec<Complex64>,
+}
+
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverOptions {
@@ -66,9 +92,9 @@ pub struct SolveReport {
     pub iterations: usize,
     /// Residual at convergence.
     pub residual: f64,
-    /// Applications of the influence operator (FFT pairs): one per iteration and one per
-    /// check of convergence from scratch; iterations that change the contact set add a quarter
-    /// (the column pass of the change's transform).
+    /// Applications of the influence operator in FFT pairs: one per iteration and one per
+    /// check of convergence from scratch; an iteration whose projection changed points on many
+    /// grid rows adds half a pair (the forward transform of the change).
     pub operator_applications: f64,
     /// Wall-clock time of the solve [s].
     pub seconds: f64,
@@ -85,6 +111,37 @@ struct ContactSet {
     pressure: Vec<f64>,
     /// Search direction t [m] at each contact point.
     direction: Vec<f64>,
+    /// u − h − c at each contact point [m], with u the stored displacement and c the shift
+    /// ([`ContactSolver::reference`]) of the pass that wrote it.
+    gap: Vec<f64>,
+    /// The stored displacement u at each contact point [m].
+    displacement: Vec<f64>,
+}
+
+/// The compressed rows of a contact set from some row on, for cutting it between tasks.
+struct ContactRows<'a> {
+    first: usize,
+    index: &'a mut [u32],
+    pressure: &'a mut [f64],
+    direction: &'a mut [f64],
+    gap: &'a mut [f64],
+    displacement: &'a mut [f64],
+}
+
+impl<'a> ContactRows<'a> {
+    /// Cut at row `mid`, given where rows start.
+    fn split(self, mid: usize, row_start: &[usize]) -> (Self, Self) {
+        let at = row_start[mid] - row_start[self.first];
+        let (i0, i1) = self.index.split_at_mut(at);
+        let (p0, p1) = self.pressure.split_at_mut(at);
+        let (t0, t1) = self.direction.split_at_mut(at);
+        let (g0, g1) = self.gap.split_at_mut(at);
+        let (u0, u1) = self.displacement.split_at_mut(at);
+        (
+            ContactRows { first: self.first, index: i0, pressure: p0, direction: t0, gap: g0, displacement: u0 },
+            ContactRows { first: mid, index: i1, pressure: p1, direction: t1, gap: g1, displacement: u1 },
+        )
+    }
 }
 
 impl ContactSet {
@@ -107,6 +164,9 @@ struct Change {
     delta: f64,
     /// Whether the point enters the contact set (else it leaves it).
     entering: bool,
+    /// For an entering point, its gap u − h − c and stored displacement u [m].
+    gap: f64,
+    displacement: f64,
 }
 
 /// The gap's statistics over the contact set, as an iteration starts.
@@ -137,15 +197,24 @@ pub struct ContactSolver {
     displacement: Vec<f64>,
     /// σ: the load restoration not yet applied to the displacement.
     scale: f64,
+    /// c: the shift of the contact points' stored gaps, u − h − c.
+    reference: f64,
     contact: ContactSet,
     /// The next contact set, built while the current one is read.
     next: ContactSet,
     /// D: the projection's changes not yet applied to the displacement, per row.
     pending: Vec<Vec<Change>>,
-    /// Spectrum of D.
+    /// Spectrum of D, in one of the forms of [`ChangeTransform`].
+    change_transform: ChangeTransform,
     change_spectrum: Vec<Complex64>,
+    change_rows: Vec<ChangeRow>,
+    /// e^{−2πi k / n} on the FFT grid, along x and along y.
+    twiddle_x: Vec<Complex64>,
+    twiddle_y: Vec<Complex64>,
+    /// How many of `change_rows` are in use.
+    direct_rows: usize,
     /// Per-row and per-spectrum-row partial sums.
-    row_sums: Vec<[f64; 4]>,
+    row_sums: Vec<[f64; SUMS]>,
     spectrum_sums: Vec<[f64; 2]>,
     /// Dense pressure of the last solve [Pa].
     pressure_field: Vec<f64>,
@@ -206,6 +275,10 @@ impl ContactSolver {
         };
         let nxh = operator.fft().shape().1 / 2 + 1;
         let change_spectrum = operator.fft().make_spectrum();
+        let (grid_ny, grid_nx) = operator.fft().shape();
+        let twiddle = |n: usize| {
+            (0..n).map(|k| Complex64::from_polar(1.0, -2.0 * std::f64::consts::PI * k as f64 / n as f64)).collect()
+        };
         Ok(ContactSolver {
             ny,
             nx,
@@ -218,11 +291,17 @@ impl ContactSolver {
             options,
             displacement: vec![0.0; n],
             scale: 1.0,
+            reference: 0.0,
             contact: ContactSet::default(),
             next: ContactSet::default(),
             pending: vec![Vec::new(); ny],
+            change_transform: ChangeTransform::None,
             change_spectrum,
-            row_sums: vec![[0.0; 4]; ny],
+            change_rows: (0..DIRECT_ROWS).map(|_| ChangeRow::default()).collect(),
+            twiddle_x: twiddle(grid_nx),
+            twiddle_y: twiddle(grid_ny),
+            direct_rows: 0,
+            row_sums: vec![[0.0; SUMS]; ny],
             spectrum_sums: vec![[0.0; 2]; nxh],
             pressure_field: vec![0.0; n],
             warm: false,
@@ -347,13 +426,12 @@ impl ContactSolver {
             let beta = if conjugate && gap_norm_old > 0.0 { shifts.gap_norm / gap_norm_old } else { 0.0 };
             gap_norm_old = shifts.gap_norm;
             conjugate = true;
-            let changes = !self.pending_is_empty();
-            if changes {
-                self.transform_changes();
-                applications += 0.25;
+            self.transform_changes();
+            if self.change_transform == ChangeTransform::Dense {
+                applications += 0.5;
             }
-            let (along, curvature, cross) = self.transform_direction(&shifts, beta, changes);
-            if !(curvature > 0.0) {
+            let (along, curvature, cross) = self.transform_direction(&shifts, beta);
+            if curvature.is_nan() || curvature <= 0.0 {
                 // t = 0: the gap is flat on the contact set; only the projection has work left.
                 (shifts, residual) = self.refresh(p_mean, norm);
                 applications += 1.0;
@@ -368,9 +446,8 @@ impl ContactSolver {
             }
             let step = (along + self.scale * cross) / curvature;
             applications += 1.0;
-            residual = self.step(&shifts, step, changes, total, p_mean, norm)?;
+            (shifts, residual) = self.step(&shifts, step, total, p_mean, norm)?;
             exact = false;
-            shifts = self.shifts(shifts.gap_mean);
             progress(iterations, residual);
         }
         self.warm = true;
@@ -400,6 +477,8 @@ impl ContactSolver {
         c.row_start = (0..=self.ny).map(|y| y * self.nx).collect();
         c.pressure = vec![p_mean; n];
         c.direction = vec![0.0; n];
+        c.gap = vec![0.0; n];
+        c.displacement = vec![0.0; n];
     }
 
     /// Recompute the displacement from the pressure (u = K p, σ = 1, nothing pending) and
@@ -441,40 +520,27 @@ impl ContactSolver {
         );
         self.scale = 1.0;
         self.pending.iter_mut().for_each(Vec::clear);
-        let shifts = self.shifts(0.0);
+        let shifts = self.store_contact_gaps();
         (shifts, self.residual(&shifts, p_mean, norm))
     }
 
-    /// ḡ, G and the direction's mean over the contact set, from σu − h. Sums are shifted by
-    /// `guess` (the previous ḡ) so that one pass usually gives G without losing its digits to
-    /// ḡ²; a second pass around the mean when the guess was far off.
-    fn shifts(&mut self, guess: f64) -> Shifts {
-        let sigma = self.scale;
-        let (u, h, c) = (&self.displacement, &self.heights, &self.contact);
-        let pass = |sums: &mut [[f64; 4]], shift: f64| {
-            sums.par_iter_mut().enumerate().for_each(|(y, acc)| {
-                let mut a = [0.0; 4];
-                for j in c.rows(y) {
-                    let i = c.index[j] as usize;
-                    let d = sigma * u[i] - h[i] - shift;
-                    a[0] += d;
-                    a[1] += d * d;
-                    a[2] += c.direction[j];
-                }
-                *acc = a;
-            });
-            sum_rows(sums)
-        };
+    /// After the displacement was recomputed (σ = 1): store u and u − h − ḡ at the contact
+    /// points (the reference c = ḡ) and return ḡ, G and the direction's mean.
+    fn store_contact_gaps(&mut self) -> Shifts {
+        let (u, h) = (&self.displacement, &self.heights);
+        let c = &mut self.contact;
         let count = c.len() as f64;
-        let [s1, s2, direction_sum, _] = pass(&mut self.row_sums, guess);
-        let mut gap_mean = guess + s1 / count;
-        let mut gap_norm = s2 - s1 * s1 / count;
-        if s1 * s1 / count > 0.5 * s2 {
-            let [r1, r2, ..] = pass(&mut self.row_sums, gap_mean);
-            gap_mean += r1 / count;
-            gap_norm = r2 - r1 * r1 / count;
-        }
-        Shifts { gap_mean, gap_norm: gap_norm.max(0.0), direction_mean: direction_sum / count }
+        let gap_mean = c.index.iter().map(|&i| u[i as usize] - h[i as usize]).sum::<f64>() / count;
+        let direction_mean = c.direction.iter().sum::<f64>() / count;
+        c.gap.par_iter_mut().zip(c.displacement.par_iter_mut()).zip(c.index.par_iter()).with_min_len(4096).for_each(
+            |((g, d), &i)| {
+                *d = u[i as usize];
+                *g = *d - h[i as usize] - gap_mean;
+            },
+        );
+        self.reference = gap_mean;
+        let gap_norm = c.gap.iter().map(|g| g * g).sum();
+        Shifts { gap_mean, gap_norm, direction_mean }
     }
 
     /// The residual of the module documentation for the current state, on a full pass.
@@ -494,15 +560,41 @@ impl ContactSolver {
                     penetration -= g;
                 }
             }
-            *acc = [complementarity, penetration, 0.0, 0.0];
+            acc[..2].copy_from_slice(&[complementarity, penetration]);
         });
         let [complementarity, penetration, ..] = sum_rows(&self.row_sums);
         (complementarity + p_mean * penetration) / norm
     }
 
-    /// Spectrum of the pending changes D.
+    /// The transform of the pending changes D: summed directly when they lie on a few grid
+    /// rows, by FFT otherwise.
     fn transform_changes(&mut self) {
         let nx = self.nx;
+        let rows = self.pending.iter().filter(|r| !r.is_empty()).count();
+        if rows == 0 {
+            self.change_transform = ChangeTransform::None;
+            return;
+        }
+        if rows <= DIRECT_ROWS {
+            let (tx, ty) = (&self.twiddle_x, &self.twiddle_y);
+            let (grid_nx, grid_ny) = (tx.len(), ty.len());
+            let nxh = grid_nx / 2 + 1;
+            let pending = self.pending.iter().enumerate().filter(|(_, r)| !r.is_empty());
+            for (slot, (y, changed)) in self.change_rows.iter_mut().zip(pending) {
+                slot.spectrum.clear();
+                slot.spectrum.extend((0..nxh).map(|kx| {
+                    changed
+                        .iter()
+                        .map(|c| c.delta * tx[(kx * (c.index as usize - y * nx)) % grid_nx])
+                        .sum::<Complex64>()
+                }));
+                slot.phase.clear();
+                slot.phase.extend((0..grid_ny).map(|ky| ty[(ky * y) % grid_ny]));
+            }
+            self.change_transform = ChangeTransform::Rows;
+            self.direct_rows = rows;
+            return;
+        }
         let (fft, _, _, work) = self.operator.parts();
         fft.forward_rows(
             self.ny,
@@ -518,17 +610,19 @@ impl ContactSolver {
             },
         );
         fft.forward_columns(work, &mut self.change_spectrum, |_, _| (), &mut []);
+        self.change_transform = ChangeTransform::Dense;
     }
 
     /// t ← g − ḡ + β (t − t̄) on the contact set, transformed. Returns Σ (g − ḡ) t, t·K t and
     /// t·K D (Parseval; the last only when changes are pending).
-    fn transform_direction(&mut self, s: &Shifts, beta: f64, changes: bool) -> (f64, f64, f64) {
-        let (ny, nx, sigma) = (self.ny, self.nx, self.scale);
+    fn transform_direction(&mut self, s: &Shifts, beta: f64) -> (f64, f64, f64) {
+        let (ny, nx) = (self.ny, self.nx);
+        // σu − h − ḡ = (u − h − c) + (σ − 1)u + (c − ḡ).
+        let (excess, offset) = (self.scale - 1.0, self.reference - s.gap_mean);
         let (fft, kernel, spectrum, work) = self.operator.parts();
         let (grid_ny, grid_nx) = fft.shape();
-        let (u, h) = (&self.displacement, &self.heights);
         let c = &mut self.contact;
-        let (index, row_start) = (&c.index, &c.row_start);
+        let (index, row_start, gap, u) = (&c.index, &c.row_start, &c.gap, &c.displacement);
         fft.forward_rows(
             ny,
             work,
@@ -543,18 +637,19 @@ impl ContactSolver {
                 let (mut along, mut total) = (0.0, 0.0);
                 for j in row_start[y]..row_start[y + 1] {
                     let i = index[j] as usize;
-                    let g = sigma * u[i] - h[i] - s.gap_mean;
+                    let g = gap[j] + excess * u[j] + offset;
                     let tj = g + beta * (t[j - base] - s.direction_mean);
                     t[j - base] = tj;
                     line[i - y * nx] = tj;
                     along += g * tj;
                     total += tj;
                 }
-                sums[y - *first] = [along, total, 0.0, 0.0];
+                sums[y - *first][..2].copy_from_slice(&[along, total]);
                 row_start[y] < row_start[y + 1]
             },
         );
-        let change_spectrum = &self.change_spectrum;
+        let (mode, change_spectrum) = (self.change_transform, &self.change_spectrum);
+        let change_rows = &self.change_rows[..self.direct_rows];
         fft.forward_columns(
             work,
             spectrum,
@@ -563,11 +658,21 @@ impl ContactSolver {
                 let weight = if kx == 0 || 2 * kx == grid_nx { 1.0 } else { 2.0 };
                 let k = &kernel[kx * grid_ny..][..grid_ny];
                 let curvature: f64 = row.iter().zip(k).map(|(t, k)| k * t.norm_sqr()).sum();
-                let cross: f64 = if changes {
-                    let d = &change_spectrum[kx * grid_ny..][..grid_ny];
-                    row.iter().zip(k).zip(d).map(|((t, k), d)| k * (t.re * d.re + t.im * d.im)).sum()
-                } else {
-                    0.0
+                let cross: f64 = match mode {
+                    ChangeTransform::None => 0.0,
+                    ChangeTransform::Dense => {
+                        let d = &change_spectrum[kx * grid_ny..][..grid_ny];
+                        row.iter().zip(k).zip(d).map(|((t, k), d)| k * (t.re * d.re + t.im * d.im)).sum()
+                    }
+                    // Re(t̂* D̂) summed row by row: Σ_y Re(R_y · Σ_qy K t̂* e^{−2πi qy y/ny}).
+                    ChangeTransform::Rows => change_rows
+                        .iter()
+                        .map(|r| {
+                            let s: Complex64 =
+                                row.iter().zip(k).zip(&r.phase).map(|((t, k), e)| *k * t.conj() * e).sum();
+                            (r.spectrum[kx] * s).re
+                        })
+                        .sum(),
                 };
                 [weight * curvature, weight * cross]
             },
@@ -580,75 +685,116 @@ impl ContactSolver {
 
     /// The step: u ← σu + K(σD − τt) by one inverse FFT; p ← p − τt with Polonsky & Keer's
     /// projection, whose changes become the next D; the load restored by the next σ. Returns
-    /// the residual of the state the step started from (with the gap it could see).
-    fn step(&mut self, s: &Shifts, step: f64, changes: bool, total: f64, p_mean: f64, norm: f64) -> Result<f64> {
+    /// the shifts for the next iteration and the residual of the state the step started from
+    /// (with the gap it could see).
+    fn step(&mut self, s: &Shifts, step: f64, total: f64, p_mean: f64, norm: f64) -> Result<(Shifts, f64)> {
         let (ny, nx, sigma, gap_mean) = (self.ny, self.nx, self.scale, s.gap_mean);
         let (fft, kernel, spectrum, work) = self.operator.parts();
         let grid_ny = fft.shape().0;
-        let change_spectrum = &self.change_spectrum;
+        let (mode, change_spectrum) = (self.change_transform, &self.change_spectrum);
+        let change_rows = &self.change_rows[..self.direct_rows];
         fft.inverse_columns(spectrum, work, |kx, row| {
             let k = &kernel[kx * grid_ny..][..grid_ny];
-            if changes {
-                let d = &change_spectrum[kx * grid_ny..][..grid_ny];
-                row.iter_mut().zip(k).zip(d).for_each(|((t, k), d)| *t = (sigma * d - step * *t) * k);
-            } else {
-                row.iter_mut().zip(k).for_each(|(t, k)| *t *= -step * k);
+            match mode {
+                ChangeTransform::Dense => {
+                    let d = &change_spectrum[kx * grid_ny..][..grid_ny];
+                    row.iter_mut().zip(k).zip(d).for_each(|((t, k), d)| *t = (sigma * d - step * *t) * k);
+                }
+                _ => row.iter_mut().zip(k).for_each(|(t, k)| *t *= -step * k),
+            }
+            if mode == ChangeTransform::Rows {
+                for r in change_rows {
+                    let c = sigma * r.spectrum[kx];
+                    row.iter_mut().zip(k).zip(&r.phase).for_each(|((t, k), e)| *t += c * *k * e);
+                }
             }
         });
         let h = &self.heights;
         let c = &mut self.contact;
-        let (index, row_start) = (&c.index, &c.row_start);
-        let direction = &c.direction;
+        let row_start = &c.row_start;
+        let rows = ContactRows {
+            first: 0,
+            index: &mut c.index,
+            pressure: &mut c.pressure,
+            direction: &mut c.direction,
+            gap: &mut c.gap,
+            displacement: &mut c.displacement,
+        };
         fft.inverse_rows(
             spectrum,
             ny,
             work,
-            (0, &mut self.displacement[..], &mut c.pressure[..], &mut self.pending[..], &mut self.row_sums[..]),
-            |(first, u, p, pending, sums), mid| {
+            (0, &mut self.displacement[..], rows, &mut self.pending[..], &mut self.row_sums[..]),
+            |(first, u, rows, pending, sums), mid| {
                 let (ua, ub) = u.split_at_mut((mid - first) * nx);
-                let (pa, pb) = p.split_at_mut(row_start[mid] - row_start[first]);
+                let (ra, rb) = rows.split(mid, row_start);
                 let (da, db) = pending.split_at_mut(mid - first);
                 let (sa, sb) = sums.split_at_mut(mid - first);
-                ((first, ua, pa, da, sa), (mid, ub, pb, db, sb))
+                ((first, ua, ra, da, sa), (mid, ub, rb, db, sb))
             },
-            |(first, u, p, pending, sums), y, line| {
+            |(first, u, rows, pending, sums), y, line| {
                 let base = row_start[*first];
                 let u = &mut u[(y - *first) * nx..][..nx];
                 let h = &h[y * nx..][..nx];
                 let changed = &mut pending[y - *first];
                 changed.clear();
-                let (mut complementarity, mut penetration, mut load) = (0.0, 0.0, 0.0);
+                // [complementarity, penetration, load, count, Σg, Σg², Σg·u, Σu, Σu², Σt] over
+                // the next contact set, g = u − h − ḡ with the new u.
+                let mut a = [0.0; SUMS];
                 let (mut j, end) = (row_start[y], row_start[y + 1]);
                 for x in 0..nx {
-                    let g = sigma * u[x] - h[x] - gap_mean;
-                    u[x] = sigma * u[x] + line[x];
+                    let g_old = sigma * u[x] - h[x] - gap_mean;
+                    let un = sigma * u[x] + line[x];
+                    u[x] = un;
+                    let g = un - h[x] - gap_mean;
                     let i = y * nx + x;
-                    if j < end && index[j] as usize == i {
-                        let pj = &mut p[j - base];
-                        complementarity += *pj * g.abs();
-                        let q = *pj - step * direction[j];
+                    if j < end && rows.index[j - base] as usize == i {
+                        let k = j - base;
+                        a[0] += rows.pressure[k] * g_old.abs();
+                        let q = rows.pressure[k] - step * rows.direction[k];
                         if q > 0.0 {
-                            *pj = q;
-                            load += q;
+                            rows.pressure[k] = q;
+                            rows.gap[k] = g;
+                            rows.displacement[k] = un;
+                            a[2] += q;
+                            a[3] += 1.0;
+                            a[4] += g;
+                            a[5] += g * g;
+                            a[6] += g * un;
+                            a[7] += un;
+                            a[8] += un * un;
+                            a[9] += rows.direction[k];
                         } else {
                             // Clipped: it leaves the contact set.
-                            *pj = 0.0;
-                            changed.push(Change { index: i as u32, delta: -q, entering: false });
+                            rows.pressure[k] = 0.0;
+                            changed.push(Change {
+                                index: i as u32,
+                                delta: -q,
+                                entering: false,
+                                gap: 0.0,
+                                displacement: 0.0,
+                            });
                         }
                         j += 1;
-                    } else if g < 0.0 {
+                    } else if g_old < 0.0 {
                         // Inadmissible: it enters the contact set.
-                        penetration -= g;
-                        let q = -step * g;
-                        load += q;
-                        changed.push(Change { index: i as u32, delta: q, entering: true });
+                        a[1] -= g_old;
+                        let q = -step * g_old;
+                        changed.push(Change { index: i as u32, delta: q, entering: true, gap: g, displacement: un });
+                        a[2] += q;
+                        a[3] += 1.0;
+                        a[4] += g;
+                        a[5] += g * g;
+                        a[6] += g * un;
+                        a[7] += un;
+                        a[8] += un * un;
                     }
                 }
-                sums[y - *first] = [complementarity, penetration, load, 0.0];
+                sums[y - *first] = a;
             },
         );
-        let [complementarity, penetration, load, _] = sum_rows(&self.row_sums);
-        if !(load > 0.0) {
+        let [complementarity, penetration, load, count, s_g, s_gg, s_gu, s_u, s_uu, s_t] = sum_rows(&self.row_sums);
+        if load.is_nan() || load <= 0.0 {
             return Err(Error::invalid("contact solver", "broke down: the projection left no pressure"));
         }
         if !self.pending_is_empty() {
@@ -657,38 +803,49 @@ impl ContactSolver {
         self.scale = total / load;
         let scale = self.scale;
         self.contact.pressure.par_iter_mut().with_min_len(4096).for_each(|p| *p *= scale);
-        Ok((complementarity + p_mean * penetration) / norm)
+        self.reference = gap_mean;
+        // The next gap is σu − h − ḡ' = g + εu + (c − ḡ') with ε = σ − 1: its sums follow from
+        // those of g and u.
+        let e = scale - 1.0;
+        let sum = s_g + e * s_u;
+        let squares = s_gg + 2.0 * e * s_gu + e * e * s_uu;
+        let mut shifts = Shifts {
+            gap_mean: gap_mean + sum / count,
+            gap_norm: (squares - sum * sum / count).max(0.0),
+            direction_mean: s_t / count,
+        };
+        if sum * sum / count > 0.5 * squares {
+            // The mean moved more than the gap varies: sum again around the new mean.
+            let (offset, c) = (gap_mean - shifts.gap_mean, &self.contact);
+            shifts.gap_norm = c.gap.iter().zip(&c.displacement).map(|(g, u)| (g + e * u + offset).powi(2)).sum();
+        }
+        Ok((shifts, (complementarity + p_mean * penetration) / norm))
     }
 
     /// The contact set after a step: clipped points (p = 0) leave, inadmissible ones enter.
     fn rebuild_contact_set(&mut self) {
-        let (old, new) = (&self.contact, &mut self.next);
-        new.index.clear();
-        new.pressure.clear();
-        new.direction.clear();
+        let (old, new, pending) = (&self.contact, &mut self.next, &self.pending);
         new.row_start.clear();
         new.row_start.push(0);
-        for (y, changed) in self.pending.iter().enumerate() {
-            let mut entering = changed.iter().filter(|c| c.entering).peekable();
-            for j in old.rows(y) {
-                while let Some(c) = entering.next_if(|c| c.index < old.index[j]) {
-                    new.index.push(c.index);
-                    new.pressure.push(c.delta);
-                    new.direction.push(0.0);
-                }
-                if old.pressure[j] > 0.0 {
-                    new.index.push(old.index[j]);
-                    new.pressure.push(old.pressure[j]);
-                    new.direction.push(old.direction[j]);
-                }
-            }
-            for c in entering {
-                new.index.push(c.index);
-                new.pressure.push(c.delta);
-                new.direction.push(0.0);
-            }
-            new.row_start.push(new.index.len());
+        for (y, changed) in pending.iter().enumerate() {
+            let entering = changed.iter().filter(|c| c.entering).count();
+            let size = old.rows(y).len() + 2 * entering - changed.len();
+            new.row_start.push(new.row_start[y] + size);
         }
+        let n = new.row_start[self.ny];
+        for v in [&mut new.pressure, &mut new.direction, &mut new.gap, &mut new.displacement] {
+            v.resize(n, 0.0);
+        }
+        new.index.resize(n, 0);
+        let rows = ContactRows {
+            first: 0,
+            index: &mut new.index,
+            pressure: &mut new.pressure,
+            direction: &mut new.direction,
+            gap: &mut new.gap,
+            displacement: &mut new.displacement,
+        };
+        merge_rows(0..self.ny, rows, &new.row_start, old, pending);
         std::mem::swap(&mut self.contact, &mut self.next);
     }
 
@@ -710,7 +867,13 @@ impl ContactSolver {
                 }
                 let g = sigma * self.displacement[i] - self.heights[i] - s.gap_mean;
                 if g < 0.0 {
-                    changed.push(Change { index: i as u32, delta: -stiffness * g, entering: true });
+                    changed.push(Change {
+                        index: i as u32,
+                        delta: -stiffness * g,
+                        entering: true,
+                        gap: 0.0,
+                        displacement: 0.0,
+                    });
                 }
             }
         }
@@ -718,6 +881,46 @@ impl ContactSolver {
         let total = p_mean * (self.ny * self.nx) as f64;
         let sum: f64 = self.contact.pressure.iter().sum();
         self.contact.pressure.iter_mut().for_each(|p| *p *= total / sum);
+    }
+}
+
+/// Fill the new contact set's rows `ys` (`out`, from row `ys.start`): the old rows without
+/// their clipped points, with the entering points merged in raster order. In parallel.
+fn merge_rows(
+    ys: std::ops::Range<usize>,
+    out: ContactRows,
+    row_start: &[usize],
+    old: &ContactSet,
+    pending: &[Vec<Change>],
+) {
+    if ys.len() > 64 {
+        let mid = ys.start + ys.len() / 2;
+        let (a, b) = out.split(mid, row_start);
+        rayon::join(
+            || merge_rows(ys.start..mid, a, row_start, old, pending),
+            || merge_rows(mid..ys.end, b, row_start, old, pending),
+        );
+        return;
+    }
+    let mut k = 0;
+    let mut put = |out: &mut ContactRows, index: u32, p: f64, t: f64, g: f64, u: f64| {
+        (out.index[k], out.pressure[k], out.direction[k], out.gap[k], out.displacement[k]) = (index, p, t, g, u);
+        k += 1;
+    };
+    let mut out = out;
+    for y in ys {
+        let mut entering = pending[y].iter().filter(|c| c.entering).peekable();
+        for j in old.rows(y) {
+            while let Some(c) = entering.next_if(|c| c.index < old.index[j]) {
+                put(&mut out, c.index, c.delta, 0.0, c.gap, c.displacement);
+            }
+            if old.pressure[j] > 0.0 {
+                put(&mut out, old.index[j], old.pressure[j], old.direction[j], old.gap[j], old.displacement[j]);
+            }
+        }
+        for c in entering {
+            put(&mut out, c.index, c.delta, 0.0, c.gap, c.displacement);
+        }
     }
 }
 
