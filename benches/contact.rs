@@ -52,8 +52,11 @@ fn main() {
     for (k, &load) in loads.iter().enumerate() {
         let mut s = solver();
         let r = s.solve(load, |_, _| {}).unwrap();
-        write_npy(out.join(format!("asperity-{k:03}.npy")), &Array2::from_shape_vec((ny, nx), s.pressure().to_vec()).unwrap())
-            .unwrap();
+        write_npy(
+            out.join(format!("asperity-{k:03}.npy")),
+            &Array2::from_shape_vec((ny, nx), s.pressure().to_vec()).unwrap(),
+        )
+        .unwrap();
         cold.push(json!({
             "load_n": load, "seconds": r.seconds, "iterations": r.iterations,
             "operator_applications": r.operator_applications, "residual": r.residual,

@@ -145,6 +145,19 @@ impl<'a> ContactRows<'a> {
 }
 
 impl ContactSet {
+    /// Where rows start, and the compressed rows from row 0, ready to be cut between tasks.
+    fn split_rows(&mut self) -> (&[usize], ContactRows<'_>) {
+        let rows = ContactRows {
+            first: 0,
+            index: &mut self.index,
+            pressure: &mut self.pressure,
+            direction: &mut self.direction,
+            gap: &mut self.gap,
+            displacement: &mut self.displacement,
+        };
+        (&self.row_start, rows)
+    }
+
     fn len(&self) -> usize {
         self.index.len()
     }
@@ -710,16 +723,7 @@ impl ContactSolver {
             }
         });
         let h = &self.heights;
-        let c = &mut self.contact;
-        let row_start = &c.row_start;
-        let rows = ContactRows {
-            first: 0,
-            index: &mut c.index,
-            pressure: &mut c.pressure,
-            direction: &mut c.direction,
-            gap: &mut c.gap,
-            displacement: &mut c.displacement,
-        };
+        let (row_start, rows) = self.contact.split_rows();
         fft.inverse_rows(
             spectrum,
             ny,
@@ -756,14 +760,7 @@ impl ContactSolver {
                             rows.pressure[k] = q;
                             rows.gap[k] = g;
                             rows.displacement[k] = un;
-                            a[2] += q;
-                            a[3] += 1.0;
-                            a[4] += g;
-                            a[5] += g * g;
-                            a[6] += g * un;
-                            a[7] += un;
-                            a[8] += un * un;
-                            a[9] += rows.direction[k];
+                            member(&mut a, q, g, un, rows.direction[k]);
                         } else {
                             // Clipped: it leaves the contact set.
                             rows.pressure[k] = 0.0;
@@ -781,13 +778,7 @@ impl ContactSolver {
                         a[1] -= g_old;
                         let q = -step * g_old;
                         changed.push(Change { index: i as u32, delta: q, entering: true, gap: g, displacement: un });
-                        a[2] += q;
-                        a[3] += 1.0;
-                        a[4] += g;
-                        a[5] += g * g;
-                        a[6] += g * un;
-                        a[7] += un;
-                        a[8] += un * un;
+                        member(&mut a, q, g, un, 0.0);
                     }
                 }
                 sums[y - *first] = a;
@@ -837,15 +828,8 @@ impl ContactSolver {
             v.resize(n, 0.0);
         }
         new.index.resize(n, 0);
-        let rows = ContactRows {
-            first: 0,
-            index: &mut new.index,
-            pressure: &mut new.pressure,
-            direction: &mut new.direction,
-            gap: &mut new.gap,
-            displacement: &mut new.displacement,
-        };
-        merge_rows(0..self.ny, rows, &new.row_start, old, pending);
+        let (row_start, rows) = new.split_rows();
+        merge_rows(0..self.ny, rows, row_start, old, pending);
         std::mem::swap(&mut self.contact, &mut self.next);
     }
 
@@ -922,6 +906,19 @@ fn merge_rows(
             put(&mut out, c.index, c.delta, 0.0, c.gap, c.displacement);
         }
     }
+}
+
+/// Count a point of the next contact set into a row's sums (see [`ContactSolver::step`]):
+/// pressure q, gap g, displacement u, direction t.
+fn member(a: &mut [f64; SUMS], q: f64, g: f64, u: f64, t: f64) {
+    a[2] += q;
+    a[3] += 1.0;
+    a[4] += g;
+    a[5] += g * g;
+    a[6] += g * u;
+    a[7] += u;
+    a[8] += u * u;
+    a[9] += t;
 }
 
 /// Sum per-row partial sums in row order (deterministic).
