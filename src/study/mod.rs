@@ -6,6 +6,8 @@
 //! [`Row`] (one line of `results.csv`) and [`MapSnapshot`] (the contact region of one solve,
 //! kept for the maps, distributions, curves and movies).
 
+pub mod config;
+
 use std::path::Path;
 
 use ndarray::Array2;
