@@ -183,7 +183,7 @@ pub struct LoadsSpec {
 }
 
 /// A local friction law: `name` + `mu_s` + `mu_d`, a `preset`, or a measured `curve`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LawSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -278,6 +278,18 @@ impl StudyConfig {
         })?;
         config.check().map_err(|(path, reason)| located(span_of(tree.get_ref(), &path), &render(&path), &reason))?;
         Ok(config)
+    }
+
+    /// Read and check the study file at `path`; its relative paths become relative to its
+    /// folder.
+    pub fn from_file(path: &Path) -> Result<StudyConfig> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let config = StudyConfig::parse(&text, &path.display().to_string())?;
+        let base = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        Ok(config.with_paths_from(&std::path::absolute(base).map_err(|e| Error::io(base, e))?))
     }
 
     /// The same study on the `--quick` scale: every topography on [`QUICK_GRID`] over the
@@ -670,7 +682,20 @@ fn parse_quantity(text: &str, dim: &Dimension) -> std::result::Result<f64, Strin
             None => format!("'{text}': unknown unit '{unit}' for a {} (units: {})", dim.name, dim.units),
         }
     })?;
-    finite(number * factor, text)
+    // A power-of-ten unit shifts the decimal exponent, so "0.1 mN" is exactly what 1e-4 is.
+    let exponent = factor.log10().round() as i32;
+    let value = if 10f64.powi(exponent) == factor { shifted(&t[..split], exponent) } else { None };
+    finite(value.unwrap_or(number * factor), text)
+}
+
+/// The decimal number `number` times 10^`exponent`, rounded once.
+fn shifted(number: &str, exponent: i32) -> Option<f64> {
+    let number = number.trim();
+    let (mantissa, own) = match number.find(['e', 'E']) {
+        Some(i) => (&number[..i], number[i + 1..].parse::<i32>().ok()?),
+        None => (number, 0),
+    };
+    format!("{mantissa}e{}", own.checked_add(exponent)?).parse().ok()
 }
 
 fn finite(v: f64, text: &str) -> std::result::Result<f64, String> {
@@ -993,6 +1018,9 @@ mod tests {
         assert_eq!(parse_quantity("130 GPa", &PRESSURE), Ok(130e9));
         assert_eq!(parse_quantity("20.75 nm", &LENGTH), Ok(20.75e-9));
         assert_eq!(parse_quantity("1e-3 N", &FORCE), Ok(1e-3));
+        assert_eq!(parse_quantity("0.2 nm", &LENGTH), Ok(0.2e-9));
+        assert_eq!(parse_quantity("22E-1 nm", &LENGTH), Ok(2.2e-9));
+        assert_eq!(parse_quantity("-5 kPa", &PRESSURE), Ok(-5e3));
         let e = parse_quantity("0.1 mm", &FORCE).unwrap_err();
         assert!(e.contains("is a length, not a force"), "{e}");
         assert!(parse_quantity("2 furlongs", &LENGTH).unwrap_err().contains("unknown unit 'furlongs'"));
@@ -1010,7 +1038,7 @@ mod tests {
         let e = err("[loads]\nvalues = []\n");
         assert!(e.starts_with("study.toml:2:1: loads.values: the load list is empty"), "{e}");
         let e = err("[loads]\nvalues = [\"1 mN\", -2e-3]\n");
-        assert!(e.starts_with("study.toml:2:20: loads.values[1]: -0.002 N is not positive"), "{e}");
+        assert!(e.starts_with("study.toml:2:19: loads.values[1]: -0.002 N is not positive"), "{e}");
         let e = err("[loads]\nmin = \"1 mN\"\nmax = \"0.1 mN\"\ncount = 3\n");
         assert!(e.starts_with("study.toml:2:1: loads.min: 0.001 N is not below max"), "{e}");
         let e = err("[[law]]\npreset = \"hold 1 s\"\n");

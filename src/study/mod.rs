@@ -7,6 +7,7 @@
 //! kept for the maps, distributions, curves and movies).
 
 pub mod config;
+pub mod run;
 
 use std::path::Path;
 
