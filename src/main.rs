@@ -27,6 +27,7 @@ enum Command {
     Topo(cli::topo::TopoArgs),
     /// Static and dynamic friction after each hold of a slide-hold-slide trace
     Shs(cli::shs::Args),
+    Run(cli::run::RunArgs),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +40,7 @@ fn main() -> ExitCode {
         Command::Onset(args) => cli::onset::run(args),
         Command::Topo(args) => cli::topo::run(args),
         Command::Shs(args) => cli::shs::run(args),
+        Command::Run(args) => cli::run::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

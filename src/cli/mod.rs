@@ -2,6 +2,7 @@
 
 pub mod contact;
 pub mod onset;
+pub mod run;
 pub mod shs;
 pub mod topo;
 pub mod topo_tools;

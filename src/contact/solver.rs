@@ -373,6 +373,26 @@ impl ContactSolver {
         self.warm = false;
     }
 
+    /// Start the next solve from `pressure` [Pa] (row-major (ny, nx), each ≥ 0) as if it were
+    /// the last solve's: a load sweep resumed from a saved pressure map continues exactly as
+    /// the uninterrupted sweep (a solve depends only on the pressure it starts from).
+    pub fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
+        let (ny, nx) = (self.ny, self.nx);
+        if pressure.len() != ny * nx {
+            return Err(Error::invalid("warm start", format!("{} pressures for a {ny}×{nx} grid", pressure.len())));
+        }
+        if let Some(i) = pressure.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
+            return Err(Error::invalid("warm start", format!("pressure {} Pa at point {i}", pressure[i])));
+        }
+        let c = &mut self.contact;
+        (c.index, c.pressure) = pressure.iter().enumerate().filter(|(_, p)| **p > 0.0).map(|(i, p)| (i as u32, *p)).unzip();
+        c.row_start = (0..=ny).map(|y| c.index.partition_point(|&i| (i as usize) < y * nx)).collect();
+        c.direction = vec![0.0; c.index.len()];
+        self.pressure_field.copy_from_slice(pressure);
+        self.warm = true;
+        Ok(())
+    }
+
     /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
     /// the iteration count and the current residual.
     pub fn solve(&mut self, load: f64, mut progress: impl FnMut(usize, f64)) -> Result<SolveReport> {

@@ -6,6 +6,9 @@
 //! [`Row`] (one line of `results.csv`) and [`MapSnapshot`] (the contact region of one solve,
 //! kept for the maps, distributions, curves and movies).
 
+pub mod config;
+pub mod run;
+
 use std::path::Path;
 
 use ndarray::Array2;

@@ -1,0 +1,1088 @@
+//! The study file: a TOML description of a study — topographies, material, contact solver,
+//! loads, local friction laws and outputs — that can replace every part of the default study.
+//!
+//! The reference of the format is the default study itself, [`DEFAULT_STUDY`], which
+//! `asperity run --print-default` prints with every key explained. In short:
+//!
+//! ```toml
+//! [[topography]]                  # one per surface, solved at every load with every law
+//! name = "ball-1"
+//! synthetic = { size_m = [31.13e-6, 31.13e-6], grid = [1500, 1500], seed = 1,
+//!               roughness = { hurst = 0.8, rms_height_m = 22e-9 }, cap = { radius_m = 1.5e-3 } }
+//! # or: file = "ball.spm", format, channel, size, height_unit, crop, fill_missing, detrend,
+//! #     pixel_size
+//! wafer = { file = "wafer.spm" }  # optional counter-surface: h = h_ball − h_wafer
+//!
+//! [material]                      # youngs [Pa], poisson; counter_youngs, counter_poisson
+//! youngs = "130 GPa"
+//! poisson = 0.26
+//!
+//! [contact]                       # boundary "periodic" | "free", tolerance, max_iterations, grid
+//! boundary = "periodic"
+//!
+//! [loads]                         # values = [...], or min, max, count (log-spaced) [N]
+//! min = "0.1 mN"
+//! max = "100 mN"
+//! count = 13
+//!
+//! [[law]]                         # name + mu_s + mu_d | preset | curve (+ window)
+//! preset = "hold 100 s"
+//!
+//! [output]                        # pressure_maps, experiments, figures, snapshot_fractions
+//! ```
+//!
+//! Quantities: a bare number is in SI units (m, N, Pa); a string carries its unit ("0.1 mN",
+//! "31.13 µm", "130 GPa"). A unit of the wrong kind for its key is refused. Unknown keys are
+//! refused everywhere. A section left out takes the default study's. Relative paths are
+//! relative to the study file's folder.
+//!
+//! Every error is one line naming the place: `study.toml:12:3: loads.min: …` for what the file
+//! says (checked here, before anything is read or solved), `study.toml: topography "ball-1":
+//! …` for what building the study finds (files, see [`super::run`]).
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::de::{self, Deserializer, Visitor};
+use serde::{Deserialize, Serialize};
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+use super::FigureKind;
+use crate::contact::{Boundary, Material};
+use crate::error::{Error, Result};
+use crate::friction::FrictionLaw;
+use crate::topography::detrend::Detrend;
+use crate::topography::synth::SyntheticSurface;
+use crate::topography::units;
+
+/// The default study, as `asperity run --print-default` prints it: three synthetic silicon
+/// balls against synthetic wafers, silicon, 13 loads from 0.1 to 100 mN, two placeholder laws.
+pub const DEFAULT_STUDY: &str = include_str!("default.toml");
+
+/// The grid of `asperity run --quick` [points].
+pub const QUICK_GRID: (usize, usize) = (256, 256);
+
+/// The number of loads of `asperity run --quick`.
+pub const QUICK_LOADS: usize = 7;
+
+/// A study as its file describes it. Serialised, it is the study as run (`DIR/study.toml`):
+/// paths absolute, loads and laws resolved to explicit values.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyConfig {
+    #[serde(rename = "topography", default = "defaults::topographies")]
+    pub topographies: Vec<SurfaceSpec>,
+    #[serde(default = "defaults::material")]
+    pub material: MaterialSpec,
+    #[serde(default = "defaults::contact")]
+    pub contact: ContactSpec,
+    #[serde(default = "defaults::loads")]
+    pub loads: LoadsSpec,
+    #[serde(rename = "law", default = "defaults::laws")]
+    pub laws: Vec<LawSpec>,
+    #[serde(default = "defaults::output")]
+    pub output: OutputSpec,
+}
+
+/// A surface: a topography of the study (with its `name`) or its wafer (without).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// A generated surface; lengths in keys ending in `_m` may carry units.
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "synthetic")]
+    pub synthetic: Option<SyntheticSurface>,
+    /// A measured surface: the file to read.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<PathBuf>,
+    /// File format, overriding detection.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<String>,
+    /// Channel by name or 0-based index.
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "channel")]
+    pub channel: Option<String>,
+    /// Physical size (lx, ly) [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<Size>,
+    /// Height unit of a file that states none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_unit: Option<String>,
+    /// Window to keep.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crop: Option<CropSpec>,
+    /// Fill missing points harmonically rather than refuse them.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub fill_missing: bool,
+    /// Levelling: `none`, `mean`, `plane`, `poly:N` or `sphere` (files: default `plane`).
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "detrend")]
+    pub detrend: Option<String>,
+    /// Pixel size to resample to [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pixel_size: Option<Length>,
+    /// The counter-surface, compounded as h = h_ball − h_wafer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wafer: Option<Box<SurfaceSpec>>,
+}
+
+/// A physical window (`x`, `y` [m]) or a pixel window (`columns`, `rows`, end excluded).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CropSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<[Length; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y: Option<[Length; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub columns: Option<[usize; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rows: Option<[usize; 2]>,
+}
+
+/// The elastic body and, optionally, an elastic counter-body (rigid otherwise).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Young's modulus E [Pa].
+    pub youngs: Stress,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub counter_youngs: Option<Stress>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub counter_poisson: Option<f64>,
+}
+
+/// Contact solver settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    #[serde(with = "boundary")]
+    pub boundary: Boundary,
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// Solve every topography on this grid (nx, ny) over the same physical window.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<(usize, usize)>,
+}
+
+/// The normal loads: a list, or `count` log-spaced from `min` to `max`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadsSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub values: Option<Vec<Force>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<Force>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<Force>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<usize>,
+}
+
+/// A local friction law: `name` + `mu_s` + `mu_d`, a `preset`, or a measured `curve`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LawSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu_s: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu_d: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curve: Option<PathBuf>,
+    /// (start, end) past the curve's peak over which mu_d is averaged, in the curve's
+    /// displacement unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<(f64, f64)>,
+}
+
+/// What to write besides the results table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    #[serde(default)]
+    pub pressure_maps: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub experiments: Option<PathBuf>,
+    #[serde(default = "all_figures")]
+    pub figures: Vec<FigureKind>,
+    #[serde(default = "default_fractions")]
+    pub snapshot_fractions: Vec<f64>,
+}
+
+fn all_figures() -> Vec<FigureKind> {
+    FigureKind::ALL.to_vec()
+}
+
+fn default_fractions() -> Vec<f64> {
+    vec![0.25, 0.5, 0.75, 1.0]
+}
+
+/// The sections of the default study, for a study file that leaves some out.
+mod defaults {
+    use super::*;
+
+    fn default_study() -> StudyConfig {
+        toml::from_str(DEFAULT_STUDY).expect("the default study parses")
+    }
+
+    pub fn topographies() -> Vec<SurfaceSpec> {
+        default_study().topographies
+    }
+    pub fn material() -> MaterialSpec {
+        default_study().material
+    }
+    pub fn contact() -> ContactSpec {
+        default_study().contact
+    }
+    pub fn loads() -> LoadsSpec {
+        default_study().loads
+    }
+    pub fn laws() -> Vec<LawSpec> {
+        default_study().laws
+    }
+    pub fn output() -> OutputSpec {
+        default_study().output
+    }
+}
+
+impl StudyConfig {
+    /// The default study ([`DEFAULT_STUDY`]).
+    pub fn default_study() -> StudyConfig {
+        StudyConfig::parse(DEFAULT_STUDY, "default study").expect("the default study is valid")
+    }
+
+    /// Parse and check a study file's `text`; `origin` names it in errors (its path).
+    pub fn parse(text: &str, origin: &str) -> Result<StudyConfig> {
+        let located = |span: Option<Range<usize>>, path: &str, reason: &str| {
+            let place = match span {
+                Some(span) => {
+                    let (line, column) = line_column(text, span.start);
+                    format!("{origin}:{line}:{column}")
+                }
+                None => origin.to_string(),
+            };
+            let reason = if path.is_empty() { reason.to_string() } else { format!("{path}: {reason}") };
+            Error::invalid(place, one_line(&reason))
+        };
+        let tree = DeTable::parse(text).map_err(|e| located(e.span(), "", e.message()))?;
+        let config: StudyConfig = toml::from_str(text).map_err(|e| {
+            let path = e.span().map(|s| path_at(tree.get_ref(), s.start)).unwrap_or_default();
+            located(e.span(), &render(&path), e.message())
+        })?;
+        config.check().map_err(|(path, reason)| located(span_of(tree.get_ref(), &path), &render(&path), &reason))?;
+        Ok(config)
+    }
+
+    /// Read and check the study file at `path`; its relative paths become relative to its
+    /// folder.
+    pub fn from_file(path: &Path) -> Result<StudyConfig> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let config = StudyConfig::parse(&text, &path.display().to_string())?;
+        let base = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        Ok(config.with_paths_from(&std::path::absolute(base).map_err(|e| Error::io(base, e))?))
+    }
+
+    /// The same study on the `--quick` scale: every topography on [`QUICK_GRID`] over the
+    /// same window, [`QUICK_LOADS`] loads over the same range.
+    pub fn quick(mut self) -> StudyConfig {
+        self.contact.grid = Some(QUICK_GRID);
+        let loads = self.load_values();
+        let (min, max) = (loads[0], loads[loads.len() - 1]);
+        self.loads = LoadsSpec {
+            values: Some(log_spaced(min, max, if min < max { QUICK_LOADS } else { 1 }).into_iter().map(Force).collect()),
+            min: None,
+            max: None,
+            count: None,
+        };
+        self
+    }
+
+    /// The loads [N], ascending.
+    pub fn load_values(&self) -> Vec<f64> {
+        let mut loads: Vec<f64> = match (&self.loads.values, self.loads.min, self.loads.max, self.loads.count) {
+            (Some(values), ..) => values.iter().map(|f| f.0).collect(),
+            (None, Some(min), Some(max), Some(count)) => log_spaced(min.0, max.0, count),
+            _ => unreachable!("checked by StudyConfig::check"),
+        };
+        loads.sort_by(f64::total_cmp);
+        loads
+    }
+
+    /// Relative paths made relative to `base` (the study file's folder).
+    pub fn with_paths_from(mut self, base: &Path) -> StudyConfig {
+        fn surface(s: &mut SurfaceSpec, base: &Path) {
+            if let Some(f) = &mut s.file {
+                *f = base.join(&*f);
+            }
+            if let Some(w) = &mut s.wafer {
+                surface(w, base);
+            }
+        }
+        self.topographies.iter_mut().for_each(|t| surface(t, base));
+        for law in &mut self.laws {
+            if let Some(c) = &mut law.curve {
+                // The law keeps the name the file gave it.
+                law.name.get_or_insert_with(|| c.display().to_string());
+                *c = base.join(&*c);
+            }
+        }
+        if let Some(e) = &mut self.output.experiments {
+            *e = base.join(&*e);
+        }
+        self
+    }
+
+    /// The effective modulus E* [Pa].
+    pub fn effective_modulus(&self) -> f64 {
+        let m = &self.material;
+        let body = Material { youngs: m.youngs.0, poisson: m.poisson };
+        match (m.counter_youngs, m.counter_poisson) {
+            (Some(e), Some(nu)) => crate::contact::combined_modulus(&body, &Material { youngs: e.0, poisson: nu }),
+            _ => body.plane_strain_modulus(),
+        }
+    }
+
+    /// Everything the file can be wrong about by itself; the error is the key path and reason.
+    fn check(&self) -> std::result::Result<(), (Vec<Segment>, String)> {
+        let at = |path: &[Segment], reason: String| Err((path.to_vec(), reason));
+        if self.topographies.is_empty() {
+            return at(&[key("topography")], "no topography: give at least one [[topography]]".into());
+        }
+        for (i, t) in self.topographies.iter().enumerate() {
+            let here = [key("topography"), Segment::Index(i)];
+            let name = t.name.as_deref().ok_or_else(|| (here.to_vec(), "needs a `name`".to_string()))?;
+            check_name(name).or_else(|r| at(&[key("topography"), Segment::Index(i), key("name")], r))?;
+            if self.topographies[..i].iter().any(|o| o.name.as_deref() == Some(name)) {
+                return at(&[key("topography"), Segment::Index(i), key("name")], format!("\"{name}\" is used twice"));
+            }
+            t.check(&here)?;
+            if let Some(w) = &t.wafer {
+                let wafer = [key("topography"), Segment::Index(i), key("wafer")];
+                if w.name.is_some() {
+                    return at(&wafer, "a wafer takes no `name`".into());
+                }
+                if w.wafer.is_some() {
+                    return at(&wafer, "a wafer has no wafer of its own".into());
+                }
+                w.check(&wafer)?;
+            }
+        }
+
+        let m = &self.material;
+        let material = key("material");
+        Material::new(m.youngs.0, m.poisson, "material")
+            .map_err(|e| (vec![material.clone()], reason_of(e)))?;
+        match (m.counter_youngs, m.counter_poisson) {
+            (Some(e), Some(nu)) => {
+                Material::new(e.0, nu, "counter-body").map_err(|e| (vec![material.clone()], reason_of(e)))?;
+            }
+            (None, None) => {}
+            _ => return at(&[material], "give counter_youngs and counter_poisson together".into()),
+        }
+
+        let c = &self.contact;
+        if !(c.tolerance > 0.0 && c.tolerance.is_finite()) {
+            return at(&[key("contact"), key("tolerance")], format!("must be positive, got {}", c.tolerance));
+        }
+        if c.max_iterations == 0 {
+            return at(&[key("contact"), key("max_iterations")], "must be at least 1".into());
+        }
+        if let Some((nx, ny)) = c.grid {
+            if nx < 2 || ny < 2 {
+                return at(&[key("contact"), key("grid")], format!("{nx}×{ny} is too small: at least 2×2 points"));
+            }
+        }
+
+        let l = &self.loads;
+        let loads = key("loads");
+        match (&l.values, l.min, l.max, l.count) {
+            (Some(values), None, None, None) => {
+                if values.is_empty() {
+                    return at(&[loads, key("values")], "the load list is empty".into());
+                }
+                for (i, v) in values.iter().enumerate() {
+                    if !(v.0 > 0.0) {
+                        return at(&[loads, key("values"), Segment::Index(i)], format!("{} N is not positive", v.0));
+                    }
+                    if values[..i].contains(v) {
+                        return at(&[loads, key("values"), Segment::Index(i)], format!("{} N is listed twice", v.0));
+                    }
+                }
+            }
+            (None, Some(min), Some(max), Some(count)) => {
+                for (name, v) in [("min", min), ("max", max)] {
+                    if !(v.0 > 0.0) {
+                        return at(&[loads, key(name)], format!("{} N is not positive", v.0));
+                    }
+                }
+                if count == 0 || (count == 1 && min != max) {
+                    return at(&[loads, key("count")], format!("{count} loads cannot span {} to {} N", min.0, max.0));
+                }
+                if count > 1 && min.0 >= max.0 {
+                    return at(&[loads, key("min")], format!("{} N is not below max {} N", min.0, max.0));
+                }
+            }
+            _ => return at(&[loads], "give either `values`, or `min`, `max` and `count`".into()),
+        }
+
+        if self.laws.is_empty() {
+            return at(&[key("law")], "no friction law: give at least one [[law]]".into());
+        }
+        for (i, law) in self.laws.iter().enumerate() {
+            let here = [key("law"), Segment::Index(i)];
+            law.check().or_else(|r| at(&here, r))?;
+            let name = law.name();
+            if self.laws[..i].iter().any(|o| o.name() == name) {
+                return at(&here, format!("the name \"{name}\" is used twice"));
+            }
+        }
+
+        for (i, f) in self.output.snapshot_fractions.iter().enumerate() {
+            if !(*f > 0.0 && *f <= 1.0) {
+                let path = [key("output"), key("snapshot_fractions"), Segment::Index(i)];
+                return at(&path, format!("δ/δ_peak = {f} is not in (0, 1]"));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl SurfaceSpec {
+    fn check(&self, here: &[Segment]) -> std::result::Result<(), (Vec<Segment>, String)> {
+        let at = |k: &str, reason: String| {
+            let mut path = here.to_vec();
+            path.push(key(k));
+            Err((path, reason))
+        };
+        match (&self.synthetic, &self.file) {
+            (Some(s), None) => {
+                let file_only = [
+                    ("format", self.format.is_some()),
+                    ("channel", self.channel.is_some()),
+                    ("size", self.size.is_some()),
+                    ("height_unit", self.height_unit.is_some()),
+                    ("crop", self.crop.is_some()),
+                    ("fill_missing", self.fill_missing),
+                    ("detrend", self.detrend.is_some()),
+                    ("pixel_size", self.pixel_size.is_some()),
+                ];
+                if let Some((k, _)) = file_only.iter().find(|(_, given)| *given) {
+                    return at(k, "applies to a `file` only, not to a synthetic surface".into());
+                }
+                check_synthetic(s).or_else(|r| at("synthetic", r))
+            }
+            (None, Some(_)) => {
+                if let Some(Size(lx, ly)) = self.size {
+                    if !(lx.0 > 0.0 && ly.0 > 0.0) {
+                        return at("size", format!("must be positive, got {} × {} m", lx.0, ly.0));
+                    }
+                }
+                if let Some(unit) = &self.height_unit {
+                    if units::metres_per(unit).is_none() {
+                        return at("height_unit", format!("'{unit}' is not a length unit"));
+                    }
+                }
+                if let Some(p) = self.pixel_size {
+                    if !(p.0 > 0.0) {
+                        return at("pixel_size", format!("must be positive, got {} m", p.0));
+                    }
+                }
+                if let Some(c) = &self.crop {
+                    c.check().or_else(|r| at("crop", r))?;
+                }
+                Ok(())
+            }
+            _ => Err((here.to_vec(), "give exactly one of `synthetic` and `file`".into())),
+        }
+    }
+
+    /// The levelling of a file (default: a plane).
+    pub fn detrend(&self) -> Detrend {
+        self.detrend.as_deref().map_or(Detrend::Polynomial(1), |d| d.parse().expect("checked when parsed"))
+    }
+}
+
+impl CropSpec {
+    fn check(&self) -> std::result::Result<(), String> {
+        let ordered = |r: [Length; 2]| r[0].0 >= 0.0 && r[0].0 < r[1].0;
+        match (self.x, self.y, self.columns, self.rows) {
+            (Some(x), Some(y), None, None) if ordered(x) && ordered(y) => Ok(()),
+            (Some(_), Some(_), None, None) => Err("each of x and y must be [start, end] with 0 ≤ start < end".into()),
+            (None, None, Some(c), Some(r)) if c[0] < c[1] && r[0] < r[1] => Ok(()),
+            (None, None, Some(_), Some(_)) => Err("each of columns and rows must be [start, end] with start < end".into()),
+            _ => Err("give either `x` and `y` (lengths) or `columns` and `rows` (pixels)".into()),
+        }
+    }
+}
+
+impl LawSpec {
+    /// The law's name: its `name`, else its preset's, else its curve file's as written.
+    pub fn name(&self) -> String {
+        match (&self.name, &self.preset, &self.curve) {
+            (Some(n), ..) => n.clone(),
+            (None, Some(p), _) => p.clone(),
+            (None, None, Some(c)) => c.display().to_string(),
+            (None, None, None) => String::new(),
+        }
+    }
+
+    fn check(&self) -> std::result::Result<(), String> {
+        match (self.mu_s, self.mu_d, &self.preset, &self.curve) {
+            (Some(mu_s), Some(mu_d), None, None) => {
+                if self.name.is_none() {
+                    return Err("a law given by mu_s and mu_d needs a `name`".into());
+                }
+                if self.window.is_some() {
+                    return Err("`window` applies to a `curve` only".into());
+                }
+                FrictionLaw::new(mu_s, mu_d).map(drop).map_err(reason_of)
+            }
+            (None, None, Some(preset), None) => {
+                if self.window.is_some() {
+                    return Err("`window` applies to a `curve` only".into());
+                }
+                FrictionLaw::preset(preset).map(drop).map_err(reason_of)
+            }
+            (None, None, None, Some(_)) => match self.window {
+                Some((start, end)) if !(start >= 0.0 && start < end && end.is_finite()) => {
+                    Err(format!("window must be [start, end] with 0 ≤ start < end, got [{start}, {end}]"))
+                }
+                _ => Ok(()),
+            },
+            _ => Err("give exactly one of `mu_s` and `mu_d` (with `name`), `preset` or `curve`".into()),
+        }
+    }
+}
+
+/// Topography names become folder names: keep them plain.
+fn check_name(name: &str) -> std::result::Result<(), String> {
+    let plain = |c: char| c.is_alphanumeric() || " ._-+".contains(c);
+    if name.trim().is_empty() || name.starts_with('.') || !name.chars().all(plain) {
+        return Err(format!(
+            "\"{name}\" is not a plain name (letters, digits, . _ - + and spaces, not starting with .)"
+        ));
+    }
+    Ok(())
+}
+
+/// The reason of an error from the library's checks, without the CLI option it names.
+fn reason_of(e: Error) -> String {
+    match e {
+        Error::Invalid { option, reason } if option.starts_with("--") => reason,
+        Error::Invalid { option, reason } => format!("{option}: {reason}"),
+        other => other.to_string(),
+    }
+}
+
+/// A synthetic surface's parameters, with its keys named as the file writes them.
+fn check_synthetic(s: &SyntheticSurface) -> std::result::Result<(), String> {
+    let renamed = |e: Error| match e {
+        Error::Invalid { option, reason } => {
+            let key = match option.as_str() {
+                "--hurst" => "roughness.hurst",
+                "--rms" => "roughness.rms_height_m",
+                "--rms-slope" => "roughness.rms_slope",
+                "--rolloff" => "roughness.rolloff_wavelength_m",
+                "--cutoff" => "roughness.short_cutoff_wavelength_m",
+                "--long-cutoff" => "roughness.long_cutoff_wavelength_m",
+                "--sphere-radius" => "cap.radius_m",
+                "--size" => "size_m",
+                other => other,
+            };
+            format!("{key}: {reason}")
+        }
+        other => other.to_string(),
+    };
+    let (nx, ny) = s.grid;
+    if nx < 2 || ny < 2 {
+        return Err(format!("grid: {nx}×{ny} is too small: at least 2×2 points"));
+    }
+    if s.roughness.is_none() && s.cap.is_none() {
+        return Err("neither roughness nor cap: nothing to generate".into());
+    }
+    if let Some(r) = &s.roughness {
+        r.validate().map_err(renamed)?;
+    }
+    if let Some(cap) = &s.cap {
+        // The cap's own checks (radius, coverage of the window) on the smallest grid.
+        cap.heights(s.size, (2, 2)).map_err(renamed)?;
+    }
+    Ok(())
+}
+
+/// `count` loads from `min` to `max` [N], evenly spaced in log scale, rounded to 12
+/// significant digits so that decades come out exact (1e-3, not 9.999999999999998e-4).
+pub fn log_spaced(min: f64, max: f64, count: usize) -> Vec<f64> {
+    if count == 1 {
+        return vec![min];
+    }
+    let (a, b) = (min.log10(), max.log10());
+    (0..count)
+        .map(|i| {
+            let v = 10f64.powf(a + (b - a) * i as f64 / (count - 1) as f64);
+            format!("{v:.11e}").parse().expect("a formatted float parses")
+        })
+        .collect()
+}
+
+// ── Quantities ─────────────────────────────────────────────────────────────────────────────
+
+/// What a quantity measures: its SI unit, the units a string may carry and their factors.
+struct Dimension {
+    name: &'static str,
+    si: &'static str,
+    units: &'static str,
+    per_unit: fn(&str) -> Option<f64>,
+}
+
+const LENGTH: Dimension = Dimension { name: "length", si: "m", units: "m, mm, µm (um), nm, Å", per_unit: units::metres_per };
+const FORCE: Dimension =
+    Dimension { name: "force", si: "N", units: "N, mN, µN (uN), nN", per_unit: crate::shs::newtons_per };
+const PRESSURE: Dimension =
+    Dimension { name: "pressure", si: "Pa", units: "Pa, kPa, MPa, GPa", per_unit: pascals_per };
+
+fn pascals_per(unit: &str) -> Option<f64> {
+    Some(match unit.trim() {
+        "Pa" => 1.0,
+        "kPa" => 1e3,
+        "MPa" => 1e6,
+        "GPa" => 1e9,
+        _ => return None,
+    })
+}
+
+/// The value [SI] of a quantity written `text` ("0.1 mN", "31.13µm").
+fn parse_quantity(text: &str, dim: &Dimension) -> std::result::Result<f64, String> {
+    let t = text.trim();
+    // The longest prefix that reads as a number; the rest is the unit.
+    let split = (1..=t.len()).rev().filter(|&i| t.is_char_boundary(i)).find(|&i| t[..i].trim().parse::<f64>().is_ok());
+    let Some(split) = split else {
+        return Err(format!("'{text}' is not a {} (a number and a unit: {})", dim.name, dim.units));
+    };
+    let (number, unit) = (t[..split].trim().parse::<f64>().expect("found above"), t[split..].trim());
+    if unit.is_empty() {
+        return Err(format!(
+            "'{text}' has no unit: write a bare number for {}, or a string with a unit ({})",
+            dim.si, dim.units
+        ));
+    }
+    let factor = (dim.per_unit)(unit).ok_or_else(|| {
+        match [&LENGTH, &FORCE, &PRESSURE].into_iter().find(|d| (d.per_unit)(unit).is_some()) {
+            Some(other) => format!("'{text}' is a {}, not a {} (units: {})", other.name, dim.name, dim.units),
+            None => format!("'{text}': unknown unit '{unit}' for a {} (units: {})", dim.name, dim.units),
+        }
+    })?;
+    // A power-of-ten unit shifts the decimal exponent, so "0.1 mN" is exactly what 1e-4 is.
+    let exponent = factor.log10().round() as i32;
+    let value = if 10f64.powi(exponent) == factor { shifted(&t[..split], exponent) } else { None };
+    finite(value.unwrap_or(number * factor), text)
+}
+
+/// The decimal number `number` times 10^`exponent`, rounded once.
+fn shifted(number: &str, exponent: i32) -> Option<f64> {
+    let number = number.trim();
+    let (mantissa, own) = match number.find(['e', 'E']) {
+        Some(i) => (&number[..i], number[i + 1..].parse::<i32>().ok()?),
+        None => (number, 0),
+    };
+    format!("{mantissa}e{}", own.checked_add(exponent)?).parse().ok()
+}
+
+fn finite(v: f64, text: &str) -> std::result::Result<f64, String> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("'{text}' is not finite"))
+    }
+}
+
+/// Deserialise a bare number (SI) or a string with its unit.
+fn deserialize_quantity<'de, D: Deserializer<'de>>(d: D, dim: &'static Dimension) -> Result<f64, D::Error> {
+    struct Quantity(&'static Dimension);
+    impl Visitor<'_> for Quantity {
+        type Value = f64;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            write!(f, "a {} (a number in {} or a string with a unit)", self.0.name, self.0.si)
+        }
+        fn visit_f64<E: de::Error>(self, v: f64) -> Result<f64, E> {
+            finite(v, &v.to_string()).map_err(E::custom)
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<f64, E> {
+            Ok(v as f64)
+        }
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<f64, E> {
+            Ok(v as f64)
+        }
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<f64, E> {
+            parse_quantity(v, self.0).map_err(E::custom)
+        }
+    }
+    d.deserialize_any(Quantity(dim))
+}
+
+macro_rules! quantity {
+    ($(#[$doc:meta])* $name:ident, $dim:expr) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Serialize)]
+        #[serde(transparent)]
+        pub struct $name(pub f64);
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                deserialize_quantity(d, &$dim).map($name)
+            }
+        }
+    };
+}
+
+quantity!(
+    /// A length [m].
+    Length,
+    LENGTH
+);
+quantity!(
+    /// A force [N].
+    Force,
+    FORCE
+);
+quantity!(
+    /// A stress or modulus [Pa].
+    Stress,
+    PRESSURE
+);
+
+/// A physical size (lx, ly) [m]: one length for a square, or two.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Size(pub Length, pub Length);
+
+impl Serialize for Size {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        [self.0, self.1].serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Size {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct SizeVisitor;
+        impl<'de> Visitor<'de> for SizeVisitor {
+            type Value = Size;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a length, or [lx, ly]")
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<Size, A::Error> {
+                let lx: Length = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(0, &self))?;
+                let ly: Length = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(1, &self))?;
+                if seq.next_element::<Length>()?.is_some() {
+                    return Err(de::Error::invalid_length(3, &self));
+                }
+                Ok(Size(lx, ly))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Size, E> {
+                Ok(Size(Length(v), Length(v)))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Size, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Size, E> {
+                let l = Length(parse_quantity(v, &LENGTH).map_err(E::custom)?);
+                Ok(Size(l, l))
+            }
+        }
+        d.deserialize_any(SizeVisitor)
+    }
+}
+
+/// `synthetic = { … }`: [`SyntheticSurface`], with units allowed in its `_m` keys.
+fn synthetic<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SyntheticSurface>, D::Error> {
+    fn lengths(table: &mut toml::Table) -> std::result::Result<(), String> {
+        for (k, v) in table.iter_mut() {
+            let convert = |v: &mut toml::Value| -> std::result::Result<(), String> {
+                if let toml::Value::String(s) = v {
+                    *v = toml::Value::Float(parse_quantity(s, &LENGTH).map_err(|r| format!("{k}: {r}"))?);
+                }
+                Ok(())
+            };
+            match v {
+                toml::Value::Table(t) => lengths(t).map_err(|r| format!("{k}.{r}"))?,
+                toml::Value::Array(items) if k.ends_with("_m") => items.iter_mut().try_for_each(convert)?,
+                _ if k.ends_with("_m") => convert(v)?,
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+    let mut table = toml::Table::deserialize(d)?;
+    lengths(&mut table).map_err(de::Error::custom)?;
+    toml::Value::Table(table).try_into().map(Some).map_err(|e: toml::de::Error| de::Error::custom(e.message()))
+}
+
+/// `channel = "Height"` or `channel = 0`.
+fn channel<'de, D: Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    struct Channel;
+    impl Visitor<'_> for Channel {
+        type Value = String;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("a channel name or a 0-based index")
+        }
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<String, E> {
+            Ok(v.to_string())
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<String, E> {
+            if v < 0 {
+                return Err(E::custom(format!("channel index {v} is negative")));
+            }
+            Ok(v.to_string())
+        }
+    }
+    d.deserialize_any(Channel).map(Some)
+}
+
+/// `detrend = "plane"`, checked as it is read.
+fn detrend<'de, D: Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    let s = String::deserialize(d)?;
+    s.parse::<Detrend>().map_err(de::Error::custom)?;
+    Ok(Some(s))
+}
+
+/// `boundary = "periodic" | "free"`.
+mod boundary {
+    use super::*;
+
+    pub fn serialize<S: serde::Serializer>(b: &Boundary, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(b.name())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Boundary, D::Error> {
+        match String::deserialize(d)?.as_str() {
+            "periodic" => Ok(Boundary::Periodic),
+            "free" => Ok(Boundary::Free),
+            other => Err(de::Error::custom(format!("'{other}' is not \"periodic\" or \"free\""))),
+        }
+    }
+}
+
+// ── Places in the file ─────────────────────────────────────────────────────────────────────
+
+/// One step of a key path: a key, or an index into an array (of tables).
+#[derive(Debug, Clone, PartialEq)]
+enum Segment {
+    Key(String),
+    Index(usize),
+}
+
+fn key(k: &str) -> Segment {
+    Segment::Key(k.to_string())
+}
+
+/// `topography[1].wafer.file`.
+fn render(path: &[Segment]) -> String {
+    let mut out = String::new();
+    for s in path {
+        match s {
+            Segment::Key(k) if out.is_empty() => out.push_str(k),
+            Segment::Key(k) => {
+                out.push('.');
+                out.push_str(k);
+            }
+            Segment::Index(i) => out.push_str(&format!("[{i}]")),
+        }
+    }
+    out
+}
+
+/// The key path of the most deeply nested key or value at byte `offset`.
+fn path_at(root: &DeTable, offset: usize) -> Vec<Segment> {
+    fn visit(value: &DeValue, offset: usize, path: &mut Vec<Segment>, best: &mut Vec<Segment>) {
+        if let Some(table) = value.as_table() {
+            for (k, v) in table.iter() {
+                path.push(Segment::Key(k.get_ref().to_string()));
+                if k.span().contains(&offset) || v.span().contains(&offset) {
+                    note(path, best);
+                }
+                visit(v.get_ref(), offset, path, best);
+                path.pop();
+            }
+        } else if let Some(array) = value.as_array() {
+            for (i, item) in array.iter().enumerate() {
+                path.push(Segment::Index(i));
+                if item.span().contains(&offset) {
+                    note(path, best);
+                }
+                visit(item.get_ref(), offset, path, best);
+                path.pop();
+            }
+        }
+    }
+    fn note(path: &[Segment], best: &mut Vec<Segment>) {
+        if path.len() > best.len() {
+            *best = path.to_vec();
+        }
+    }
+    let mut best = Vec::new();
+    visit(&DeValue::Table(root.clone()), offset, &mut Vec::new(), &mut best);
+    best
+}
+
+/// The span of the key (or array item) at `path`, or of the deepest part of it present.
+fn span_of(root: &DeTable, path: &[Segment]) -> Option<Range<usize>> {
+    let mut span = None;
+    let mut node: Option<&DeValue> = None;
+    for seg in path {
+        let next: Option<(Range<usize>, &Spanned<DeValue>)> = match (seg, node) {
+            (Segment::Key(k), None) => root.get(k.as_str()).map(|v| (key_span(root, k), v)),
+            (Segment::Key(k), Some(v)) => v.as_table().and_then(|t| t.get(k.as_str()).map(|x| (key_span(t, k), x))),
+            (Segment::Index(i), Some(v)) => v.as_array().and_then(|a| a.get(*i)).map(|x| (x.span(), x)),
+            (Segment::Index(_), None) => None,
+        };
+        let Some((s, v)) = next else { break };
+        span = Some(s);
+        node = Some(v.get_ref());
+    }
+    span
+}
+
+fn key_span(table: &DeTable, k: &str) -> Range<usize> {
+    table.iter().find(|(key, _)| key.get_ref() == k).map(|(key, _)| key.span()).unwrap_or(0..0)
+}
+
+/// 1-based line and column (in characters) of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::topography::synth::SelfAffine;
+
+    fn err(text: &str) -> String {
+        StudyConfig::parse(text, "study.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn the_default_study_is_the_papers_stand_in() {
+        let c = StudyConfig::default_study();
+        let names: Vec<_> = c.topographies.iter().map(|t| t.name.clone().unwrap()).collect();
+        assert_eq!(names, ["ball-1", "ball-2", "ball-3"]);
+        for (i, t) in c.topographies.iter().enumerate() {
+            let s = t.synthetic.as_ref().unwrap();
+            assert_eq!(*s, SyntheticSurface { seed: i as u64 + 1, ..SyntheticSurface::default() });
+            let w = t.wafer.as_ref().unwrap().synthetic.as_ref().unwrap();
+            assert_eq!(w.roughness, Some(SelfAffine::silicon_wafer()));
+            assert!(w.cap.is_none() && w.size == s.size && w.grid == s.grid && w.seed != s.seed);
+        }
+        assert!((c.effective_modulus() - 130e9 / (1.0 - 0.26f64.powi(2))).abs() < 1.0);
+        assert_eq!(c.contact.boundary, Boundary::Periodic);
+        let loads = c.load_values();
+        assert_eq!(loads.len(), 13);
+        for l in [1e-4, 1e-3, 1e-2, 1e-1] {
+            assert!(loads.contains(&l), "{l} not in {loads:?}");
+        }
+        let laws: Vec<_> = c.laws.iter().map(LawSpec::name).collect();
+        assert_eq!(laws, ["hold 100 s", "hold 10 s"]);
+        assert_eq!(c.output.figures, FigureKind::ALL);
+        assert!(DEFAULT_STUDY.contains("ILLUSTRATIVE PLACEHOLDERS"));
+    }
+
+    #[test]
+    fn quick_keeps_the_window_and_the_load_range() {
+        let q = StudyConfig::default_study().quick();
+        assert_eq!(q.contact.grid, Some((256, 256)));
+        let loads = q.load_values();
+        assert_eq!(loads, [1e-4, 3.16227766017e-4, 1e-3, 3.16227766017e-3, 1e-2, 3.16227766017e-2, 1e-1]);
+        assert_eq!(q.topographies, StudyConfig::default_study().topographies);
+    }
+
+    #[test]
+    fn units_convert_and_wrong_kinds_are_refused() {
+        assert_eq!(parse_quantity("0.1 mN", &FORCE), Ok(1e-4));
+        assert_eq!(parse_quantity("31.13 µm", &LENGTH), Ok(31.13e-6));
+        assert_eq!(parse_quantity("31.13um", &LENGTH), Ok(31.13e-6));
+        assert_eq!(parse_quantity("130 GPa", &PRESSURE), Ok(130e9));
+        assert_eq!(parse_quantity("20.75 nm", &LENGTH), Ok(20.75e-9));
+        assert_eq!(parse_quantity("1e-3 N", &FORCE), Ok(1e-3));
+        assert_eq!(parse_quantity("0.2 nm", &LENGTH), Ok(0.2e-9));
+        assert_eq!(parse_quantity("22E-1 nm", &LENGTH), Ok(2.2e-9));
+        assert_eq!(parse_quantity("-5 kPa", &PRESSURE), Ok(-5e3));
+        let e = parse_quantity("0.1 mm", &FORCE).unwrap_err();
+        assert!(e.contains("is a length, not a force"), "{e}");
+        assert!(parse_quantity("2 furlongs", &LENGTH).unwrap_err().contains("unknown unit 'furlongs'"));
+        assert!(parse_quantity("0.1", &FORCE).unwrap_err().contains("no unit"));
+        assert!(parse_quantity("inf N", &FORCE).unwrap_err().contains("not finite"));
+        assert!(parse_quantity("mN", &FORCE).is_err());
+    }
+
+    #[test]
+    fn errors_name_line_column_and_key() {
+        let e = err("[loads]\nmin = \"0.1 mm\"\nmax = \"1 mN\"\ncount = 3\n");
+        assert!(e.starts_with("study.toml:2:7: loads.min: '0.1 mm' is a length, not a force"), "{e}");
+        let e = err("[contact]\ntolerence = 1e-8\n");
+        assert!(e.starts_with("study.toml:2:1: contact.tolerence: unknown field `tolerence`"), "{e}");
+        let e = err("[loads]\nvalues = []\n");
+        assert!(e.starts_with("study.toml:2:1: loads.values: the load list is empty"), "{e}");
+        let e = err("[loads]\nvalues = [\"1 mN\", -2e-3]\n");
+        assert!(e.starts_with("study.toml:2:19: loads.values[1]: -0.002 N is not positive"), "{e}");
+        let e = err("[loads]\nmin = \"1 mN\"\nmax = \"0.1 mN\"\ncount = 3\n");
+        assert!(e.starts_with("study.toml:2:1: loads.min: 0.001 N is not below max"), "{e}");
+        let e = err("[[law]]\npreset = \"hold 1 s\"\n");
+        assert!(e.starts_with("study.toml:1:1: law[0]: unknown law \"hold 1 s\""), "{e}");
+        let e = err("[[law]]\nname = \"x\"\nmu_s = 0.3\nmu_d = 0.4\n");
+        assert!(e.starts_with("study.toml:1:1: law[0]: the static friction coefficient 0.3 is below"), "{e}");
+        let e = err("[[topography]]\nname = \"a\"\nsynthetic = { size_m = [\"3 mN\", 1e-5], grid = [8, 8], cap = { radius_m = 1 } }\n");
+        assert!(e.starts_with("study.toml:3:13: topography[0].synthetic: size_m: '3 mN' is a force"), "{e}");
+        let e = err("[[topography]]\nname = \"a\"\nfile = \"a.npy\"\nsize = \"10 µm\"\n[[topography]]\nname = \"a\"\nfile = \"b.npy\"\n");
+        assert!(e.starts_with("study.toml:6:1: topography[1].name: \"a\" is used twice"), "{e}");
+        let e = err("[[topography]]\nname = \"a\"\nfile = \"a.npy\"\ncrop = { x = [0, 1e-5] }\n");
+        assert!(e.starts_with("study.toml:4:1: topography[0].crop: give either"), "{e}");
+        let e = err("[[topography]]\nname = \"a\"\nfile = \"a.npy\"\ndetrend = \"cubic\"\n");
+        assert!(e.starts_with("study.toml:4:11: topography[0].detrend: 'cubic' is not none"), "{e}");
+        let e = err("[[topography]]\nname = \"a\"\nsynthetic = { size_m = [1e-5, 1e-5], grid = [8, 8], roughness = { hurst = 2, rms_height_m = 1e-9 } }\n");
+        assert!(e.starts_with("study.toml:3:1: topography[0].synthetic: roughness.hurst: must lie in (0, 1]"), "{e}");
+        let e = err("[output]\nfigures = [\"friction-drops\"]\n");
+        assert!(e.starts_with("study.toml:2:12: output.figures[0]: unknown variant `friction-drops`"), "{e}");
+        let e = err("[material]\nyoungs = \"130 GPa\"\npoisson = 0.7\n");
+        assert!(e.starts_with("study.toml:1:2: material: material Poisson's ratio: must lie in"), "{e}");
+        let e = err("[loads\n");
+        assert!(e.starts_with("study.toml:1:"), "{e}");
+        for e in [e, err("[[law]]\nmu_s = 0.5\n")] {
+            assert!(!e.contains('\n'), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_resolved_study_reads_back_as_itself() {
+        let c = StudyConfig::default_study().quick().with_paths_from(Path::new("/data"));
+        let text = toml::to_string(&c).unwrap();
+        assert_eq!(StudyConfig::parse(&text, "study.toml").unwrap(), c);
+        let text = "[[topography]]\nname = \"m\"\nfile = \"scans/m.npy\"\nsize = [\"10 µm\", 8e-6]\nheight_unit = \"nm\"\n\
+                    pixel_size = \"20 nm\"\nwafer = { file = \"w.npy\", size = 1e-5 }\n[[law]]\ncurve = \"afm.csv\"\nwindow = [0.5, 1.5]\n";
+        let c = StudyConfig::parse(text, "s.toml").unwrap().with_paths_from(Path::new("/data"));
+        let t = &c.topographies[0];
+        assert_eq!(t.file.as_deref(), Some(Path::new("/data/scans/m.npy")));
+        assert_eq!(t.size, Some(Size(Length(10e-6), Length(8e-6))));
+        assert_eq!(t.wafer.as_ref().unwrap().size, Some(Size(Length(1e-5), Length(1e-5))));
+        assert_eq!(t.detrend(), Detrend::Polynomial(1));
+        assert_eq!(c.laws[0].name(), "afm.csv");
+        assert_eq!(c.laws[0].curve.as_deref(), Some(Path::new("/data/afm.csv")));
+        // Sections left out are the default study's.
+        assert_eq!(c.loads, StudyConfig::default_study().loads);
+        assert_eq!(StudyConfig::parse(&toml::to_string(&c).unwrap(), "s.toml").unwrap(), c);
+    }
+}

@@ -1,0 +1,143 @@
+//! `asperity run` on bad study files: one-line errors naming the place, a non-zero exit, and
+//! nothing solved or written. And the default study, as `--print-default` shows it.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
+
+fn asperity(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(cwd).output().unwrap()
+}
+
+/// A valid small study; each case below breaks one part of it.
+const GOOD: &str = r#"
+[[topography]]
+name = "ball"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [32, 32], seed = 1, roughness = { hurst = 0.8, rms_height_m = "22 nm" }, cap = { radius_m = "1.5 mm" } }
+
+[contact]
+boundary = "periodic"
+tolerance = 1e-8
+max_iterations = 20000
+
+[loads]
+min = "0.1 mN"
+max = "100 mN"
+count = 3
+
+[[law]]
+preset = "hold 100 s"
+"#;
+
+/// Run `study` (written as study.toml in a fresh folder) and return its stderr, checking the
+/// exit status and that nothing was written.
+fn refused(study: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("study.toml"), study).unwrap();
+    let o = asperity(&["run", "study.toml", "--out", "out"], dir.path());
+    let stderr = String::from_utf8(o.stderr).unwrap();
+    assert!(!o.status.success(), "accepted:\n{study}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(!dir.path().join("out").exists(), "{stderr}");
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names, ["study.toml"], "{stderr}");
+    stderr
+}
+
+#[test]
+fn the_good_study_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("study.toml"), GOOD).unwrap();
+    let o = asperity(&["run", "study.toml", "--out", "out"], dir.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dir.path().join("out/results.csv").is_file());
+}
+
+#[test]
+fn bad_study_files_fail_on_one_line_at_their_place() {
+    let cases: &[(&str, &str, &str)] = &[
+        // An unknown key.
+        ("tolerance = 1e-8", "tolerence = 1e-8", "error: study.toml:8:1: contact.tolerence: unknown field `tolerence`"),
+        // A wrong unit: a length for a load, a force for a length.
+        ("min = \"0.1 mN\"", "min = \"0.1 mm\"", "error: study.toml:12:7: loads.min: '0.1 mm' is a length, not a force"),
+        ("\"22 nm\"", "\"22 mN\"", "topography[0].synthetic: roughness.rms_height_m: '22 mN' is a force, not a length"),
+        // An empty load list, a non-positive load.
+        ("min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3", "values = []", "error: study.toml:12:1: loads.values: the load list is empty"),
+        ("min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3", "values = [\"1 mN\", 0]", "loads.values[1]: 0 N is not positive"),
+        ("min = \"0.1 mN\"", "min = \"-0.1 mN\"", "error: study.toml:12:1: loads.min: -0.0001 N is not positive"),
+        // Bad laws.
+        ("preset = \"hold 100 s\"", "preset = \"hold 1 s\"", "error: study.toml:16:1: law[0]: unknown law \"hold 1 s\""),
+        ("preset = \"hold 100 s\"", "name = \"x\"\nmu_s = 0.2\nmu_d = 0.4", "law[0]: the static friction coefficient 0.2 is below the dynamic one"),
+        ("preset = \"hold 100 s\"", "mu_s = 0.6", "law[0]: give exactly one of"),
+        // A boundary that does not exist, a cap too small for its window.
+        ("\"periodic\"", "\"periodical\"", "error: study.toml:7:12: contact.boundary: 'periodical' is not"),
+        ("\"1.5 mm\"", "\"10 µm\"", "topography[0].synthetic: cap.radius_m: 0.00001 m is smaller than the window's half-diagonal"),
+    ];
+    for (from, to, expected) in cases {
+        assert!(GOOD.contains(from), "{from}");
+        let stderr = refused(&GOOD.replacen(from, to, 1));
+        assert!(stderr.contains(expected), "expected {expected:?} in {stderr}");
+        assert!(stderr.starts_with("error: study.toml:"), "{stderr}");
+    }
+}
+
+#[test]
+fn files_are_read_before_anything_is_solved() {
+    // A missing topography file, after a topography that would run: refused before solving.
+    let missing = format!("{GOOD}\n[[topography]]\nname = \"ball-2\"\nfile = \"scans/ball.npy\"\nsize = \"30 µm\"\n");
+    let stderr = refused(&missing);
+    assert!(stderr.starts_with("error: study.toml: topography \"ball-2\": "), "{stderr}");
+    assert!(stderr.contains("scans/ball.npy") && stderr.contains("No such file"), "{stderr}");
+    // A wafer file, a friction curve, measured points.
+    let wafer = GOOD.replace("cap = { radius_m = \"1.5 mm\" } }", "cap = { radius_m = \"1.5 mm\" } }\nwafer = { file = \"w.npy\" }");
+    let stderr = refused(&wafer);
+    assert!(stderr.starts_with("error: study.toml: topography \"ball\": ") && stderr.contains("w.npy"), "{stderr}");
+    let curve = GOOD.replace("preset = \"hold 100 s\"", "curve = \"afm.csv\"");
+    let stderr = refused(&curve);
+    assert!(stderr.starts_with("error: study.toml: law \"afm.csv\": ") && stderr.contains("afm.csv"), "{stderr}");
+    let points = format!("{GOOD}\n[output]\nexperiments = \"points.csv\"\n");
+    let stderr = refused(&points);
+    assert!(stderr.starts_with("error: study.toml: output.experiments: "), "{stderr}");
+    // A bare array without its size.
+    let dir = tempfile::tempdir().unwrap();
+    ndarray_npy::write_npy(dir.path().join("h.npy"), &ndarray::Array2::<f64>::zeros((8, 8))).unwrap();
+    let bare = GOOD.replace(
+        "synthetic = { size_m = [\"31.13 µm\", \"31.13 µm\"], grid = [32, 32], seed = 1, roughness = { hurst = 0.8, rms_height_m = \"22 nm\" }, cap = { radius_m = \"1.5 mm\" } }",
+        "file = \"h.npy\"",
+    );
+    std::fs::write(dir.path().join("study.toml"), bare).unwrap();
+    let o = asperity(&["run", "study.toml", "--out", "out"], dir.path());
+    let stderr = String::from_utf8(o.stderr).unwrap();
+    assert!(!o.status.success() && stderr.lines().count() == 1 && stderr.contains("physical size"), "{stderr}");
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn a_missing_study_file_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = asperity(&["run", "nowhere.toml", "--out", "out"], dir.path());
+    let stderr = String::from_utf8(o.stderr).unwrap();
+    assert!(!o.status.success() && stderr.starts_with("error: nowhere.toml: ") && stderr.lines().count() == 1);
+}
+
+#[test]
+fn print_default_is_the_default_study_and_explains_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = asperity(&["run", "--print-default"], dir.path());
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(text, DEFAULT_STUDY);
+    assert_eq!(StudyConfig::parse(&text, "default").unwrap(), StudyConfig::default_study());
+    for key in [
+        "size_m", "grid", "seed", "hurst", "rms_height_m", "rolloff_wavelength_m", "radius_m", "file", "format",
+        "channel", "size", "height_unit", "crop", "fill_missing", "detrend", "pixel_size", "wafer", "youngs", "poisson",
+        "counter_youngs", "boundary", "tolerance", "max_iterations", "values", "count", "preset", "mu_s", "curve",
+        "window", "pressure_maps", "experiments", "figures", "snapshot_fractions", "PLACEHOLDERS",
+    ] {
+        assert!(text.contains(key), "{key} is not explained");
+    }
+    let o = asperity(&["run", "--help"], dir.path());
+    let help = String::from_utf8(o.stdout).unwrap();
+    assert!(help.contains("PLACEHOLDERS") && help.contains("--print-default") && help.contains("--quick"), "{help}");
+}

@@ -1,0 +1,37 @@
+//! `asperity run --quick`, the CI's study: the default study on a coarse grid, end to end.
+
+use std::collections::BTreeMap;
+use std::process::Command;
+
+use asperity::study::{MapSnapshot, Row};
+
+#[test]
+fn the_quick_study_shows_the_friction_drop_falling_with_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["run", "--quick", "--out", "results"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.path().join("results");
+    let rows: Vec<Row> = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(rows.len(), 3 * 2 * 7);
+
+    let mut curves: BTreeMap<(String, String), Vec<(f64, f64)>> = BTreeMap::new();
+    for r in &rows {
+        curves.entry((r.topography.clone(), r.law.clone())).or_default().push((r.load_n, r.friction_drop));
+    }
+    assert_eq!(curves.len(), 6);
+    for ((topography, law), curve) in &curves {
+        assert_eq!(curve.len(), 7);
+        let (first, last) = (curve[0], curve[6]);
+        assert_eq!((first.0, last.0), (1e-4, 1e-1));
+        assert!(first.1 > last.1, "{topography}, {law}: drop {} at 0.1 mN, {} at 100 mN", first.1, last.1);
+    }
+    // The first ball's maps at 0.1, 1, 10 and 100 mN (loads 0, 2, 4 and 6 of 7).
+    for (k, load) in [(0, 1e-4), (2, 1e-3), (4, 1e-2), (6, 1e-1)] {
+        let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();
+        assert_eq!((snap.load_n, snap.grid), (load, (256, 256)));
+    }
+}

@@ -1,0 +1,238 @@
+//! A small study end to end: the results table against the contact solver and the stick-slip
+//! model run directly, the files a run leaves, and how a run treats a DIR it finds.
+
+use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
+use asperity::friction::{ElementLoads, FrictionLaw, Onset};
+use asperity::study::config::StudyConfig;
+use asperity::study::run::{Progress, Study};
+use asperity::study::{MapSnapshot, Row, FIGURE_LOADS_N};
+use asperity::topography::resample::compound;
+use asperity::topography::synth::{SelfAffine, SyntheticSurface};
+use ndarray::Array2;
+
+const SMALL: &str = r#"
+[[topography]]
+name = "ball-1"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 1, roughness = { hurst = 0.8, rms_height_m = "22 nm", rolloff_wavelength_m = "5 µm" }, cap = { radius_m = "1.5 mm" } }
+wafer = { synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 101, roughness = { hurst = 0.8, rms_height_m = "0.2 nm", rolloff_wavelength_m = "5 µm" } } }
+
+[[topography]]
+name = "ball-2"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 2, roughness = { hurst = 0.8, rms_height_m = "22 nm", rolloff_wavelength_m = "5 µm" }, cap = { radius_m = "1.5 mm" } }
+
+[material]
+youngs = "130 GPa"
+poisson = 0.26
+
+[contact]
+boundary = "periodic"
+tolerance = 1e-8
+max_iterations = 20000
+
+[loads]
+values = ["100 mN", "0.1 mN", "1 mN", "10 mN"]
+
+[[law]]
+preset = "hold 100 s"
+
+[[law]]
+name = "strong"
+mu_s = 0.9
+mu_d = 0.3
+
+[output]
+pressure_maps = true
+"#;
+
+fn study(text: &str) -> Study {
+    Study::prepare(StudyConfig::parse(text, "small.toml").unwrap(), "small.toml").unwrap()
+}
+
+/// The rows of the study as the solver and the model give them, run here directly.
+fn direct_rows() -> Vec<Row> {
+    let surface = |seed, rms: f64, cap| SyntheticSurface {
+        size: (31.13e-6, 31.13e-6),
+        grid: (64, 64),
+        seed,
+        roughness: Some(SelfAffine { amplitude: asperity::topography::synth::Amplitude::RmsHeight(rms), ..SelfAffine::silicon_ball() }),
+        cap,
+    };
+    let cap = SyntheticSurface::default().cap;
+    let ball_1 = compound(&surface(1, 22e-9, cap).generate().unwrap(), &surface(101, 0.2e-9, None).generate().unwrap()).unwrap();
+    let ball_2 = surface(2, 22e-9, cap).generate().unwrap();
+    let laws = [FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::new(0.9, 0.3).unwrap().named("strong")];
+    let e_star = Material::SILICON.plane_strain_modulus();
+    let options = SolverOptions { tolerance: 1e-8, max_iterations: 20_000 };
+    let mut rows = Vec::new();
+    for (name, topo) in [("ball-1", ball_1), ("ball-2", ball_2)] {
+        let size = topo.physical_size.unwrap();
+        let heights: Vec<f64> = topo.heights.iter().copied().collect();
+        let mut solver = ContactSolver::new(&heights, (64, 64), size, e_star, Boundary::Periodic, options).unwrap();
+        let mut per_load = Vec::new();
+        for load in [1e-4, 1e-3, 1e-2, 1e-1] {
+            let report = solver.solve(load, |_, _| ()).unwrap();
+            let summary = contact::summarize(solver.pressure(), (64, 64), size, Boundary::Periodic);
+            let facts = asperity::study::SolveFacts {
+                contact_points: summary.contact_points,
+                patches: summary.patch_sizes.len(),
+                contact_fraction: summary.contact_fraction,
+                iterations: report.iterations,
+                seconds: 0.0,
+            };
+            let p = Array2::from_shape_vec((64, 64), solver.pressure().to_vec()).unwrap();
+            let elements = ElementLoads::from_pressure(&p, (size.0 / 64.0) * (size.1 / 64.0)).unwrap();
+            per_load.push(laws.iter().map(|l| Row::new(name, load, &facts, &Onset::new(&elements, l))).collect::<Vec<_>>());
+        }
+        for l in 0..laws.len() {
+            rows.extend(per_load.iter().map(|r| r[l].clone()));
+        }
+    }
+    rows
+}
+
+fn without_seconds(rows: &[Row]) -> Vec<Row> {
+    rows.iter().map(|r| Row { seconds: 0.0, ..r.clone() }).collect()
+}
+
+#[test]
+fn a_small_study_gives_the_solver_and_models_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let s = study(SMALL);
+    let events = std::sync::Mutex::new(Vec::new());
+    let outcome = s
+        .run(&out, false, &|e| {
+            events.lock().unwrap().push(match e {
+                Progress::Start { total, done } => (total, done),
+                Progress::Solved { .. } => (0, 1),
+            })
+        })
+        .unwrap();
+    let events = events.into_inner().unwrap();
+    assert_eq!(events[0], (8, 0));
+    assert_eq!(events.len(), 9);
+    assert_eq!((outcome.solved, outcome.resumed, outcome.rows.len()), (8, 0, 16));
+
+    // results.json: the rows, which are the solver's and the model's run directly.
+    let json: Vec<Row> = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json, outcome.rows);
+    assert_eq!(without_seconds(&json), without_seconds(&direct_rows()));
+    for r in &json {
+        assert!(r.seconds > 0.0 && r.iterations > 0);
+        assert!(r.friction_drop >= 1.0 && r.friction_drop <= r.mu_s / r.mu_d + 1e-12, "{r:?}");
+        assert!((r.static_coefficient - r.friction_drop * r.mu_d).abs() < 1e-12);
+        let normal = r.critical_normal_fraction + r.pre_sliding_normal_fraction + r.subcritical_normal_fraction;
+        let friction = r.critical_friction_fraction + r.pre_sliding_friction_fraction + r.subcritical_friction_fraction;
+        assert!((normal - 1.0).abs() < 1e-12 && (friction - 1.0).abs() < 1e-12, "{r:?}");
+        assert_eq!(r.critical_count + r.pre_sliding_count + r.subcritical_count, r.contact_points);
+        assert_eq!(r.contact_fraction, r.contact_points as f64 / 4096.0);
+    }
+    // Topography × law × load, loads ascending whatever order the file gave them in.
+    let order: Vec<_> = json.iter().map(|r| (r.topography.as_str(), r.law.as_str(), r.load_n)).collect();
+    assert_eq!(order[..5], [
+        ("ball-1", "hold 100 s", 1e-4),
+        ("ball-1", "hold 100 s", 1e-3),
+        ("ball-1", "hold 100 s", 1e-2),
+        ("ball-1", "hold 100 s", 1e-1),
+        ("ball-1", "strong", 1e-4)
+    ]);
+
+    // results.csv: the same rows, every column.
+    let mut csv = csv::Reader::from_path(out.join("results.csv")).unwrap();
+    let header: Vec<String> = csv.headers().unwrap().iter().map(String::from).collect();
+    for column in [
+        "load_n", "topography", "law", "contact_points", "patches", "contact_fraction", "static_coefficient",
+        "dynamic_coefficient", "friction_drop", "critical_count", "critical_normal_fraction",
+        "critical_friction_fraction", "pre_sliding_count", "pre_sliding_normal_fraction",
+        "pre_sliding_friction_fraction", "subcritical_count", "subcritical_normal_fraction",
+        "subcritical_friction_fraction", "iterations", "seconds",
+    ] {
+        assert!(header.iter().any(|h| h == column), "no column {column} in {header:?}");
+    }
+    let from_csv: Vec<Row> = csv.deserialize().map(|r| r.unwrap()).collect();
+    assert_eq!(from_csv, json);
+
+    // The study as run reads back as a study, with its loads and laws explicit.
+    let text = std::fs::read_to_string(out.join("study.toml")).unwrap();
+    let as_run = StudyConfig::parse(&text, "study.toml").unwrap();
+    assert_eq!(&as_run, s.config());
+    assert_eq!(as_run.load_values(), [1e-4, 1e-3, 1e-2, 1e-1]);
+    assert_eq!((as_run.laws[0].mu_s, as_run.laws[0].mu_d), (Some(0.6), Some(0.4)));
+
+    // Snapshots of the first topography at the loads of the figures, and every pressure map.
+    for (k, load) in FIGURE_LOADS_N.iter().enumerate() {
+        let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();
+        assert_eq!((snap.load_n, snap.topography.as_str(), snap.grid), (*load, "ball-1", (64, 64)));
+        let full: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/{k:02}.npy"))).unwrap();
+        assert_eq!(snap.pressure.sum(), full.sum());
+        let area = snap.pixel_area();
+        assert!((full.sum() * area / load - 1.0).abs() < 1e-10);
+        assert_eq!(full.iter().filter(|p| **p > 0.0).count(), json[k].contact_points);
+    }
+    // Nothing left over from the sweep but its records.
+    let mut solves: Vec<_> =
+        std::fs::read_dir(out.join("solves/ball-2")).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    solves.sort();
+    assert_eq!(solves, ["00.json", "01.json", "02.json", "03.json"]);
+
+    // Run again: everything is found finished, and the results are the same.
+    let again = s.run(&out, false, &|_| ()).unwrap();
+    assert_eq!((again.solved, again.resumed), (0, 8));
+    assert_eq!(again.rows, outcome.rows);
+}
+
+#[test]
+fn a_dir_of_another_study_is_refused_and_fresh_starts_over() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let small = SMALL.replace("pressure_maps = true", "pressure_maps = false");
+    study(&small).run(&out, false, &|_| ()).unwrap();
+    let results = std::fs::read(out.join("results.csv")).unwrap();
+
+    let other = study(&small.replace("\"10 mN\"]", "\"20 mN\"]"));
+    let e = other.run(&out, false, &|_| ()).unwrap_err().to_string();
+    assert!(e.starts_with("--out: ") && e.contains("different study") && e.contains("--fresh"), "{e}");
+    assert!(!e.contains('\n'));
+    assert_eq!(std::fs::read(out.join("results.csv")).unwrap(), results);
+    // Another figure set is the same study: the solves are kept.
+    let same = study(&small.replace("pressure_maps = false", "pressure_maps = false\nfigures = [\"friction-drop\"]"));
+    assert_eq!(same.run(&out, false, &|_| ()).unwrap().resumed, 8);
+
+    let outcome = other.run(&out, true, &|_| ()).unwrap();
+    assert_eq!((outcome.solved, outcome.resumed), (8, 0));
+    assert!(outcome.rows.iter().any(|r| r.load_n == 2e-2));
+
+    // A folder that holds something else is never a study's.
+    let busy = dir.path().join("busy");
+    std::fs::create_dir(&busy).unwrap();
+    std::fs::write(busy.join("notes.txt"), "mine").unwrap();
+    for fresh in [false, true] {
+        let e = other.run(&busy, fresh, &|_| ()).unwrap_err().to_string();
+        assert!(e.contains("holds no study"), "{e}");
+    }
+    assert_eq!(std::fs::read_to_string(busy.join("notes.txt")).unwrap(), "mine");
+}
+
+#[test]
+fn a_warm_start_from_a_saved_pressure_continues_the_sweep_exactly() {
+    let topo = SyntheticSurface { grid: (64, 64), ..SyntheticSurface::default() }.generate().unwrap();
+    let heights: Vec<f64> = topo.heights.iter().copied().collect();
+    let new = || {
+        let e_star = Material::SILICON.plane_strain_modulus();
+        ContactSolver::new(&heights, (64, 64), topo.physical_size.unwrap(), e_star, Boundary::Periodic, SolverOptions::default())
+            .unwrap()
+    };
+    let mut sweep = new();
+    sweep.solve(1e-3, |_, _| ()).unwrap();
+    let saved = sweep.pressure().to_vec();
+    let swept = sweep.solve(1e-2, |_, _| ()).unwrap();
+    let mut resumed = new();
+    resumed.warm_start(&saved).unwrap();
+    let report = resumed.solve(1e-2, |_, _| ()).unwrap();
+    assert_eq!(report.iterations, swept.iterations);
+    assert!(resumed.pressure().iter().zip(sweep.pressure()).all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert!(resumed.warm_start(&saved[1..]).is_err());
+    let mut negative = saved.clone();
+    negative[7] = -1.0;
+    assert!(resumed.warm_start(&negative).is_err());
+}
