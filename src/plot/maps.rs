@@ -30,6 +30,9 @@ const MAP_MARGIN: u32 = 10;
 const Y_LABELS: u32 = 78;
 const X_LABELS: u32 = 52;
 
+/// Least size [px] of a map pixel on the detailed views of snapshots and movies.
+pub(super) const DETAIL_PX: f64 = 2.5;
+
 /// Least size [px] of a drawn pixel on a sparse map.
 const SPARSE_MIN_PX: f64 = 3.0;
 
@@ -68,6 +71,25 @@ impl View {
         let main = (1..force.len()).max_by(|a, b| force[*a].total_cmp(&force[*b])).unwrap_or(0) as u32;
         let nx = snap.pressure.ncols();
         View::around(snap, |(r, c)| labels[r * nx + c] == main)
+    }
+
+    /// The view of a map drawn about `screen` px wide: the whole contact when its pixels then
+    /// show at least [`DETAIL_PX`] px wide, else the most loaded patch with its surroundings
+    /// at that scale (or the patch alone when larger). Returns the view and whether it is
+    /// such a zoom.
+    pub fn detail(snap: &MapSnapshot, screen: u32) -> (View, bool) {
+        let region = View::contact(snap);
+        let (dx, dy) = snap.pixel_size;
+        let least = f64::from(screen) / DETAIL_PX;
+        if region.width().max(region.height()) <= least * dx.max(dy) {
+            return (region, false);
+        }
+        let patch = View::main_patch(snap);
+        let grow = |(a, b): (f64, f64), d: f64| {
+            let half = (0.5 * (b - a)).max(0.5 * least * d);
+            (0.5 * (a + b) - half, 0.5 * (a + b) + half)
+        };
+        (View { x: grow(patch.x, dx), y: grow(patch.y, dy) }, true)
     }
 
     /// The contact pixels (row, column) of `snap` for which `keep` holds, with a margin.
@@ -391,6 +413,13 @@ pub(super) fn no_data<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, message
     text(area, message, (w as i32 / 2, h as i32 / 2), LABEL, (HPos::Center, VPos::Center))
 }
 
+/// A fraction as a percentage, with two significant digits below 10 %: "84.2 %", "0.025 %".
+fn percent(f: f64) -> String {
+    let p = 100.0 * f;
+    let digits = if p > 0.0 && p < 10.0 { (1.0 - p.log10().floor()) as usize } else { 1 };
+    format!("{p:.digits$} %")
+}
+
 /// A load [N] as the figures name it, in mN as the paper: "0.1 mN", "12.3 mN".
 pub(super) fn load_label(load: f64) -> String {
     format!("{} mN", tick_label(&(load * 1e3)))
@@ -516,6 +545,7 @@ fn inset<DB: DrawingBackend>(
     let length = scale_bar_length(zoom.width());
     let (ls, lu) = prefixed(length, "m");
     let bar_px = (length / zoom.width() * side as f64).round() as i32;
+    area.draw(&Rectangle::new([(6, side - 52), (bar_px.max(60) + 20, side - 8)], WHITE.mix(0.85).filled()))?;
     area.draw(&Rectangle::new([(12, side - 22), (12 + bar_px, side - 16)], BLACK.filled()))?;
     text(&area, &format!("{} {lu}", tick_label(&(length * ls))), (12, side - 28), TICK, (HPos::Left, VPos::Bottom))
 }
@@ -580,7 +610,7 @@ impl Draw for ClassMap<'_> {
             }
         }
         let m = onset.elements as f64;
-        let share = |c: usize| format!("{c} ({:.1} %)", 100.0 * c as f64 / m);
+        let share = |c: usize| format!("{c} ({})", percent(c as f64 / m));
         let mut entries = vec![
             (style::CRITICAL, format!("critical (μ = μ_s): {}", share(onset.critical.count))),
             (style::PRE_SLIDING, format!("pre-sliding (μ = μ_d): {}", share(onset.pre_sliding.count))),
@@ -615,11 +645,12 @@ pub(super) struct RatioSnapshots<'a> {
 
 const ROW_HEADER: u32 = 150;
 const CELL: u32 = 400;
+const COLUMN_HEADER: u32 = 60;
 
 impl Draw for RatioSnapshots<'_> {
     fn size(&self) -> (u32, u32) {
         let (cols, rows) = (self.columns.len() as u32, self.fractions.len() as u32);
-        (ROW_HEADER + cols * CELL + 20, 60 + 44 + rows * CELL + 150)
+        (ROW_HEADER + cols * CELL + 20, 60 + COLUMN_HEADER + rows * CELL + 150)
     }
 
     fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
@@ -637,18 +668,22 @@ impl Draw for RatioSnapshots<'_> {
             style::TITLE_SIZE * 0.8,
             (HPos::Center, VPos::Center),
         )?;
-        let (col_heads, rest) = rest.split_vertically(44);
+        let (col_heads, rest) = rest.split_vertically(COLUMN_HEADER);
         let (rows_area, bottom) = rest.split_vertically(self.fractions.len() as u32 * CELL);
         for (j, (target, column)) in self.columns.iter().enumerate() {
             let x = (ROW_HEADER + j as u32 * CELL + CELL / 2) as i32;
-            let heading = match column {
-                Some((snap, onset)) => format!("N = {}, {} elements", load_label(snap.load_n), onset.elements),
-                None => format!("N ≈ {}", load_label(*target)),
+            let (heading, zoom) = match column {
+                Some((snap, onset)) => (
+                    format!("N = {}, {} elements", load_label(snap.load_n), onset.elements),
+                    if View::detail(snap, CELL - 90).1 { "zoom: most loaded patch" } else { "whole contact" },
+                ),
+                None => (format!("N ≈ {}", load_label(*target)), ""),
             };
-            text(&col_heads, &heading, (x, 22), LABEL, (HPos::Center, VPos::Center))?;
+            text(&col_heads, &heading, (x, 16), LABEL, (HPos::Center, VPos::Center))?;
+            text(&col_heads, zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
         }
         let layers: Vec<Option<(&MapSnapshot, &Onset, View)>> =
-            self.columns.iter().map(|(_, c)| c.as_ref().map(|(s, o)| (*s, o, View::contact(s)))).collect();
+            self.columns.iter().map(|(_, c)| c.as_ref().map(|(s, o)| (*s, o, View::detail(s, CELL - 90).0))).collect();
         for (i, f) in self.fractions.iter().enumerate() {
             let row = rows_area.clone().shrink((0, i as u32 * CELL), (w, CELL));
             let (label, cells) = row.split_horizontally(ROW_HEADER);
@@ -692,4 +727,25 @@ pub(super) fn ratio_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, law: 
         &[(style::PRE_SLIDING, format!("slipped: μ_d = {} (pre-sliding)", tick_label(&law.mu_d)))],
         TICK,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentages_keep_two_digits() {
+        assert_eq!(percent(0.842), "84.2 %");
+        assert_eq!(percent(0.053), "5.3 %");
+        assert_eq!(percent(0.00025), "0.025 %");
+        assert_eq!(percent(0.0), "0.0 %");
+    }
+
+    #[test]
+    fn views_fit_the_screen_about_their_centre() {
+        let v = View { x: (0.0, 2.0), y: (0.0, 1.0) }.fit((100, 100));
+        assert_eq!(v, View { x: (0.0, 2.0), y: (-0.5, 1.5) });
+        assert_eq!(scale_bar_length(1e-6), 2e-7);
+        assert_eq!(scale_bar_length(3e-7), 5e-8);
+    }
 }

@@ -39,6 +39,8 @@ struct Frame<'a> {
     onset: &'a Onset,
     law_name: &'a str,
     view: View,
+    /// Whether the view shows the most loaded patch rather than the whole contact.
+    zoomed: bool,
     /// The equal-load-sharing curve as (δ/δ_peak, F/N), up to the movie's end.
     curve: &'a [(f64, f64)],
     fraction: f64,
@@ -53,16 +55,18 @@ impl Draw for Frame<'_> {
     fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
         let (w, _) = area.dim_in_pixel();
         let law = &self.onset.law;
-        let (head, rest) = area.split_vertically(84);
+        let (head, rest) = area.split_vertically(110);
         let title = format!(
-            "N = {}: {} elements ({}: μ_s = {}, μ_d = {})",
+            "N = {}, {} (μ_s = {}, μ_d = {})",
             super::maps::load_label(self.snap.load_n),
-            self.onset.elements,
             self.law_name,
             tick_label(&law.mu_s),
-            tick_label(&law.mu_d)
+            tick_label(&law.mu_d),
         );
-        text(&head, &title, (w as i32 / 2, 24), 22.0, (HPos::Center, VPos::Center))?;
+        text(&head, &title, (w as i32 / 2, 22), 22.0, (HPos::Center, VPos::Center))?;
+        let shown = if self.zoomed { "the most loaded contact patch" } else { "the whole contact" };
+        let subtitle = format!("{} elements; the map shows {shown}", self.onset.elements);
+        text(&head, &subtitle, (w as i32 / 2, 54), 19.0, (HPos::Center, VPos::Center))?;
         let values = ratio_layer(self.snap, self.onset, self.fraction);
         let slipped = values.iter().filter(|v| **v < 0.0).count();
         let force = force_at(self.curve, self.fraction);
@@ -74,9 +78,9 @@ impl Draw for Frame<'_> {
             self.index + 1,
             FRAMES
         );
-        text(&head, &state, (w as i32 / 2, 62), 19.0, (HPos::Center, VPos::Center))?;
+        text(&head, &state, (w as i32 / 2, 88), 19.0, (HPos::Center, VPos::Center))?;
 
-        let (map, rest) = rest.split_vertically(600);
+        let (map, rest) = rest.split_vertically(580);
         let (chart, view, plot) = map_chart(&map, self.view, true)?;
         let mu_s = law.mu_s;
         draw_layer(&chart, view, plot, &Layer::on(self.snap, &values), |v| ratio_value_colour(v, mu_s))?;
@@ -168,7 +172,7 @@ pub(super) fn write_movie(path: &Path, snap: &MapSnapshot, onset: &Onset, law_na
     let loads = ElementLoads::from_pressure(&snap.pressure, snap.pixel_area())?;
     let end = END_STEPS as f64 / STEPS as f64;
     let curve = scaled_curve(&loads, onset, Loading::EqualLoadSharing, end);
-    let view = View::contact(snap);
+    let (view, zoomed) = View::detail(snap, SIZE.0 - 110);
     let colours = palette();
     let transparent = (colours.len() - 1) as u8;
     let quantizer = Quantizer::new(&colours[..colours.len() - 1]);
@@ -178,8 +182,8 @@ pub(super) fn write_movie(path: &Path, snap: &MapSnapshot, onset: &Onset, law_na
     let frames: Vec<Vec<u8>> = (0..FRAMES)
         .into_par_iter()
         .map(|index| {
-            let frame =
-                Frame { snap, onset, law_name, view, curve: &curve, fraction: index as f64 / STEPS as f64, index };
+            let fraction = index as f64 / STEPS as f64;
+            let frame = Frame { snap, onset, law_name, view, zoomed, curve: &curve, fraction, index };
             let mut rgb = vec![0u8; w as usize * h as usize * 3];
             {
                 let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();

@@ -182,7 +182,8 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                     "The local stress ratio (shear over normal force of each element) at imposed displacements \
                      δ/δ_peak = {} (rows) for the loads nearest 0.1, 1 and 10 mN (columns), law \"{}\" (the \
                      paper's Fig. S6): stuck elements from pale green (unloaded) to brown at μ_s (critical), \
-                     slipped elements amber (μ_d); each map zoomed to its contact region.",
+                     slipped elements amber (μ_d). Each map shows the whole contact or, where its pixels would be \
+                     too small to see, the most loaded contact patch and its surroundings.",
                     list.join(", "),
                     law_name(law)
                 );
@@ -208,8 +209,9 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                     "The local stress ratio as the imposed displacement grows from 0 to 1.2 δ_peak at N = {} \
                      ({} elements, law \"{}\"; the paper's supplemental movie at {}): stuck elements green, \
                      turning brown as they reach μ_s, slipped elements amber; below, the friction coefficient \
-                     F/N with the current displacement. The movie holds at the peak (the critical state) and \
-                     at total sliding.",
+                     F/N with the current displacement. The map shows the whole contact or, where its pixels \
+                     would be too small to see, the most loaded contact patch. The movie holds at the peak (the \
+                     critical state) and at total sliding.",
                     load_label(snap.load_n),
                     onset.elements,
                     law_name(law),
