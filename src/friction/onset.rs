@@ -284,12 +284,17 @@ impl Onset {
     /// mu_d, mu_s and mu_0 of the critical state. Before the peak both loading modes pass
     /// through the same states, so this holds for either.
     pub fn stress_ratio_of(&self, n: f64, fraction: f64) -> f64 {
-        let threshold = fraction * self.critical_normal_force;
-        if n < threshold {
+        if self.has_slipped(n, fraction) {
             self.law.mu_d
         } else {
-            self.law.mu_s * (threshold / n)
+            self.law.mu_s * (fraction * self.critical_normal_force / n)
         }
+    }
+
+    /// Whether an element of normal force `n` [N] has slipped at δ = `fraction` · δ_peak,
+    /// 0 < fraction ≤ 1: whether mu_s · n is below the stuck shear fraction · s*.
+    pub fn has_slipped(&self, n: f64, fraction: f64) -> bool {
+        n < fraction * self.critical_normal_force
     }
 
     /// The class of every pixel of `pressure` [Pa] (the map the onset was computed from,

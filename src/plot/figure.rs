@@ -3,7 +3,10 @@
 use plotters::chart::SeriesAnno;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
+use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters_backend::DrawingErrorKind;
 
 use super::style;
 
@@ -100,11 +103,20 @@ pub enum Marker {
     Cross,
 }
 
+/// How a line is stroked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dash {
+    Solid,
+    Dashed,
+    /// Dots one line width long (a reference level, a limit).
+    Dotted,
+}
+
 /// The geometry of a series, in the units of the panel's axes.
 #[derive(Clone, Debug)]
 pub enum Shape {
     /// A polyline through `points`, `width` px wide.
-    Line { points: Vec<(f64, f64)>, width: u32, dashed: bool },
+    Line { points: Vec<(f64, f64)>, width: u32, dash: Dash },
     /// Markers at `points`, with optional symmetric vertical error bars (± `y_err`).
     Scatter { points: Vec<(f64, f64)>, y_err: Option<Vec<f64>>, marker: Marker, filled: bool },
     /// The area between `lower(x)` and `upper(x)`.
@@ -127,7 +139,7 @@ pub struct Series {
 impl Series {
     /// A solid line.
     pub fn line(points: Vec<(f64, f64)>, colour: RGBColor) -> Self {
-        Series::new(Shape::Line { points, width: style::LINE_WIDTH, dashed: false }, colour, 1.0)
+        Series::new(Shape::Line { points, width: style::LINE_WIDTH, dash: Dash::Solid }, colour, 1.0)
     }
 
     /// Filled markers.
@@ -171,10 +183,19 @@ impl Series {
     }
 
     /// Dashed instead of solid; lines only.
-    pub fn dashed(mut self) -> Self {
+    pub fn dashed(self) -> Self {
+        self.dash(Dash::Dashed, "dashed")
+    }
+
+    /// Dotted instead of solid; lines only.
+    pub fn dotted(self) -> Self {
+        self.dash(Dash::Dotted, "dotted")
+    }
+
+    fn dash(mut self, style: Dash, name: &str) -> Self {
         match &mut self.shape {
-            Shape::Line { dashed, .. } => *dashed = true,
-            _ => panic!("Series::dashed applies to lines"),
+            Shape::Line { dash, .. } => *dash = style,
+            _ => panic!("Series::{name} applies to lines"),
         }
         self
     }
@@ -240,11 +261,13 @@ pub struct Panel {
     pub y: Axis,
     pub series: Vec<Series>,
     pub legend: Option<SeriesLabelPosition>,
+    /// Width [px] kept right of the axes for the legend, when it is drawn beside them.
+    pub legend_beside: u32,
 }
 
 impl Panel {
     pub fn new(x: Axis, y: Axis) -> Self {
-        Panel { title: None, x, y, series: Vec::new(), legend: None }
+        Panel { title: None, x, y, series: Vec::new(), legend: None, legend_beside: 0 }
     }
 
     pub fn title(mut self, title: impl Into<String>) -> Self {
@@ -255,6 +278,14 @@ impl Panel {
     /// Show the labelled series in a legend at `position`.
     pub fn legend(mut self, position: SeriesLabelPosition) -> Self {
         self.legend = Some(position);
+        self
+    }
+
+    /// Show the legend right of the axes, in a column `width` px wide, where it hides no data
+    /// (entries in the order the series were pushed).
+    pub fn legend_beside(mut self, width: u32) -> Self {
+        self.legend = Some(SeriesLabelPosition::UpperRight);
+        self.legend_beside = width;
         self
     }
 
@@ -271,7 +302,8 @@ impl Panel {
         Y::CoordDescType: ValueFormatter<f64>,
     {
         let mut builder = ChartBuilder::on(area);
-        builder.margin(style::MARGIN).x_label_area_size(70).y_label_area_size(105);
+        builder.margin(style::MARGIN).margin_right(style::MARGIN + self.legend_beside);
+        builder.x_label_area_size(70).y_label_area_size(105);
         if let Some(title) = &self.title {
             builder.caption(title, (style::FONT, style::TITLE_SIZE));
         }
@@ -296,14 +328,14 @@ impl Panel {
         for s in order {
             let colour = s.colour.mix(s.opacity);
             match &s.shape {
-                Shape::Line { points, width, dashed } => {
+                Shape::Line { points, width, dash } => {
                     let line = colour.stroke_width(*width);
                     let pts = points.iter().copied().filter(shown);
-                    let anno = if *dashed {
-                        let dash = 4 * *width as i32;
-                        chart.draw_series(DashedLineSeries::new(pts, dash + 4, dash, line))?
-                    } else {
-                        chart.draw_series(LineSeries::new(pts, line))?
+                    let w = *width as i32;
+                    let anno = match dash {
+                        Dash::Solid => chart.draw_series(LineSeries::new(pts, line))?,
+                        Dash::Dashed => chart.draw_series(DashedLineSeries::new(pts, 4 * w + 4, 4 * w, line))?,
+                        Dash::Dotted => chart.draw_series(DashedLineSeries::new(pts, w, 2 * w + 2, line))?,
                     };
                     add_legend(anno, s, colour);
                 }
@@ -359,7 +391,21 @@ impl Panel {
                 }
             }
         }
-        if let Some(position) = &self.legend {
+        if self.legend.is_some() && self.legend_beside > 0 {
+            // Beside the axes, outside the plotting area (which clips what is drawn on it),
+            // in the order the series were pushed.
+            let base = area.get_base_pixel();
+            let (xr, yr) = chart.plotting_area().get_pixel_range();
+            let x = xr.end - base.0 + 20;
+            let font = (style::FONT, style::LEGEND_SIZE).into_font().into_text_style(area);
+            let font = font.pos(Pos::new(HPos::Left, VPos::Center));
+            let labelled = self.series.iter().filter_map(|s| s.label.as_ref().map(|l| (s, l)));
+            for (k, (s, label)) in labelled.enumerate() {
+                let y = yr.start - base.1 + 14 + (k as f64 * style::LEGEND_SIZE * 1.55) as i32;
+                area.draw(&legend_glyph(&s.shape, s.colour.mix(s.opacity), x, y))?;
+                area.draw_text(label, &font, (x + 34, y))?;
+            }
+        } else if let Some(position) = &self.legend {
             if self.series.iter().any(|s| s.label.is_some()) {
                 chart
                     .configure_series_labels()
@@ -487,8 +533,15 @@ fn legend_glyph<DB: DrawingBackend>(
 ) -> DynElement<'static, DB, (i32, i32)> {
     let r = style::MARKER_SIZE as i32;
     match shape {
-        Shape::Line { width, .. } => {
-            PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(*width)).into_dyn()
+        Shape::Line { width, dash, .. } => {
+            // Pieces of a 24 px sample, so that dashed and dotted lines read as such.
+            let (on, off) = match dash {
+                Dash::Solid => (24, 0),
+                Dash::Dashed => (9, 6),
+                Dash::Dotted => (*width as i32, 2 * *width as i32 + 2),
+            };
+            let ends = (0..24).step_by((on + off) as usize).flat_map(|a| [(x + a, y), (x + (a + on).min(24), y)]);
+            Segments { ends: ends.collect(), style: colour.stroke_width(*width) }.into_dyn()
         }
         Shape::Scatter { marker, filled, .. } => {
             let style = if *filled { colour.filled() } else { colour.stroke_width(style::LINE_WIDTH) };
@@ -504,6 +557,35 @@ fn legend_glyph<DB: DrawingBackend>(
         Shape::Band { .. } | Shape::Span { .. } => {
             Rectangle::new([(x, y - 8), (x + 24, y + 8)], colour.filled()).into_dyn()
         }
+    }
+}
+
+/// Straight segments between consecutive pairs of `ends` [px]: a dashed line in a legend.
+struct Segments {
+    ends: Vec<(i32, i32)>,
+    style: ShapeStyle,
+}
+
+impl<'a> PointCollection<'a, (i32, i32)> for &'a Segments {
+    type Point = &'a (i32, i32);
+    type IntoIter = &'a [(i32, i32)];
+    fn point_iter(self) -> Self::IntoIter {
+        &self.ends
+    }
+}
+
+impl<DB: DrawingBackend> Drawable<DB> for Segments {
+    fn draw<I: Iterator<Item = (i32, i32)>>(
+        &self,
+        points: I,
+        backend: &mut DB,
+        _: (u32, u32),
+    ) -> Result<(), DrawingErrorKind<DB::ErrorType>> {
+        let ends: Vec<_> = points.collect();
+        for pair in ends.chunks_exact(2) {
+            backend.draw_line(pair[0], pair[1], &self.style)?;
+        }
+        Ok(())
     }
 }
 

@@ -3,15 +3,21 @@
 //! both atomically. Text uses an embedded DejaVu Sans ([`style::register_fonts`]), so a figure
 //! looks the same on a machine without system fonts. Figures with their own layout (maps,
 //! movie frames) implement [`Draw`] and reuse [`style`] and [`write_figure`].
+//!
+//! [`study::render`] draws a numerical study's figures, movies and report.
 
 mod figure;
+mod maps;
+mod movie;
+mod report;
+pub mod study;
 pub mod style;
 
 use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-pub use figure::{tick_label, Axis, Draw, DrawResult, Figure, Marker, Panel, Series, Shape};
+pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Marker, Panel, Series, Shape};
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;
 
@@ -126,7 +132,9 @@ mod tests {
         top.push(Series::scatter(vec![(3e-3, 1.7)], Marker::Triangle, style::PALETTE[2]).hollow());
         top.push(Series::scatter(vec![(3e-2, 1.5)], Marker::Cross, style::PALETTE[3]));
         top.push(Series::scatter(vec![(5e-2, 1.4)], Marker::Circle, style::PALETTE[4]));
-        let mut bottom = Panel::new(Axis::new("time", "s"), Axis::new("force", "mN").range(-1.0, 5.0));
+        let mut bottom =
+            Panel::new(Axis::new("time", "s"), Axis::new("force", "mN").range(-1.0, 5.0)).legend_beside(220);
+        bottom.push(Series::line(vec![(0.0, 1.0), (6.0, 1.0)], style::GREY).dotted().label("limit"));
         bottom.push(Series::span(2.0, 3.0, style::CRITICAL).label("critical"));
         bottom.push(Series::span(4.0, 5.0, style::PRE_SLIDING).opacity(0.4));
         bottom.push(Series::line(vec![(0.0, 0.0), (6.0, 4.0)], style::SUBCRITICAL));

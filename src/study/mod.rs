@@ -67,7 +67,7 @@ impl Row {
         Row {
             load_n,
             topography: topography.to_string(),
-            law: onset.law.name.clone().unwrap_or_else(|| format!("mu_s={} mu_d={}", onset.law.mu_s, onset.law.mu_d)),
+            law: law_name(&onset.law),
             mu_s: onset.law.mu_s,
             mu_d: onset.law.mu_d,
             contact_points: solve.contact_points,
@@ -89,6 +89,11 @@ impl Row {
             seconds: solve.seconds,
         }
     }
+}
+
+/// The name of `law` in the rows: its label, or its two coefficients when it has none.
+pub fn law_name(law: &FrictionLaw) -> String {
+    law.name.clone().unwrap_or_else(|| format!("mu_s={} mu_d={}", law.mu_s, law.mu_d))
 }
 
 /// What a row needs to know of the contact solve behind it.

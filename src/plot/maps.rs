@@ -1,0 +1,751 @@
+//! Maps of the contact window drawn pixel by pixel: the contact maps (pressure), the element
+//! classes at the critical state and the local stress ratio as the displacement grows.
+//!
+//! A map is drawn as rectangles in window coordinates [m] (tick labels in µm or nm): one per
+//! run of equally coloured pixels along a row when a pixel covers at least a screen pixel,
+//! else one per run of screen pixels, each showing the largest value of the map's pixels whose
+//! centres fall in it, so that a lone contact pixel on a large window still shows. Colour
+//! scales have a fixed number of levels, which keeps the runs long and the SVG small.
+
+use ndarray::Array2;
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::{prefixed, style, tick_label, Draw, DrawResult};
+use crate::friction::{ElementClass, FrictionLaw, Onset};
+use crate::study::MapSnapshot;
+
+/// Levels of a colour scale.
+pub(super) const LEVELS: usize = 64;
+
+/// Text sizes [px] of the map figures, whose panels are smaller than a default figure's.
+const TICK: f64 = 17.0;
+const LABEL: f64 = 20.0;
+const HEADING: f64 = 23.0;
+
+/// Space [px] around a map's plotting area: margin, then the label areas (left, bottom).
+const MAP_MARGIN: u32 = 10;
+const Y_LABELS: u32 = 78;
+const X_LABELS: u32 = 52;
+
+/// Least size [px] of a map pixel on the detailed views of snapshots and movies.
+pub(super) const DETAIL_PX: f64 = 2.5;
+
+/// Least size [px] of a drawn pixel on a sparse map.
+const SPARSE_MIN_PX: f64 = 3.0;
+
+/// Value of a stress-ratio layer at an element that has slipped (the ratio is then mu_d, shown
+/// in the pre-sliding colour); stuck elements hold their ratio, ≥ 0.
+pub(super) const SLIPPED: f64 = -1.0;
+
+/// A rectangle of the window [m].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct View {
+    pub x: (f64, f64),
+    pub y: (f64, f64),
+}
+
+impl View {
+    /// The whole window of a snapshot.
+    pub fn window(snap: &MapSnapshot) -> View {
+        let (dx, dy) = snap.pixel_size;
+        View { x: (0.0, snap.grid.1 as f64 * dx), y: (0.0, snap.grid.0 as f64 * dy) }
+    }
+
+    /// The contact points of a snapshot with a margin of a tenth of their extent, and at
+    /// least six pixels on a side (a single element is then a visible square).
+    pub fn contact(snap: &MapSnapshot) -> View {
+        View::around(snap, |_| true)
+    }
+
+    /// The region of the contact patch (4-connected pixels) that carries the largest force.
+    pub fn main_patch(snap: &MapSnapshot) -> View {
+        let mask: Vec<bool> = snap.pressure.iter().map(|p| *p > 0.0).collect();
+        let (labels, sizes) = crate::contact::patches::label(&mask, snap.pressure.dim(), false);
+        let mut force = vec![0.0; sizes.len() + 1];
+        for (l, p) in labels.iter().zip(snap.pressure.iter()) {
+            force[*l as usize] += p;
+        }
+        let main = (1..force.len()).max_by(|a, b| force[*a].total_cmp(&force[*b])).unwrap_or(0) as u32;
+        let nx = snap.pressure.ncols();
+        View::around(snap, |(r, c)| labels[r * nx + c] == main)
+    }
+
+    /// The view of a map drawn about `screen` px wide: the whole contact when its pixels then
+    /// show at least [`DETAIL_PX`] px wide, else the most loaded patch with its surroundings
+    /// at that scale (or the patch alone when larger). Returns the view and whether it is
+    /// such a zoom.
+    pub fn detail(snap: &MapSnapshot, screen: u32) -> (View, bool) {
+        let region = View::contact(snap);
+        let (dx, dy) = snap.pixel_size;
+        let least = f64::from(screen) / DETAIL_PX;
+        if region.width().max(region.height()) <= least * dx.max(dy) {
+            return (region, false);
+        }
+        let patch = View::main_patch(snap);
+        let grow = |(a, b): (f64, f64), d: f64| {
+            let half = (0.5 * (b - a)).max(0.5 * least * d);
+            (0.5 * (a + b) - half, 0.5 * (a + b) + half)
+        };
+        (View { x: grow(patch.x, dx), y: grow(patch.y, dy) }, true)
+    }
+
+    /// The contact pixels (row, column) of `snap` for which `keep` holds, with a margin.
+    fn around(snap: &MapSnapshot, keep: impl Fn((usize, usize)) -> bool) -> View {
+        let (dx, dy) = snap.pixel_size;
+        let (mut r0, mut r1, mut c0, mut c1) = (usize::MAX, 0, usize::MAX, 0);
+        for ((r, c), p) in snap.pressure.indexed_iter() {
+            if *p > 0.0 && keep((r, c)) {
+                (r0, r1, c0, c1) = (r0.min(r), r1.max(r + 1), c0.min(c), c1.max(c + 1));
+            }
+        }
+        if r0 == usize::MAX {
+            return View::window(snap);
+        }
+        let (or, oc) = (snap.origin.0 as f64, snap.origin.1 as f64);
+        let x = ((oc + c0 as f64) * dx, (oc + c1 as f64) * dx);
+        let y = ((or + r0 as f64) * dy, (or + r1 as f64) * dy);
+        let side = |(a, b): (f64, f64), d: f64| {
+            let half = ((b - a) * 0.6).max(3.0 * d);
+            let mid = 0.5 * (a + b);
+            (mid - half, mid + half)
+        };
+        View { x: side(x, dx), y: side(y, dy) }
+    }
+
+    pub fn width(&self) -> f64 {
+        self.x.1 - self.x.0
+    }
+
+    pub fn height(&self) -> f64 {
+        self.y.1 - self.y.0
+    }
+
+    /// The view grown about its centre to the aspect ratio of a `w` × `h` px area, so that
+    /// x and y have equal scales.
+    pub fn fit(self, (w, h): (u32, u32)) -> View {
+        let scale = (self.width() / f64::from(w.max(1))).max(self.height() / f64::from(h.max(1)));
+        let grow = |(a, b): (f64, f64), px: u32| {
+            let (mid, half) = (0.5 * (a + b), 0.5 * scale * f64::from(px));
+            (mid - half, mid + half)
+        };
+        View { x: grow(self.x, w), y: grow(self.y, h) }
+    }
+
+    /// The factor to display positions in and its unit (µm, nm) for this view: that of its
+    /// largest coordinate, so that a zoom far from the origin reads "17.8 µm", not "17800 nm".
+    pub fn unit(&self) -> (f64, String) {
+        let largest = [self.x.0, self.x.1, self.y.0, self.y.1].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        prefixed(largest, "m")
+    }
+}
+
+/// Values on pixels of the window: NaN where nothing is drawn.
+pub(super) struct Layer<'a> {
+    pub values: &'a Array2<f64>,
+    /// (row, column) of `values`' first pixel in the window.
+    pub origin: (usize, usize),
+    /// Pixel size (dx, dy) [m].
+    pub pixel: (f64, f64),
+}
+
+impl<'a> Layer<'a> {
+    pub fn on(snap: &MapSnapshot, values: &'a Array2<f64>) -> Layer<'a> {
+        Layer { values, origin: snap.origin, pixel: snap.pixel_size }
+    }
+}
+
+/// A chart on window coordinates [m].
+pub(super) type MapChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Axes for a map on `area`: the view fitted to the plotting area, lengths labelled in the
+/// view's unit, the axis names only when `named`. Returns the chart, the fitted view and the
+/// plotting area's size [px].
+pub(super) fn map_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    view: View,
+    named: bool,
+) -> Result<(MapChart<'a, DB>, View, (u32, u32)), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (w, h) = area.dim_in_pixel();
+    let plot = (w.saturating_sub(2 * MAP_MARGIN + Y_LABELS), h.saturating_sub(2 * MAP_MARGIN + X_LABELS));
+    let view = view.fit(plot);
+    let (scale, unit) = view.unit();
+    let mut chart = ChartBuilder::on(area)
+        .margin(MAP_MARGIN)
+        .x_label_area_size(X_LABELS)
+        .y_label_area_size(Y_LABELS)
+        .build_cartesian_2d(view.x.0..view.x.1, view.y.0..view.y.1)?;
+    let label = move |v: &f64| tick_label(&(v * scale));
+    let (x_desc, y_desc) = if named { (format!("x [{unit}]"), format!("y [{unit}]")) } else { Default::default() };
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(5)
+        .y_labels(5)
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&label)
+        .y_label_formatter(&label)
+        .label_style((style::FONT, TICK))
+        .axis_desc_style((style::FONT, LABEL))
+        .axis_style(BLACK.stroke_width(1))
+        .draw()?;
+    Ok((chart, view, plot))
+}
+
+/// Draw `layer` on `chart` (whose view is `view`, its plotting area `plot` px), each value
+/// coloured by `colour`; NaN is left blank. Where pixels are smaller than the screen's, a
+/// screen pixel shows the largest value among the map pixels centred in it. On a sparse map
+/// each pixel is drawn at least [`SPARSE_MIN_PX`] wide.
+pub(super) fn draw_layer<DB: DrawingBackend>(
+    chart: &MapChart<'_, DB>,
+    view: View,
+    plot: (u32, u32),
+    layer: &Layer,
+    colour: impl Fn(f64) -> RGBColor,
+) -> DrawResult<DB> {
+    let (dx, dy) = layer.pixel;
+    let (or, oc) = (layer.origin.0 as f64, layer.origin.1 as f64);
+    let mut runs: Vec<([(f64, f64); 2], RGBColor)> = Vec::new();
+    // Consecutive cells of one colour along a row, as one rectangle.
+    let mut push_row = |cells: &mut dyn Iterator<Item = ((f64, f64), Option<RGBColor>)>, y: (f64, f64)| {
+        let mut open: Option<(f64, f64, RGBColor)> = None;
+        for ((x0, x1), c) in cells {
+            match (&mut open, c) {
+                (Some((_, end, oc)), Some(c)) if *oc == c => *end = x1,
+                _ => {
+                    if let Some((a, b, oc)) = open.take() {
+                        runs.push(([(a, y.0), (b, y.1)], oc));
+                    }
+                    open = c.map(|c| (x0, x1, c));
+                }
+            }
+        }
+        if let Some((a, b, oc)) = open {
+            runs.push(([(a, y.0), (b, y.1)], oc));
+        }
+    };
+    let (ny, nx) = layer.values.dim();
+    if view.width() / dx <= f64::from(plot.0) * 1.01 {
+        // Each map pixel covers at least a screen pixel: draw it as it is.
+        for (r, row) in layer.values.outer_iter().enumerate() {
+            let y = ((or + r as f64) * dy, (or + r as f64 + 1.0) * dy);
+            if y.1 < view.y.0 || y.0 > view.y.1 {
+                continue;
+            }
+            let mut cells = row.iter().enumerate().map(|(c, v)| {
+                let x = ((oc + c as f64) * dx, (oc + c as f64 + 1.0) * dx);
+                (x, (!v.is_nan()).then(|| colour(*v)))
+            });
+            push_row(&mut cells, y);
+        }
+    } else {
+        let (w, h) = (plot.0.max(1) as usize, plot.1.max(1) as usize);
+        let mut cells = Array2::from_elem((h, w), f64::NAN);
+        for r in 0..ny {
+            let y = (or + r as f64 + 0.5) * dy;
+            let i = ((y - view.y.0) / view.height() * h as f64).floor();
+            if !(0.0..h as f64).contains(&i) {
+                continue;
+            }
+            for c in 0..nx {
+                let v = layer.values[[r, c]];
+                let x = (oc + c as f64 + 0.5) * dx;
+                let j = ((x - view.x.0) / view.width() * w as f64).floor();
+                if v.is_nan() || !(0.0..w as f64).contains(&j) {
+                    continue;
+                }
+                let cell = &mut cells[[i as usize, j as usize]];
+                if cell.is_nan() || v > *cell {
+                    *cell = v;
+                }
+            }
+        }
+        let (cw, ch) = (view.width() / w as f64, view.height() / h as f64);
+        for (i, row) in cells.outer_iter().enumerate() {
+            if row.iter().all(|v| v.is_nan()) {
+                continue;
+            }
+            let y = (view.y.0 + i as f64 * ch, view.y.0 + (i + 1) as f64 * ch);
+            let mut cells = row.iter().enumerate().map(|(j, v)| {
+                let x = (view.x.0 + j as f64 * cw, view.x.0 + (j + 1) as f64 * cw);
+                (x, (!v.is_nan()).then(|| colour(*v)))
+            });
+            push_row(&mut cells, y);
+        }
+    }
+    // On a sparse map (drawn pixels covering under 2 % of the plot) each is drawn at least
+    // SPARSE_MIN_PX wide, so that lone elements show.
+    let (sx, sy) = (view.width() / f64::from(plot.0.max(1)), view.height() / f64::from(plot.1.max(1)));
+    let drawn = layer.values.iter().filter(|v| !v.is_nan()).count() as f64;
+    let coverage = drawn * (dx / sx).max(1.0) * (dy / sy).max(1.0) / (f64::from(plot.0) * f64::from(plot.1)).max(1.0);
+    let least = if coverage < 0.02 { SPARSE_MIN_PX } else { 0.0 };
+    let widen = |(a, b): (f64, f64), s: f64| {
+        let half = (0.5 * (b - a)).max(0.5 * least * s);
+        (0.5 * (a + b) - half, 0.5 * (a + b) + half)
+    };
+    let clip = |[(x0, y0), (x1, y1)]: [(f64, f64); 2]| {
+        let ((x0, x1), (y0, y1)) = (widen((x0, x1), sx), widen((y0, y1), sy));
+        [(x0.max(view.x.0), y0.max(view.y.0)), (x1.min(view.x.1), y1.min(view.y.1))]
+    };
+    let plotting = chart.plotting_area();
+    for (corners, c) in runs {
+        plotting.draw(&Rectangle::new(clip(corners), c.filled()))?;
+    }
+    Ok(())
+}
+
+/// Linear interpolation between colour stops (position in [0, 1], colour), on `LEVELS` levels.
+fn scale(stops: &[(f64, (u8, u8, u8))], t: f64) -> RGBColor {
+    let t = ((t.clamp(0.0, 1.0) * (LEVELS - 1) as f64).round()) / (LEVELS - 1) as f64;
+    let k = stops.windows(2).position(|w| t <= w[1].0).unwrap_or(stops.len() - 2);
+    let ((a, ca), (b, cb)) = (stops[k], stops[k + 1]);
+    let f = if b > a { (t - a) / (b - a) } else { 0.0 };
+    let mix = |x: u8, y: u8| (f64::from(x) + f * (f64::from(y) - f64::from(x))).round() as u8;
+    RGBColor(mix(ca.0, cb.0), mix(ca.1, cb.1), mix(ca.2, cb.2))
+}
+
+/// The pressure scale, t = p / p_max: dark violet (low) through red to yellow (high), all
+/// clearly off the white background.
+pub(super) fn pressure_colour(t: f64) -> RGBColor {
+    scale(&[(0.0, (45, 20, 120)), (0.35, (150, 35, 145)), (0.7, (232, 95, 60)), (1.0, (245, 205, 45))], t)
+}
+
+/// The stress-ratio scale of stuck elements, t = ratio / mu_s: pale green (unloaded) to the
+/// subcritical green, turning to the critical brown as the ratio reaches mu_s.
+pub(super) fn ratio_colour(t: f64) -> RGBColor {
+    let (g, b) = (style::SUBCRITICAL, style::CRITICAL);
+    scale(&[(0.0, (200, 230, 190)), (0.6, (105, 185, 110)), (0.85, (g.0, g.1, g.2)), (1.0, (b.0, b.1, b.2))], t)
+}
+
+/// The colour of a stress-ratio layer value (see [`SLIPPED`]) for the law's mu_s.
+pub(super) fn ratio_value_colour(v: f64, mu_s: f64) -> RGBColor {
+    if v < 0.0 {
+        style::PRE_SLIDING
+    } else {
+        ratio_colour(v / mu_s)
+    }
+}
+
+/// The stress-ratio layer of a snapshot at δ = `fraction` · δ_peak under equal load sharing:
+/// stuck elements at their ratio, slipped ones [`SLIPPED`], NaN off contact. At 0 every
+/// element is stuck and unloaded; past the peak (fraction > 1) the avalanche at the peak has
+/// set every element sliding.
+pub(super) fn ratio_layer(snap: &MapSnapshot, onset: &Onset, fraction: f64) -> Array2<f64> {
+    let area = snap.pixel_area();
+    snap.pressure.mapv(|p| {
+        let n = p * area;
+        if p <= 0.0 {
+            f64::NAN
+        } else if fraction <= 0.0 {
+            0.0
+        } else if fraction > 1.0 || onset.has_slipped(n, fraction) {
+            SLIPPED
+        } else {
+            onset.stress_ratio_of(n, fraction)
+        }
+    })
+}
+
+/// Text at `pos` [px] on `area`, anchored by `anchor`.
+pub(super) fn text<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    s: &str,
+    pos: (i32, i32),
+    size: f64,
+    anchor: (HPos, VPos),
+) -> DrawResult<DB> {
+    let style = (style::FONT, size).into_font().into_text_style(area).pos(Pos::new(anchor.0, anchor.1));
+    area.draw_text(s, &style, pos)
+}
+
+/// A horizontal colour bar on `area`: `colour(t)` for t from 0 to 1 across the values `lo` to
+/// `hi` (in the unit of `label`, which names the quantity and unit).
+pub(super) fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (lo, hi): (f64, f64),
+    label: &str,
+    colour: impl Fn(f64) -> RGBColor,
+) -> DrawResult<DB> {
+    let mut chart = ChartBuilder::on(area).margin(8).x_label_area_size(58).build_cartesian_2d(lo..hi, 0.0..1.0)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_y_axis()
+        .x_labels(6)
+        .x_desc(label)
+        .x_label_formatter(&|v| tick_label(v))
+        .label_style((style::FONT, TICK))
+        .axis_desc_style((style::FONT, LABEL))
+        .draw()?;
+    let step = (hi - lo) / LEVELS as f64;
+    chart.draw_series((0..LEVELS).map(|k| {
+        let t = (k as f64 + 0.5) / LEVELS as f64;
+        Rectangle::new([(lo + k as f64 * step, 0.0), (lo + (k + 1) as f64 * step, 1.0)], colour(t).filled())
+    }))?;
+    chart.draw_series(std::iter::once(Rectangle::new([(lo, 0.0), (hi, 1.0)], BLACK.stroke_width(1))))?;
+    Ok(())
+}
+
+/// Legend entries as colour swatches with text, one a line, from the top left of `area`.
+pub(super) fn swatches<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[(RGBColor, String)],
+    size: f64,
+) -> DrawResult<DB> {
+    let line = (size * 1.6) as i32;
+    let box_px = (size * 0.9) as i32;
+    for (k, (c, label)) in entries.iter().enumerate() {
+        let y = 8 + k as i32 * line;
+        area.draw(&Rectangle::new([(8, y), (8 + box_px, y + box_px)], c.filled()))?;
+        area.draw(&Rectangle::new([(8, y), (8 + box_px, y + box_px)], BLACK.mix(0.5).stroke_width(1)))?;
+        text(area, label, (16 + box_px, y + box_px / 2), size, (HPos::Left, VPos::Center))?;
+    }
+    Ok(())
+}
+
+/// A message centred on `area`, for a panel without data.
+pub(super) fn no_data<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, message: &str) -> DrawResult<DB> {
+    let (w, h) = area.dim_in_pixel();
+    area.draw(&Rectangle::new([(10, 10), (w as i32 - 10, h as i32 - 10)], style::GREY.mix(0.6).stroke_width(1)))?;
+    text(area, message, (w as i32 / 2, h as i32 / 2), LABEL, (HPos::Center, VPos::Center))
+}
+
+/// A fraction as a percentage, with two significant digits below 10 %: "84.2 %", "0.025 %".
+fn percent(f: f64) -> String {
+    let p = 100.0 * f;
+    let digits = if p > 0.0 && p < 10.0 { (1.0 - p.log10().floor()) as usize } else { 1 };
+    format!("{p:.digits$} %")
+}
+
+/// A load [N] as the figures name it, in mN as the paper: "0.1 mN", "12.3 mN".
+pub(super) fn load_label(load: f64) -> String {
+    format!("{} mN", tick_label(&(load * 1e3)))
+}
+
+/// A round length [m] of about a quarter of `width` [m] (1, 2 or 5 × 10^k), for a scale bar.
+fn scale_bar_length(width: f64) -> f64 {
+    let target = width / 4.0;
+    let decade = 10f64.powf(target.log10().floor());
+    [5.0, 2.0, 1.0].into_iter().map(|m| m * decade).find(|l| *l <= target).unwrap_or(decade)
+}
+
+/// Contact maps (Fig. S4): the whole window at each of the figure loads, contact pixels coloured
+/// by pressure on one scale; where the contact is small beside the window an inset zooms into it.
+pub(super) struct ContactMaps<'a> {
+    /// (target load [N], the snapshot nearest it if close enough).
+    pub panels: Vec<(f64, Option<&'a MapSnapshot>)>,
+}
+
+impl Draw for ContactMaps<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1400, 1480)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let maps: Vec<&MapSnapshot> = self.panels.iter().filter_map(|p| p.1).collect();
+        let p_max = maps.iter().flat_map(|m| m.pressure.iter()).fold(0.0f64, |a, &b| a.max(b));
+        let (p_scale, p_unit) = prefixed(p_max, "Pa");
+        let (head, rest) = area.split_vertically(56);
+        let topography = maps.first().map_or(String::new(), |m| format!(" of {}", m.topography));
+        text(
+            &head,
+            &format!("Contact maps{topography}: local normal stress on the contact pixels"),
+            (head.dim_in_pixel().0 as i32 / 2, 30),
+            style::TITLE_SIZE * 0.9,
+            (HPos::Center, VPos::Center),
+        )?;
+        let (grid, bar) = rest.split_vertically(rest.dim_in_pixel().1 - 120);
+        let letters = ["a", "b", "c", "d", "e", "f"];
+        for (k, (cell, (target, snap))) in grid.split_evenly((2, 2)).iter().zip(&self.panels).enumerate() {
+            let (title, body) = cell.split_vertically(40);
+            let Some(snap) = snap else {
+                let name = format!("({}) N ≈ {}", letters[k % 6], load_label(*target));
+                text(&title, &name, (title.dim_in_pixel().0 as i32 / 2, 22), HEADING, (HPos::Center, VPos::Center))?;
+                no_data(&body.margin(10, 10, 10, 10), &format!("no solve near {} in this study", load_label(*target)))?;
+                continue;
+            };
+            let points = snap.pressure.iter().filter(|p| **p > 0.0).count();
+            let heading = format!(
+                "({}) N = {}: {points} contact pixel{}",
+                letters[k % 6],
+                load_label(snap.load_n),
+                if points == 1 { "" } else { "s" }
+            );
+            text(&title, &heading, (title.dim_in_pixel().0 as i32 / 2, 22), HEADING, (HPos::Center, VPos::Center))?;
+            let values = snap.pressure.mapv(|p| if p > 0.0 { p } else { f64::NAN });
+            let layer = Layer::on(snap, &values);
+            let colour = |p: f64| pressure_colour(p / p_max);
+            let window = View::window(snap);
+            let (chart, view, plot) = map_chart(&body, window, true)?;
+            draw_layer(&chart, view, plot, &layer, colour)?;
+            let frame = [(window.x.0, window.y.0), (window.x.1, window.y.1)];
+            chart.plotting_area().draw(&Rectangle::new(frame, style::GREY.mix(0.7).stroke_width(1)))?;
+            // Zoom into a contact that is small beside the window; when the contact is spread
+            // but sparse, into its most loaded patch.
+            let small = |v: &View| v.width().max(v.height()) < 0.15 * window.width().min(window.height());
+            let sparse = (points as f64) < 0.002 * (snap.grid.0 * snap.grid.1) as f64;
+            let zoom = Some(View::contact(snap))
+                .filter(small)
+                .or_else(|| Some(View::main_patch(snap)).filter(|v| sparse && small(v)));
+            if let Some(zoom) = zoom {
+                inset(&chart, plot, zoom, &layer, colour)?;
+            }
+        }
+        colour_bar(
+            &bar.margin(10, 10, 300, 300),
+            (0.0, p_max * p_scale),
+            &format!("local normal stress σ [{p_unit}]"),
+            pressure_colour,
+        )
+    }
+}
+
+/// An inset on the corner of `chart`'s plotting area farthest from `zoom` showing `zoom` at
+/// full resolution, with a scale bar, and the zoomed region marked on the main map.
+fn inset<DB: DrawingBackend>(
+    chart: &MapChart<'_, DB>,
+    plot: (u32, u32),
+    zoom: View,
+    layer: &Layer,
+    colour: impl Fn(f64) -> RGBColor,
+) -> DrawResult<DB> {
+    let plotting = chart.plotting_area();
+    let base = plotting.get_base_pixel();
+    let side = (plot.0.min(plot.1) as f64 * 0.42) as i32;
+    let pad = 10;
+    let centre = chart.backend_coord(&(0.5 * (zoom.x.0 + zoom.x.1), 0.5 * (zoom.y.0 + zoom.y.1)));
+    let (cx, cy) = (centre.0 - base.0, centre.1 - base.1);
+    let left = if cx > plot.0 as i32 / 2 { pad } else { plot.0 as i32 - side - pad };
+    let top = if cy > plot.1 as i32 / 2 { pad } else { plot.1 as i32 - side - pad };
+    let screen = plotting.strip_coord_spec();
+
+    // The zoomed region on the main map, at least 14 px wide so that it is seen.
+    let (a, b) = (chart.backend_coord(&(zoom.x.0, zoom.y.1)), chart.backend_coord(&(zoom.x.1, zoom.y.0)));
+    let grow = |lo: i32, hi: i32| {
+        let (mid, half) = ((lo + hi) / 2, ((hi - lo) / 2).max(7));
+        (mid - half, mid + half)
+    };
+    let ((x0, x1), (y0, y1)) = (grow(a.0 - base.0, b.0 - base.0), grow(a.1 - base.1, b.1 - base.1));
+    screen.draw(&Rectangle::new([(x0, y0), (x1, y1)], BLACK.stroke_width(2)))?;
+    // Lines to the inset's nearer corners.
+    let corner_x = if left > x1 { left } else { left + side };
+    let corner_y = if top > y1 { top } else { top + side };
+    let (mark_x, mark_y) = (if corner_x > x1 { x1 } else { x0 }, if corner_y > y1 { y1 } else { y0 });
+    screen.draw(&PathElement::new(vec![(mark_x, mark_y), (corner_x, corner_y)], BLACK.mix(0.5).stroke_width(1)))?;
+
+    let area = screen.shrink((left, top), (side as u32, side as u32));
+    area.fill(&WHITE)?;
+    let zoom = zoom.fit((side as u32, side as u32));
+    let zchart = ChartBuilder::on(&area).build_cartesian_2d(zoom.x.0..zoom.x.1, zoom.y.0..zoom.y.1)?;
+    draw_layer(&zchart, zoom, (side as u32, side as u32), layer, colour)?;
+    area.draw(&Rectangle::new([(0, 0), (side - 1, side - 1)], BLACK.stroke_width(2)))?;
+    let length = scale_bar_length(zoom.width());
+    let (ls, lu) = prefixed(length, "m");
+    let bar_px = (length / zoom.width() * side as f64).round() as i32;
+    area.draw(&Rectangle::new([(6, side - 52), (bar_px.max(60) + 20, side - 8)], WHITE.mix(0.85).filled()))?;
+    area.draw(&Rectangle::new([(12, side - 22), (12 + bar_px, side - 16)], BLACK.filled()))?;
+    text(&area, &format!("{} {lu}", tick_label(&(length * ls))), (12, side - 28), TICK, (HPos::Left, VPos::Bottom))
+}
+
+/// Element classes at the critical state (Fig. 4f): critical, pre-sliding and subcritical
+/// elements in their colours, zoomed to the contact region, with a legend of counts.
+pub(super) struct ClassMap<'a> {
+    pub snap: &'a MapSnapshot,
+    pub onset: Onset,
+    pub law_name: String,
+}
+
+impl Draw for ClassMap<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1400, 1060)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let (snap, onset) = (self.snap, &self.onset);
+        let (head, rest) = area.split_vertically(56);
+        let law = &onset.law;
+        text(
+            &head,
+            &format!(
+                "Element classes at the critical state, N = {} ({}: μ_s = {}, μ_d = {})",
+                load_label(snap.load_n),
+                self.law_name,
+                tick_label(&law.mu_s),
+                tick_label(&law.mu_d)
+            ),
+            (head.dim_in_pixel().0 as i32 / 2, 30),
+            style::TITLE_SIZE * 0.85,
+            (HPos::Center, VPos::Center),
+        )?;
+        let (map, side) = rest.split_horizontally(rest.dim_in_pixel().1);
+        let area_px = snap.pixel_area();
+        // Priorities where a screen pixel shows several elements: the rare critical ones first.
+        let priority = |class: ElementClass| match class {
+            ElementClass::Critical => 3.0,
+            ElementClass::PreSliding => 2.0,
+            ElementClass::Subcritical => 1.0,
+            ElementClass::NoContact => f64::NAN,
+        };
+        let values = snap.pressure.mapv(|p| if p > 0.0 { priority(onset.class_of(p * area_px)) } else { f64::NAN });
+        let colour = |v: f64| match v as i32 {
+            3 => style::CRITICAL,
+            2 => style::PRE_SLIDING,
+            _ => style::SUBCRITICAL,
+        };
+        let (chart, view, plot) = map_chart(&map, View::contact(snap), true)?;
+        draw_layer(&chart, view, plot, &Layer::on(snap, &values), colour)?;
+        // A few critical elements among thousands would be lost: ring each.
+        if onset.critical.count <= 50 {
+            let (dx, dy) = snap.pixel_size;
+            let rings = snap
+                .pressure
+                .indexed_iter()
+                .filter(|(_, p)| **p > 0.0 && onset.class_of(**p * area_px) == ElementClass::Critical);
+            for ((r, c), _) in rings {
+                let centre = ((snap.origin.1 + c) as f64 * dx + 0.5 * dx, (snap.origin.0 + r) as f64 * dy + 0.5 * dy);
+                chart.plotting_area().draw(&Circle::new(centre, 11, style::CRITICAL.stroke_width(2)))?;
+            }
+        }
+        let m = onset.elements as f64;
+        let share = |c: usize| format!("{c} ({})", percent(c as f64 / m));
+        let mut entries = vec![
+            (style::CRITICAL, format!("critical (μ = μ_s): {}", share(onset.critical.count))),
+            (style::PRE_SLIDING, format!("pre-sliding (μ = μ_d): {}", share(onset.pre_sliding.count))),
+            (style::SUBCRITICAL, format!("subcritical (μ_0 < μ_s): {}", share(onset.subcritical.count))),
+        ];
+        entries.push((WHITE, "no contact".to_string()));
+        let legend = side.margin(60, 0, 10, 10);
+        swatches(&legend, &entries, LABEL * 0.95)?;
+        let notes = [
+            format!("{} elements, F_S/N = {:.4}", onset.elements, onset.static_coefficient()),
+            format!("friction drop F_S/(μ_d N) = {:.4}", onset.friction_drop()),
+            if onset.critical.count <= 50 { "critical elements ringed".to_string() } else { String::new() },
+        ];
+        for (k, note) in notes.iter().enumerate() {
+            text(&legend, note, (10, 190 + 32 * k as i32), TICK, (HPos::Left, VPos::Center))?;
+        }
+        Ok(())
+    }
+}
+
+/// Stress-ratio snapshots (Fig. S6): rows δ/δ_peak, columns loads, each map zoomed to its
+/// contact region; stuck elements coloured by their stress ratio from 0 to mu_s, slipped ones
+/// in the pre-sliding colour.
+pub(super) struct RatioSnapshots<'a> {
+    /// (target load [N], the snapshot and its onset, if any).
+    pub columns: Vec<(f64, Option<(&'a MapSnapshot, Onset)>)>,
+    /// δ/δ_peak of the rows, each in (0, 1].
+    pub fractions: Vec<f64>,
+    pub law: FrictionLaw,
+    pub law_name: String,
+}
+
+const ROW_HEADER: u32 = 150;
+const CELL: u32 = 400;
+const COLUMN_HEADER: u32 = 60;
+
+impl Draw for RatioSnapshots<'_> {
+    fn size(&self) -> (u32, u32) {
+        let (cols, rows) = (self.columns.len() as u32, self.fractions.len() as u32);
+        (ROW_HEADER + cols * CELL + 20, 60 + COLUMN_HEADER + rows * CELL + 150)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let (w, _) = area.dim_in_pixel();
+        let (head, rest) = area.split_vertically(60);
+        text(
+            &head,
+            &format!(
+                "Local stress ratio as the displacement grows ({}: μ_s = {}, μ_d = {})",
+                self.law_name,
+                tick_label(&self.law.mu_s),
+                tick_label(&self.law.mu_d)
+            ),
+            (w as i32 / 2, 32),
+            style::TITLE_SIZE * 0.8,
+            (HPos::Center, VPos::Center),
+        )?;
+        let (col_heads, rest) = rest.split_vertically(COLUMN_HEADER);
+        let (rows_area, bottom) = rest.split_vertically(self.fractions.len() as u32 * CELL);
+        for (j, (target, column)) in self.columns.iter().enumerate() {
+            let x = (ROW_HEADER + j as u32 * CELL + CELL / 2) as i32;
+            let (heading, zoom) = match column {
+                Some((snap, onset)) => (
+                    format!("N = {}, {} elements", load_label(snap.load_n), onset.elements),
+                    if View::detail(snap, CELL - 90).1 { "zoom: most loaded patch" } else { "whole contact" },
+                ),
+                None => (format!("N ≈ {}", load_label(*target)), ""),
+            };
+            text(&col_heads, &heading, (x, 16), LABEL, (HPos::Center, VPos::Center))?;
+            text(&col_heads, zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
+        }
+        let layers: Vec<Option<(&MapSnapshot, &Onset, View)>> =
+            self.columns.iter().map(|(_, c)| c.as_ref().map(|(s, o)| (*s, o, View::detail(s, CELL - 90).0))).collect();
+        for (i, f) in self.fractions.iter().enumerate() {
+            let row = rows_area.clone().shrink((0, i as u32 * CELL), (w, CELL));
+            let (label, cells) = row.split_horizontally(ROW_HEADER);
+            let y = CELL as i32 / 2;
+            text(
+                &label,
+                &format!("δ/δ_peak = {}", tick_label(f)),
+                (ROW_HEADER as i32 / 2, y),
+                LABEL,
+                (HPos::Center, VPos::Center),
+            )?;
+            for (j, column) in layers.iter().enumerate() {
+                let cell = cells.clone().shrink((j as u32 * CELL, 0), (CELL, CELL));
+                match column {
+                    Some((snap, onset, view)) => {
+                        let values = ratio_layer(snap, onset, *f);
+                        let (chart, fitted, plot) = map_chart(&cell, *view, false)?;
+                        let mu_s = self.law.mu_s;
+                        draw_layer(&chart, fitted, plot, &Layer::on(snap, &values), |v| ratio_value_colour(v, mu_s))?;
+                        let (_, unit) = fitted.unit();
+                        let corner = chart.plotting_area().strip_coord_spec();
+                        text(&corner, &format!("[{unit}]"), (plot.0 as i32 - 6, 6), TICK, (HPos::Right, VPos::Top))?;
+                    }
+                    None => no_data(&cell.margin(10, 10, 10, 10), "no solve near this load")?,
+                }
+            }
+        }
+        ratio_key(&bottom.margin(10, 10, ROW_HEADER as i32, 20), &self.law)
+    }
+}
+
+/// The key of a stress-ratio map: the bar of stuck ratios (0 … mu_s) beside the swatch of
+/// slipped elements.
+pub(super) fn ratio_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, law: &FrictionLaw) -> DrawResult<DB> {
+    let (w, _) = area.dim_in_pixel();
+    let (bar, side) = area.split_horizontally((w as f64 * 0.62) as u32);
+    let mu_s = law.mu_s;
+    colour_bar(&bar, (0.0, mu_s), "stress ratio of stuck elements (μ_s: critical)", ratio_colour)?;
+    swatches(
+        &side.margin(6, 0, 20, 0),
+        &[(style::PRE_SLIDING, format!("slipped: μ_d = {} (pre-sliding)", tick_label(&law.mu_d)))],
+        TICK,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentages_keep_two_digits() {
+        assert_eq!(percent(0.842), "84.2 %");
+        assert_eq!(percent(0.053), "5.3 %");
+        assert_eq!(percent(0.00025), "0.025 %");
+        assert_eq!(percent(0.0), "0.0 %");
+    }
+
+    #[test]
+    fn views_fit_the_screen_about_their_centre() {
+        let v = View { x: (0.0, 2.0), y: (0.0, 1.0) }.fit((100, 100));
+        assert_eq!(v, View { x: (0.0, 2.0), y: (-0.5, 1.5) });
+        assert_eq!(scale_bar_length(1e-6), 2e-7);
+        assert_eq!(scale_bar_length(3e-7), 5e-8);
+    }
+}

@@ -1,0 +1,221 @@
+//! The study's report: one self-contained HTML page (inline style, relative links to the
+//! images, nothing fetched from elsewhere) with the parameters, the friction laws, a table of
+//! the friction drop per law and load, and every figure drawn with its caption.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::maps::load_label;
+use super::study::{by_load, spread, stem, Drawn};
+use crate::error::Result;
+use crate::friction::{FrictionLaw, PRESETS};
+use crate::study::{law_name, FigureInput, FigureKind, Row};
+
+/// What each figure is, and which figure of the paper it corresponds to.
+fn heading(kind: FigureKind) -> (&'static str, &'static str) {
+    match kind {
+        FigureKind::FrictionDrop => ("Friction drop vs normal load", "Fig. 2"),
+        FigureKind::PressureDistribution => ("Distribution of the local normal stress", "Fig. 3"),
+        FigureKind::ContactMaps => ("Contact maps", "Fig. S4"),
+        FigureKind::ClassMap => ("Element classes at the critical state", "Fig. 4f"),
+        FigureKind::ClassFractions => ("Force shares of the element classes", "Fig. 4g"),
+        FigureKind::FrictionCurve => ("Friction–displacement curve", "Fig. 4a"),
+        FigureKind::StressRatioSnapshots => ("Stress-ratio snapshots", "Fig. S6"),
+        FigureKind::Movies => ("Movies of the stress ratio", "supplemental movies"),
+    }
+}
+
+/// Text escaped for HTML.
+fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Whether `law` is one of the illustrative presets, unchanged.
+fn is_preset(law: &FrictionLaw) -> bool {
+    PRESETS
+        .iter()
+        .any(|(name, mu_s, mu_d)| law.name.as_deref() == Some(*name) && law.mu_s == *mu_s && law.mu_d == *mu_d)
+}
+
+const STYLE: &str = "body{font-family:'DejaVu Sans',Verdana,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;\
+color:#222;line-height:1.45}h1{font-size:1.6em}h2{font-size:1.25em;margin-top:2em;border-bottom:1px solid #ccc}\
+table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:.3em .7em;text-align:right}\
+th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}pre{background:#f6f6f6;padding:1em;\
+overflow-x:auto;font-size:.85em}figure{margin:1.5em 0}figure img{max-width:100%;border:1px solid #ddd}\
+figcaption{font-size:.95em;color:#333;margin-top:.4em}.note{background:#fff6d8;border-left:4px solid #e0a800;\
+padding:.6em 1em}.skipped{color:#666}";
+
+/// Write the report for `input`, showing `drawn`, at `path` atomically.
+pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result<()> {
+    let mut h = String::new();
+    let w = &mut h;
+    // Writing into a String cannot fail.
+    let _ = write!(
+        w,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>asperity study</title>\n\
+         <style>{STYLE}</style>\n</head>\n<body>\n<h1>asperity study: static friction from single- to \
+         multi-asperity contact</h1>\n<p>The numerical study of Peng, Roch, Bonn &amp; Weber, Phys. Rev. Lett. \
+         134, 176202 (2025): elastic contact of each topography at each load, then the stick-slip transition \
+         model with each local friction law. {} topograph{}, {} friction law{}, {} result rows.</p>\n",
+        input.topographies.len(),
+        if input.topographies.len() == 1 { "y" } else { "ies" },
+        input.laws.len(),
+        if input.laws.len() == 1 { "" } else { "s" },
+        input.rows.len()
+    );
+
+    // Contents: what was drawn and what was not.
+    let _ = writeln!(w, "<h2>Figures</h2>\n<ul>");
+    for d in drawn {
+        let (title, paper) = heading(d.kind);
+        if d.images.is_empty() {
+            let _ = writeln!(w, "<li class=\"skipped\">{title} ({paper}): not drawn</li>");
+        } else {
+            let _ = writeln!(w, "<li><a href=\"#{}\">{title}</a> ({paper})</li>", stem(d.kind));
+        }
+    }
+    let _ = writeln!(w, "</ul>");
+    let notes: Vec<String> =
+        drawn.iter().flat_map(|d| d.notes.iter().map(move |n| format!("{}: {}", heading(d.kind).0, n))).collect();
+    if !notes.is_empty() {
+        let _ = writeln!(w, "<p>Left out for lack of data:</p>\n<ul class=\"skipped\">");
+        for n in notes {
+            let _ = writeln!(w, "<li>{}</li>", escape(&n));
+        }
+        let _ = writeln!(w, "</ul>");
+    }
+    let requested: Vec<FigureKind> = drawn.iter().map(|d| d.kind).collect();
+    let unrequested: Vec<&str> =
+        FigureKind::ALL.iter().filter(|k| !requested.contains(k)).map(|k| heading(*k).0).collect();
+    if !unrequested.is_empty() {
+        let _ = writeln!(w, "<p class=\"skipped\">Not requested by the study: {}.</p>", unrequested.join(", "));
+    }
+
+    results(w, input);
+    laws(w, input);
+    let parameters = serde_json::to_string_pretty(input.parameters).unwrap_or_else(|e| format!("({e})"));
+    let _ = writeln!(
+        w,
+        "<h2 id=\"parameters\">Parameters</h2>\n<p>The study as run:</p>\n<pre>{}</pre>",
+        escape(&parameters)
+    );
+
+    for d in drawn.iter().filter(|d| !d.images.is_empty()) {
+        let (title, paper) = heading(d.kind);
+        let _ = writeln!(w, "<h2 id=\"{}\">{title} <small>({paper})</small></h2>", stem(d.kind));
+        for image in &d.images {
+            let file = escape(&image.file);
+            let links = match &image.svg {
+                Some(svg) => format!(" <a href=\"{file}\">PNG</a> · <a href=\"{}\">SVG</a>", escape(svg)),
+                None => format!(" <a href=\"{file}\">GIF</a>"),
+            };
+            let _ = writeln!(
+                w,
+                "<figure>\n<img src=\"{file}\" alt=\"{}\" loading=\"lazy\">\n<figcaption>{}{links}</figcaption>\n</figure>",
+                escape(title),
+                escape(&image.caption)
+            );
+        }
+    }
+    let _ = writeln!(w, "</body>\n</html>");
+    crate::output::write_atomic(path, |out| out.write_all(h.as_bytes()))
+}
+
+/// The friction drop per law at each load: mean ± half the range over the topographies.
+fn results(w: &mut String, input: &FigureInput) {
+    let _ = writeln!(w, "<h2 id=\"results\">Results</h2>");
+    let columns: Vec<(String, Vec<(f64, Vec<&Row>)>)> =
+        input.laws.iter().map(|l| (law_name(l), by_load(input.rows, &law_name(l)))).collect();
+    let mut loads: Vec<f64> = columns.iter().flat_map(|c| c.1.iter().map(|g| g.0)).collect();
+    loads.sort_by(f64::total_cmp);
+    loads.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-9);
+    if loads.is_empty() {
+        let _ = writeln!(w, "<p class=\"skipped\">No result rows.</p>");
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "<p>Friction drop F<sub>S</sub>/(μ<sub>d</sub> N) per law and normal load: the mean over the {} \
+         topograph{} ± half their range. The full table is in <code>results.csv</code>.</p>\n<table>\n<tr>\
+         <th>normal load</th><th>contact elements (mean)</th>",
+        input.topographies.len(),
+        if input.topographies.len() == 1 { "y" } else { "ies" }
+    );
+    for (name, _) in &columns {
+        let _ = write!(w, "<th>{}</th>", escape(name));
+    }
+    let _ = writeln!(w, "</tr>");
+    for load in loads {
+        let at = |groups: &[(f64, Vec<&Row>)]| groups.iter().position(|g| (g.0 / load - 1.0).abs() < 1e-9);
+        let points = columns.iter().find_map(|c| at(&c.1).map(|k| &c.1[k].1)).map_or(String::from("–"), |rows| {
+            format!("{:.0}", spread(rows.iter().map(|r| r.contact_points as f64)).1)
+        });
+        let _ = write!(w, "<tr><td>{}</td><td>{points}</td>", load_label(load));
+        for (_, groups) in &columns {
+            match at(groups).map(|k| &groups[k].1) {
+                Some(rows) => {
+                    let (lo, mean, hi) = spread(rows.iter().map(|r| r.friction_drop));
+                    let _ = write!(w, "<td>{mean:.4} ± {:.4}</td>", (hi - lo) / 2.0);
+                }
+                None => {
+                    let _ = write!(w, "<td>–</td>");
+                }
+            }
+        }
+        let _ = writeln!(w, "</tr>");
+    }
+    let _ = writeln!(w, "</table>");
+}
+
+/// The friction laws, with the warning that presets are not measurements.
+fn laws(w: &mut String, input: &FigureInput) {
+    let _ = writeln!(
+        w,
+        "<h2 id=\"laws\">Friction laws</h2>\n<table>\n<tr><th>law</th><th>μ<sub>s</sub></th><th>μ<sub>d</sub></th>\
+         <th>μ<sub>s</sub>/μ<sub>d</sub> (single element)</th><th>source</th></tr>"
+    );
+    for law in input.laws {
+        let source = if is_preset(law) { "preset: illustrative placeholder" } else { "study configuration" };
+        let _ = writeln!(
+            w,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.4}</td><td>{source}</td></tr>",
+            escape(&law_name(law)),
+            law.mu_s,
+            law.mu_d,
+            law.drop()
+        );
+    }
+    let _ = writeln!(w, "</table>");
+    if input.laws.iter().any(is_preset) {
+        let _ = writeln!(
+            w,
+            "<p class=\"note\"><strong>Note:</strong> the preset laws' (μ<sub>s</sub>, μ<sub>d</sub>) values are \
+             illustrative placeholders, not measurements: the paper reads them from AFM friction curves (its Fig. \
+             S5) but states no values. They keep only the paper's ordering (the longer hold has the larger drop). \
+             For quantitative predictions give measured values in the study's configuration.</p>"
+        );
+    } else {
+        let _ = writeln!(w, "<p>The laws' values come from the study's configuration.</p>");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(escape("<a href=\"x\">&'</a>"), "&lt;a href=&quot;x&quot;&gt;&amp;&#39;&lt;/a&gt;");
+    }
+}

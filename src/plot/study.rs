@@ -1,0 +1,491 @@
+//! The study's figures, movies and report: [`render`] draws the figures a study asks for from
+//! its [`FigureInput`] into `DIR/figures/` and writes `DIR/index.html`, which shows them.
+//!
+//! The line figures (friction drop, p(σ), class fractions, friction curve) use the plot
+//! foundation's [`Figure`]; the maps are drawn in [`super::maps`], the movies in
+//! [`super::movie`], the page in [`super::report`]. Data a figure needs but the study lacks (no
+//! snapshot near a load, no measured points) is said in the figure or in the report; it is
+//! never an error.
+
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::maps::{load_label, ClassMap, ContactMaps, RatioSnapshots};
+use super::movie::{scaled_curve, write_movie};
+use super::{style, tick_label, write_figure, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
+use crate::error::{Error, Result};
+use crate::friction::{ElementLoads, FrictionLaw, Loading, Onset};
+use crate::shs::ShsPoint;
+use crate::study::{law_name, FigureInput, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
+
+/// A snapshot stands for a figure load when it lies within half a decade of it.
+const NEAR_DECADES: f64 = 0.5;
+
+/// Colours of the figure loads 0.1, 1, 10, 100 mN: the p(σ) curves and their lines on the
+/// friction-drop figure (dark to light, as the paper's black to yellow).
+const LOAD_COLOURS: [RGBColor; 4] =
+    [RGBColor(25, 25, 25), RGBColor(120, 50, 160), RGBColor(215, 120, 20), RGBColor(40, 140, 190)];
+
+/// A measured point belongs to the law of its hold time when the two agree within this factor.
+const HOLD_MATCH: f64 = 1.25;
+
+/// What became of one requested figure.
+pub(super) struct Drawn {
+    pub kind: FigureKind,
+    /// Files written, relative to the study directory, with what each shows.
+    pub images: Vec<Image>,
+    /// What could not be drawn, and why.
+    pub notes: Vec<String>,
+}
+
+/// One image of the report: a figure (`.png` + `.svg`) or a movie (`.gif`).
+pub(super) struct Image {
+    /// Path relative to the study directory, e.g. `figures/friction-drop.png`.
+    pub file: String,
+    pub svg: Option<String>,
+    pub caption: String,
+}
+
+/// Draw the figures of `input.figures` into `dir/figures/` (`<name>.png` + `.svg`, movies as
+/// `.gif`) and write `dir/index.html` showing them with the study's parameters and results.
+/// Returns every file written. Figures whose data the study lacks are left out with a note in
+/// the report.
+pub fn render(dir: &Path, input: &FigureInput) -> Result<Vec<PathBuf>> {
+    let figures_dir = dir.join("figures");
+    std::fs::create_dir_all(&figures_dir).map_err(|e| Error::io(&figures_dir, e))?;
+    let kinds: Vec<FigureKind> = FigureKind::ALL.into_iter().filter(|k| input.figures.contains(k)).collect();
+    let drawn: Vec<Drawn> = kinds.par_iter().map(|&kind| draw(dir, input, kind)).collect::<Result<_>>()?;
+    let mut files: Vec<PathBuf> = Vec::new();
+    for image in drawn.iter().flat_map(|d| &d.images) {
+        files.push(dir.join(&image.file));
+        files.extend(image.svg.as_ref().map(|s| dir.join(s)));
+    }
+    let page = dir.join("index.html");
+    super::report::write(&page, input, &drawn)?;
+    files.push(page);
+    Ok(files)
+}
+
+/// The file stem of a figure.
+pub(super) fn stem(kind: FigureKind) -> &'static str {
+    match kind {
+        FigureKind::FrictionDrop => "friction-drop",
+        FigureKind::PressureDistribution => "pressure-distribution",
+        FigureKind::ContactMaps => "contact-maps",
+        FigureKind::ClassMap => "class-map",
+        FigureKind::ClassFractions => "class-fractions",
+        FigureKind::FrictionCurve => "friction-curve",
+        FigureKind::StressRatioSnapshots => "stress-ratio-snapshots",
+        FigureKind::Movies => "movies",
+    }
+}
+
+/// The snapshot nearest `target` [N] in log scale, if within [`NEAR_DECADES`].
+fn nearest<'a>(maps: &'a [MapSnapshot], target: f64) -> Option<&'a MapSnapshot> {
+    let distance = |m: &MapSnapshot| (m.load_n / target).log10().abs();
+    maps.iter()
+        .filter(|m| m.load_n > 0.0 && distance(m) <= NEAR_DECADES)
+        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+}
+
+/// The onset of the first law on a snapshot.
+fn onset_of(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(ElementLoads, Onset)> {
+    let loads = ElementLoads::from_pressure(&snap.pressure, snap.pixel_area())?;
+    let onset = Onset::new(&loads, law);
+    Ok((loads, onset))
+}
+
+fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
+    let mut drawn = Drawn { kind, images: Vec::new(), notes: Vec::new() };
+    let first_law = input.laws.first();
+    let figure = |drawn: &mut Drawn, name: &str, fig: &dyn Fn(&Path) -> Result<PathBuf>, caption: String| {
+        let png = format!("figures/{name}.png");
+        fig(&dir.join(&png))?;
+        drawn.images.push(Image { file: png, svg: Some(format!("figures/{name}.svg")), caption });
+        Ok::<(), Error>(())
+    };
+    let name = stem(kind);
+    match kind {
+        FigureKind::FrictionDrop => match friction_drop(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("no result rows to draw the friction drop from".into()),
+        },
+        FigureKind::PressureDistribution => match pressure_distribution(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("no pressure map near 0.1, 1 or 10 mN".into()),
+        },
+        FigureKind::ContactMaps => {
+            let panels: Vec<(f64, Option<&MapSnapshot>)> =
+                FIGURE_LOADS_N.iter().map(|&t| (t, nearest(input.maps, t))).collect();
+            note_missing(&mut drawn, &panels);
+            if panels.iter().any(|p| p.1.is_some()) {
+                let fig = ContactMaps { panels };
+                let caption = "Contact maps at the loads nearest 0.1, 1, 10 and 100 mN (the paper's Fig. S4): the \
+                               whole window, contact pixels coloured by their local normal stress on one scale; \
+                               where the contact is small beside the window an inset zooms into it (scale bar \
+                               inside), its place marked on the map."
+                    .to_string();
+                figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?;
+            }
+        }
+        FigureKind::ClassMap => match (nearest(input.maps, 1e-2), first_law) {
+            (Some(snap), Some(law)) => {
+                let (_, onset) = onset_of(snap, law)?;
+                let fig = ClassMap { snap, onset, law_name: law_name(law) };
+                let caption = format!(
+                    "The state of every contact element at the critical state (the peak of the friction force) \
+                     at N = {}, for the law \"{}\" (the paper's Fig. 4f): critical elements stuck at μ_s (brown), \
+                     pre-sliding elements already slipped, at μ_d (amber), subcritical elements stuck below μ_s \
+                     (green); zoomed to the contact region.",
+                    load_label(snap.load_n),
+                    law_name(law)
+                );
+                figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?;
+            }
+            (None, _) => drawn.notes.push("no pressure map near 10 mN".into()),
+            (_, None) => drawn.notes.push("no friction law".into()),
+        },
+        FigureKind::ClassFractions => match class_fractions(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("no result rows for the first friction law".into()),
+        },
+        FigureKind::FrictionCurve => match (nearest(input.maps, 1e-4), first_law) {
+            (Some(snap), Some(law)) => {
+                let (fig, caption) = friction_curve(snap, law)?;
+                figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?;
+            }
+            (None, _) => drawn.notes.push("no pressure map near 0.1 mN".into()),
+            (_, None) => drawn.notes.push("no friction law".into()),
+        },
+        FigureKind::StressRatioSnapshots => {
+            let Some(law) = first_law else {
+                drawn.notes.push("no friction law".into());
+                return Ok(drawn);
+            };
+            let (fractions, bad): (Vec<f64>, Vec<f64>) =
+                input.snapshot_fractions.iter().partition(|f| **f > 0.0 && **f <= 1.0);
+            if !bad.is_empty() {
+                drawn.notes.push(format!("δ/δ_peak outside (0, 1] left out: {bad:?}"));
+            }
+            let mut columns = Vec::new();
+            for &target in &FIGURE_LOADS_N[..3] {
+                let snap = nearest(input.maps, target);
+                columns.push((target, snap.map(|s| onset_of(s, law).map(|(_, o)| (s, o))).transpose()?));
+            }
+            note_missing(&mut drawn, &columns.iter().map(|(t, c)| (*t, c.as_ref().map(|c| c.0))).collect::<Vec<_>>());
+            if fractions.is_empty() || columns.iter().all(|c| c.1.is_none()) {
+                drawn.notes.push("nothing to show: no snapshot fraction or no map near 0.1, 1 or 10 mN".into());
+            } else {
+                let list: Vec<String> = fractions.iter().map(tick_label).collect();
+                let caption = format!(
+                    "The local stress ratio (shear over normal force of each element) at imposed displacements \
+                     δ/δ_peak = {} (rows) for the loads nearest 0.1, 1 and 10 mN (columns), law \"{}\" (the \
+                     paper's Fig. S6): stuck elements from pale green (unloaded) to brown at μ_s (critical), \
+                     slipped elements amber (μ_d). Each map shows the whole contact or, where its pixels would be \
+                     too small to see, the most loaded contact patch and its surroundings.",
+                    list.join(", "),
+                    law_name(law)
+                );
+                let fig = RatioSnapshots { columns, fractions, law: law.clone(), law_name: law_name(law) };
+                figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?;
+            }
+        }
+        FigureKind::Movies => {
+            let Some(law) = first_law else {
+                drawn.notes.push("no friction law".into());
+                return Ok(drawn);
+            };
+            for &target in &FIGURE_LOADS_N[..3] {
+                let label = load_label(target).replace(' ', "");
+                let Some(snap) = nearest(input.maps, target) else {
+                    drawn.notes.push(format!("movie-{label}: no pressure map near {}", load_label(target)));
+                    continue;
+                };
+                let (_, onset) = onset_of(snap, law)?;
+                let file = format!("figures/movie-{label}.gif");
+                write_movie(&dir.join(&file), snap, &onset, &law_name(law))?;
+                let caption = format!(
+                    "The local stress ratio as the imposed displacement grows from 0 to 1.2 δ_peak at N = {} \
+                     ({} elements, law \"{}\"; the paper's supplemental movie at {}): stuck elements green, \
+                     turning brown as they reach μ_s, slipped elements amber; below, the friction coefficient \
+                     F/N with the current displacement. The map shows the whole contact or, where its pixels \
+                     would be too small to see, the most loaded contact patch. The movie holds at the peak (the \
+                     critical state) and at total sliding.",
+                    load_label(snap.load_n),
+                    onset.elements,
+                    law_name(law),
+                    load_label(target)
+                );
+                drawn.images.push(Image { file, svg: None, caption });
+            }
+        }
+    }
+    Ok(drawn)
+}
+
+/// A note for each figure load without a snapshot near it.
+fn note_missing(drawn: &mut Drawn, panels: &[(f64, Option<&MapSnapshot>)]) {
+    for (target, snap) in panels {
+        if snap.is_none() {
+            drawn.notes.push(format!("no pressure map near {}: its panel says so", load_label(*target)));
+        }
+    }
+}
+
+/// The rows of one law grouped by load, in increasing load.
+pub(super) fn by_load<'a>(rows: &'a [Row], law: &str) -> Vec<(f64, Vec<&'a Row>)> {
+    let mut mine: Vec<&Row> = rows.iter().filter(|r| r.law == law).collect();
+    mine.sort_by(|a, b| a.load_n.total_cmp(&b.load_n));
+    let mut groups: Vec<(f64, Vec<&Row>)> = Vec::new();
+    for r in mine {
+        match groups.last_mut() {
+            Some((load, group)) if (r.load_n / *load - 1.0).abs() < 1e-9 => group.push(r),
+            _ => groups.push((r.load_n, vec![r])),
+        }
+    }
+    groups
+}
+
+/// (min, mean, max) of `values`.
+pub(super) fn spread(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
+    let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
+    for v in values {
+        (lo, hi, sum, n) = (lo.min(v), hi.max(v), sum + v, n + 1);
+    }
+    (lo, sum / n as f64, hi)
+}
+
+/// The hold time [s] a law's name states ("hold 100 s", "100s hold"), if any.
+fn hold_time(name: &str) -> Option<f64> {
+    let words: Vec<&str> = name.split_whitespace().collect();
+    words.iter().enumerate().find_map(|(i, w)| match w.strip_suffix('s') {
+        Some(number) if !number.is_empty() => number.parse().ok(),
+        _ if words.get(i + 1) == Some(&"s") => w.parse().ok(),
+        _ => None,
+    })
+}
+
+/// The colour of the law at `index`: black, red, … as the paper's 100 s and 10 s hold times.
+fn law_colour(index: usize) -> RGBColor {
+    style::PALETTE[index % style::PALETTE.len()]
+}
+
+/// Friction drop vs load (Fig. 2).
+fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
+    let mut series = Vec::new();
+    let mut levels: Vec<f64> = Vec::new();
+    let mut measured: Vec<Option<&ShsPoint>> = input.experiments.iter().map(Some).collect();
+    let topographies = input.topographies.len();
+    for (i, law) in input.laws.iter().enumerate() {
+        let name = law_name(law);
+        let groups = by_load(input.rows, &name);
+        if groups.is_empty() {
+            continue;
+        }
+        let colour = law_colour(i);
+        let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
+        let stats: Vec<(f64, f64, f64)> = groups.iter().map(|g| spread(g.1.iter().map(|r| r.friction_drop))).collect();
+        let (lower, upper): (Vec<f64>, Vec<f64>) = stats.iter().map(|s| (s.0, s.2)).unzip();
+        levels.extend(lower.iter().chain(&upper));
+        let band = if topographies > 1 { format!("{topographies} topographies") } else { "1 topography".into() };
+        series.push(Series::band(x.clone(), lower, upper, colour).label(format!("{name}: model, {band}")));
+        series.push(Series::line(x.iter().copied().zip(stats.iter().map(|s| s.1)).collect(), colour));
+        let limit = law.drop();
+        levels.push(limit);
+        let (x0, x1) = (x[0], x[x.len() - 1]);
+        series.push(
+            Series::line(vec![(x0, limit), (x1, limit)], colour)
+                .dotted()
+                .label(format!("{name}: one element, μ_s/μ_d = {}", tick_label(&limit))),
+        );
+        // Measured points of this law's hold time.
+        if let Some(hold) = hold_time(&name) {
+            let mine: Vec<&ShsPoint> = measured
+                .iter_mut()
+                .filter(|p| p.is_some_and(|p| (p.hold_s / hold).ln().abs() <= HOLD_MATCH.ln()))
+                .filter_map(Option::take)
+                .collect();
+            if !mine.is_empty() {
+                series.push(points(&mine, Marker::Circle, colour, format!("{name}: measured"), &mut levels));
+            }
+        }
+    }
+    if series.is_empty() {
+        return None;
+    }
+    let others: Vec<&ShsPoint> = measured.into_iter().flatten().collect();
+    if !others.is_empty() {
+        series.push(points(&others, Marker::Square, style::GREY, "measured, other hold times".into(), &mut levels));
+    }
+    let (lo, hi) = levels.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    let pad = ((hi - lo) * 0.06).max(0.01);
+    let (y0, y1) = (lo - pad, hi + pad);
+    for (k, &target) in FIGURE_LOADS_N[..3].iter().enumerate() {
+        if let Some(snap) = nearest(input.maps, target) {
+            let x = snap.load_n * 1e3;
+            series.push(
+                Series::line(vec![(x, y0), (x, y1)], LOAD_COLOURS[k])
+                    .width(1)
+                    .label(format!("load of p(σ): {}", load_label(snap.load_n))),
+            );
+        }
+    }
+    let xs = input.rows.iter().map(|r| r.load_n).chain(input.experiments.iter().map(|p| p.load_n));
+    let (x0, x1) = xs.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x * 1e3), b.max(x * 1e3)));
+    let mut panel = Panel::new(
+        Axis::new("normal load N", "mN").log().range(x0 / 1.4, x1 * 1.4),
+        Axis::dimensionless("friction drop F_S / (μ_d N)").range(y0, y1),
+    )
+    .title("Friction drop vs normal load")
+    .legend_beside(470);
+    panel.series = series;
+    let experiments = if input.experiments.is_empty() {
+        " No measured points were given.".to_string()
+    } else {
+        " Points: measured friction drops F_S/F_D (mean ± standard deviation where given), coloured as the law of \
+         their hold time; grey squares match no law's hold time."
+            .to_string()
+    };
+    let caption = format!(
+        "The friction drop F_S/(μ_d N) as a function of normal load (the paper's Fig. 2): per friction law, the \
+         shaded band spans the values over the {topographies} topograph{}, the line is their mean, and the dotted \
+         line is the single-element limit μ_s/μ_d.{experiments} Thin vertical lines mark the loads of the p(σ) \
+         figure.",
+        if topographies == 1 { "y" } else { "ies" }
+    );
+    Some((Figure::new(panel).with_size(1650, 850), caption))
+}
+
+/// Measured points as a scatter series with error bars where given; extends `levels`.
+fn points(points: &[&ShsPoint], marker: Marker, colour: RGBColor, label: String, levels: &mut Vec<f64>) -> Series {
+    let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.load_n * 1e3, p.friction_drop)).collect();
+    let err: Vec<f64> = points.iter().map(|p| p.friction_drop_std.unwrap_or(0.0)).collect();
+    levels.extend(points.iter().zip(&err).flat_map(|(p, e)| [p.friction_drop - e, p.friction_drop + e]));
+    Series::scatter(xy, marker, colour).errors(err).label(label)
+}
+
+/// p(σ) of the local normal stress at the loads nearest 0.1, 1 and 10 mN (Fig. 3).
+fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
+    let maps: Vec<(usize, &MapSnapshot)> =
+        FIGURE_LOADS_N[..3].iter().enumerate().filter_map(|(k, &t)| nearest(input.maps, t).map(|m| (k, m))).collect();
+    let max = maps.iter().flat_map(|(_, m)| m.pressure.iter()).fold(0.0f64, |a, &b| a.max(b));
+    if maps.is_empty() || max <= 0.0 {
+        return None;
+    }
+    let (scale, unit) = super::prefixed(max, "Pa");
+    let mut panel = Panel::new(
+        Axis::new("local normal stress σ", &unit),
+        Axis::new("probability density p(σ)", &format!("1/{unit}")),
+    )
+    .title("Distribution of the local normal stress")
+    .legend(LegendPosition::UpperRight);
+    for (k, snap) in maps {
+        let contact: Vec<f64> = snap.pressure.iter().copied().filter(|p| *p > 0.0).collect();
+        let bins = ((contact.len() as f64).sqrt().round() as usize).clamp(12, 60);
+        let density = crate::contact::pressure_density(&contact, bins);
+        let width = density.get(1).map_or(density[0].0 * 2.0, |d| d.0 - density[0].0);
+        // A histogram's outline: each bin a flat step.
+        let mut outline = vec![(0.0, 0.0)];
+        for (centre, d) in density {
+            let (a, b) = ((centre - width / 2.0) * scale, (centre + width / 2.0) * scale);
+            outline.extend([(a, d / scale), (b, d / scale)]);
+        }
+        outline.push((outline[outline.len() - 1].0, 0.0));
+        let label = format!("N = {} ({} elements)", load_label(snap.load_n), contact.len());
+        panel.push(Series::line(outline, LOAD_COLOURS[k]).width(3).label(label));
+    }
+    let caption = "The probability density p(σ) of the local normal stress σ over the contact elements at the loads \
+                   nearest 0.1, 1 and 10 mN (the paper's Fig. 3), as histograms: discrete at low load (a few \
+                   elements), continuous at high load."
+        .to_string();
+    Some((Figure::new(panel).with_size(1200, 800), caption))
+}
+
+/// Fractions of N and of F_S carried by each class vs load, first law (Fig. 4g).
+fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
+    let law = input.laws.first()?;
+    let name = law_name(law);
+    let groups = by_load(input.rows, &name);
+    if groups.is_empty() {
+        return None;
+    }
+    let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
+    let mut panel = Panel::new(Axis::new("normal load N", "mN").log(), Axis::dimensionless("fraction").range(0.0, 1.0))
+        .title(format!("Force carried per element class at the critical state ({name})"))
+        .legend_beside(330);
+    type Pick = fn(&Row) -> f64;
+    let classes: [(&str, RGBColor, Pick, Pick); 3] = [
+        ("critical", style::CRITICAL, |r| r.critical_normal_fraction, |r| r.critical_friction_fraction),
+        ("pre-sliding", style::PRE_SLIDING, |r| r.pre_sliding_normal_fraction, |r| r.pre_sliding_friction_fraction),
+        ("subcritical", style::SUBCRITICAL, |r| r.subcritical_normal_fraction, |r| r.subcritical_friction_fraction),
+    ];
+    for (class, colour, normal, friction) in classes {
+        let mean = |pick: Pick| -> Vec<(f64, f64)> {
+            x.iter().zip(&groups).map(|(&x, g)| (x, spread(g.1.iter().map(|r| pick(r))).1)).collect()
+        };
+        let n = mean(normal);
+        panel.push(Series::scatter(n.clone(), Marker::Circle, colour));
+        panel.push(Series::line(n, colour).width(3).label(format!("{class}: N^μ/N")));
+        panel.push(Series::line(mean(friction), colour).width(3).dashed().label(format!("{class}: F^μ/F_S")));
+    }
+    let topographies = input.topographies.len();
+    let caption = format!(
+        "The fraction of the normal load N (solid) and of the static friction force F_S (dashed) carried by \
+         critical (brown), pre-sliding (amber) and subcritical (green) elements at the critical state, against the \
+         normal load, for the law \"{name}\" (the paper's Fig. 4g); mean over the {topographies} topograph{}.",
+        if topographies == 1 { "y" } else { "ies" }
+    );
+    Some((Figure::new(panel).with_size(1450, 800), caption))
+}
+
+/// F/N vs δ/δ_peak at the load nearest 0.1 mN, equal load sharing and rigid displacement
+/// control (Fig. 4a).
+fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, String)> {
+    let (loads, onset) = onset_of(snap, law)?;
+    // Both curves run past the peak into sliding; rigid control may need longer to slip all.
+    let rigid_end = law.mu_s * loads.sorted()[loads.len() - 1] / onset.critical_shear();
+    let end = rigid_end.clamp(1.5, 3.0);
+    let els = scaled_curve(&loads, &onset, Loading::EqualLoadSharing, end);
+    let rigid = scaled_curve(&loads, &onset, Loading::RigidDisplacement, end);
+    let peak = onset.static_coefficient();
+    let mut panel = Panel::new(
+        Axis::dimensionless("imposed displacement δ/δ_peak").range(0.0, end),
+        Axis::dimensionless("friction coefficient F/N").range(0.0, law.mu_s * 1.25),
+    )
+    .title(format!("Friction vs displacement at N = {} ({} elements)", load_label(snap.load_n), onset.elements))
+    .legend(LegendPosition::UpperRight);
+    panel.push(Series::line(vec![(0.0, law.mu_s), (end, law.mu_s)], style::GREY).dotted().label("local μ_s"));
+    panel.push(Series::line(vec![(0.0, law.mu_d), (end, law.mu_d)], style::GREY).dotted().label("local μ_d"));
+    panel.push(Series::line(rigid, style::PALETTE[2]).width(2).dashed().label("rigid displacement control"));
+    panel.push(Series::line(els, style::PALETTE[0]).width(3).label("equal load sharing (the model)"));
+    panel.push(
+        Series::scatter(vec![(1.0, peak)], Marker::Circle, style::PALETTE[0])
+            .hollow()
+            .label(format!("critical state: F_S/N = {:.4}", peak)),
+    );
+    let caption = format!(
+        "The macroscopic friction coefficient F/N against the imposed displacement δ (in units of δ_peak, the \
+         displacement at the peak) at N = {} for the law \"{}\" (the paper's Fig. 4a): the model's equal load \
+         sharing (solid), the peak circled (the critical state, F_S/N = {:.4}), and rigid displacement control \
+         without redistribution (dashed), which peaks at the same F_S; dotted: the local μ_s and μ_d.",
+        load_label(snap.load_n),
+        law_name(law),
+        peak
+    );
+    Ok((Figure::new(panel).with_size(1200, 800), caption))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hold_times_from_law_names() {
+        assert_eq!(hold_time("hold 100 s"), Some(100.0));
+        assert_eq!(hold_time("hold 10s"), Some(10.0));
+        assert_eq!(hold_time("2.5 s hold"), Some(2.5));
+        assert_eq!(hold_time("mu_s=0.6 mu_d=0.4"), None);
+        assert_eq!(hold_time("silicon"), None);
+    }
+}

@@ -1,0 +1,275 @@
+//! The study's figures, movies and report drawn from a real small computation: a synthetic
+//! rough silicon ball on a 128² grid, solved at loads from 0.1 to 100 mN, with the stick-slip
+//! model's rows and the snapshots a study keeps. Checks what is written, that it decodes and
+//! holds something, and that missing data leaves notes instead of failures.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::sync::OnceLock;
+
+use asperity::contact::{summarize, Boundary, ContactSolver, Material, SolverOptions};
+use asperity::friction::{ElementLoads, FrictionLaw, Onset};
+use asperity::plot::study::render;
+use asperity::shs::ShsPoint;
+use asperity::study::{FigureInput, FigureKind, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
+use asperity::topography::synth::SyntheticSurface;
+use ndarray::Array2;
+
+/// The results of a small study: two topographies × two laws × five loads.
+struct Study {
+    rows: Vec<Row>,
+    topographies: Vec<String>,
+    laws: Vec<FrictionLaw>,
+    maps: Vec<MapSnapshot>,
+    parameters: serde_json::Value,
+}
+
+const LOADS_N: [f64; 5] = [1e-4, 1e-3, 3e-3, 1e-2, 1e-1];
+
+fn study() -> &'static Study {
+    static STUDY: OnceLock<Study> = OnceLock::new();
+    STUDY.get_or_init(|| {
+        let laws = vec![FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::preset("hold 10 s").unwrap()];
+        let (mut rows, mut maps, mut topographies) = (Vec::new(), Vec::new(), Vec::new());
+        for seed in 0..2 {
+            // The paper's silicon ball window (31.13 µm) on a coarse grid: 243 nm pixels.
+            let surface = SyntheticSurface { grid: (128, 128), seed, ..Default::default() };
+            let topo = surface.generate().unwrap();
+            let name = format!("ball {seed}");
+            let (ny, nx) = topo.heights.dim();
+            let heights: Vec<f64> = topo.heights.iter().copied().collect();
+            let e_star = Material::SILICON.plane_strain_modulus();
+            let mut solver =
+                ContactSolver::new(&heights, (ny, nx), surface.size, e_star, Boundary::Free, SolverOptions::default())
+                    .unwrap();
+            let pixel = (surface.size.0 / nx as f64, surface.size.1 / ny as f64);
+            for load in LOADS_N {
+                let report = solver.solve(load, |_, _| {}).unwrap();
+                let pressure = Array2::from_shape_vec((ny, nx), solver.pressure().to_vec()).unwrap();
+                let summary = summarize(solver.pressure(), (ny, nx), surface.size, Boundary::Free);
+                let facts = SolveFacts {
+                    contact_points: summary.contact_points,
+                    patches: summary.patch_sizes.len(),
+                    contact_fraction: summary.contact_fraction,
+                    iterations: report.iterations,
+                    seconds: report.seconds,
+                };
+                let loads = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).unwrap();
+                for law in &laws {
+                    rows.push(Row::new(&name, load, &facts, &Onset::new(&loads, law)));
+                }
+                if seed == 0 && FIGURE_LOADS_N.contains(&load) {
+                    maps.push(MapSnapshot::crop(&name, load, &pressure, pixel, 3).unwrap());
+                }
+            }
+            topographies.push(name);
+        }
+        let parameters = serde_json::json!({
+            "grid": [128, 128],
+            "loads_n": LOADS_N,
+            "material": {"youngs_pa": 130e9, "poisson": 0.26},
+            "boundary": "free",
+        });
+        Study { rows, topographies, laws, maps, parameters }
+    })
+}
+
+fn point(load_n: f64, friction_drop: f64, std: Option<f64>, hold_s: f64) -> ShsPoint {
+    ShsPoint {
+        load_n,
+        load_n_std: None,
+        friction_drop,
+        friction_drop_std: std,
+        static_coefficient: None,
+        static_coefficient_std: None,
+        dynamic_coefficient: None,
+        dynamic_coefficient_std: None,
+        hold_s,
+        hold_s_std: None,
+        n_restarts: 3,
+    }
+}
+
+fn input<'a>(
+    s: &'a Study,
+    maps: &'a [MapSnapshot],
+    experiments: &'a [ShsPoint],
+    figures: &'a [FigureKind],
+    fractions: &'a [f64],
+) -> FigureInput<'a> {
+    FigureInput {
+        rows: &s.rows,
+        topographies: &s.topographies,
+        laws: &s.laws,
+        maps,
+        experiments,
+        figures,
+        snapshot_fractions: fractions,
+        parameters: &s.parameters,
+    }
+}
+
+/// Width, height and the fraction of pixels that are not white, of a PNG.
+fn png_facts(path: &Path) -> (u32, u32, f64) {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut reader = png::Decoder::new(file).read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let pixels = buf[..info.buffer_size()].chunks_exact(3);
+    let total = pixels.len() as f64;
+    let inked = pixels.filter(|p| p != &[255, 255, 255]).count() as f64;
+    (info.width, info.height, inked / total)
+}
+
+/// Width, height and frame count of a GIF.
+fn gif_facts(path: &Path) -> (u16, u16, usize) {
+    let mut decoder = gif::Decoder::new(std::fs::File::open(path).unwrap()).unwrap();
+    let (w, h) = (decoder.width(), decoder.height());
+    let mut frames = 0;
+    while decoder.read_next_frame().unwrap().is_some() {
+        frames += 1;
+    }
+    (w, h, frames)
+}
+
+/// Every file under `dir`, relative to it.
+fn files_in(dir: &Path) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            let sub = path.file_name().unwrap().to_string_lossy().to_string();
+            out.extend(files_in(&path).into_iter().map(|f| format!("{sub}/{f}")));
+        } else {
+            out.insert(path.file_name().unwrap().to_string_lossy().to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn every_figure_movie_and_the_report() {
+    let s = study();
+    let experiments = [
+        point(2.4e-4, 1.4, Some(0.03), 100.4),
+        point(2.4e-2, 1.1, None, 99.0),
+        point(1e-3, 1.15, Some(0.02), 10.0),
+        point(5e-3, 1.2, Some(0.05), 30.0), // no law of a 30 s hold: drawn neutral
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let input = input(s, &s.maps, &experiments, &FigureKind::ALL, &[0.25, 0.5, 0.75, 1.0]);
+    let files = render(dir.path(), &input).unwrap();
+
+    // (name, width, height) of each figure.
+    let figures = [
+        ("friction-drop", 1650, 850),
+        ("pressure-distribution", 1200, 800),
+        ("contact-maps", 1400, 1480),
+        ("class-map", 1400, 1060),
+        ("class-fractions", 1450, 800),
+        ("friction-curve", 1200, 800),
+        ("stress-ratio-snapshots", 150 + 3 * 400 + 20, 60 + 60 + 4 * 400 + 150),
+    ];
+    let movies = ["movie-0.1mN", "movie-1mN", "movie-10mN"];
+    let mut expected: BTreeSet<String> = BTreeSet::from(["index.html".to_string()]);
+    for (name, w, h) in figures {
+        let png = dir.path().join(format!("figures/{name}.png"));
+        let (pw, ph, inked) = png_facts(&png);
+        assert_eq!((pw, ph), (w, h), "{name}");
+        assert!(inked > 0.02 && inked < 0.9, "{name}: {inked} of the pixels drawn");
+        let svg = std::fs::read_to_string(dir.path().join(format!("figures/{name}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("</svg>") && svg.contains("<text"), "{name}");
+        expected.extend([format!("figures/{name}.png"), format!("figures/{name}.svg")]);
+    }
+    for name in movies {
+        let path = dir.path().join(format!("figures/{name}.gif"));
+        assert_eq!(gif_facts(&path), (760, 1080, 49), "{name}");
+        let bytes = std::fs::metadata(&path).unwrap().len();
+        assert!(bytes < 2_000_000, "{name}: {bytes} bytes");
+        expected.insert(format!("figures/{name}.gif"));
+    }
+    // Exactly the returned files were written, and nothing half-written is left.
+    let returned: BTreeSet<String> =
+        files.iter().map(|f| f.strip_prefix(dir.path()).unwrap().to_string_lossy().to_string()).collect();
+    assert_eq!(returned, expected);
+    assert_eq!(files_in(dir.path()), expected);
+
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    for file in expected.iter().filter(|f| f.starts_with("figures/")) {
+        assert!(html.contains(&format!("\"{file}\"")), "index.html links {file}");
+    }
+    for text in ["Fig. 2", "Fig. 3", "Fig. S4", "Fig. 4f", "Fig. 4g", "Fig. 4a", "Fig. S6", "supplemental movie"] {
+        assert!(html.contains(text), "index.html names {text}");
+    }
+    // The parameters, the laws with the placeholder warning, a results row per load.
+    assert!(html.contains("&quot;boundary&quot;: &quot;free&quot;") && html.contains("130000000000"));
+    assert!(html.contains("illustrative placeholder") && html.contains("hold 10 s"));
+    for load in ["0.1 mN", "1 mN", "3 mN", "10 mN", "100 mN"] {
+        assert!(html.contains(&format!("<tr><td>{load}</td>")), "results row at {load}");
+    }
+    assert!(!html.contains("not drawn") && !html.contains("http"), "self-contained, everything drawn");
+}
+
+#[test]
+fn missing_data_and_a_subset_leave_notes() {
+    let s = study();
+    // No experiments, no snapshot near 1 mN nor 100 mN, three figures asked for.
+    let maps: Vec<MapSnapshot> = s.maps.iter().filter(|m| m.load_n == 1e-4 || m.load_n == 1e-2).cloned().collect();
+    let figures = [FigureKind::Movies, FigureKind::FrictionDrop, FigureKind::ContactMaps];
+    let dir = tempfile::tempdir().unwrap();
+    let files = render(dir.path(), &input(s, &maps, &[], &figures, &[0.5, 1.0])).unwrap();
+    let names: BTreeSet<String> =
+        files.iter().map(|f| f.file_name().unwrap().to_string_lossy().to_string()).collect();
+    let expected = [
+        "friction-drop.png",
+        "friction-drop.svg",
+        "contact-maps.png",
+        "contact-maps.svg",
+        "movie-0.1mN.gif",
+        "movie-10mN.gif",
+        "index.html",
+    ];
+    assert_eq!(names, expected.iter().map(|s| s.to_string()).collect());
+    let (_, _, inked) = png_facts(&dir.path().join("figures/contact-maps.png"));
+    assert!(inked > 0.02, "two panels with data, two saying there is none");
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(html.contains("movie-1mN: no pressure map near 1 mN"), "{html}");
+    assert!(html.contains("no pressure map near 100 mN"));
+    assert!(html.contains("No measured points were given"));
+    assert!(html.contains("Not requested by the study") && html.contains("Contact maps"));
+    assert!(!html.contains("class-map.png"));
+}
+
+#[test]
+fn nothing_to_draw_is_no_failure() {
+    let s = study();
+    let laws: Vec<FrictionLaw> = Vec::new();
+    let input = FigureInput {
+        rows: &[],
+        topographies: &s.topographies,
+        laws: &laws,
+        maps: &[],
+        experiments: &[],
+        figures: &FigureKind::ALL,
+        snapshot_fractions: &[0.0, 1.5],
+        parameters: &serde_json::Value::Null,
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let files = render(dir.path(), &input).unwrap();
+    assert_eq!(files, vec![dir.path().join("index.html")]);
+    let html = std::fs::read_to_string(&files[0]).unwrap();
+    assert_eq!(html.matches("not drawn").count(), FigureKind::ALL.len());
+    assert!(html.contains("No result rows"));
+}
+
+#[test]
+fn bad_snapshot_fractions_are_left_out_with_a_note() {
+    let s = study();
+    let dir = tempfile::tempdir().unwrap();
+    let figures = [FigureKind::StressRatioSnapshots];
+    render(dir.path(), &input(s, &s.maps, &[], &figures, &[0.0, 0.5, 1.5, 1.0])).unwrap();
+    let (_, h, _) = png_facts(&dir.path().join("figures/stress-ratio-snapshots.png"));
+    assert_eq!(h, 60 + 60 + 2 * 400 + 150, "two rows");
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(html.contains("outside (0, 1] left out: [0.0, 1.5]"), "{html}");
+}
