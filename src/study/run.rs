@@ -190,7 +190,7 @@ impl Study {
             snapshot_fractions: &self.config.output.snapshot_fractions,
             parameters: &parameters,
         };
-        let figures = draw_figures(dir, &input)?;
+        let figures = crate::plot::study::render(dir, &input)?;
         Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures })
     }
 
@@ -396,13 +396,6 @@ impl Study {
     fn snapshot_stem(&self, k: usize) -> String {
         format!("{}-{k:02}", self.topographies[0].0)
     }
-}
-
-/// The study's figures and report (`dir/figures/`, `dir/index.html`), drawn from `input`.
-/// The figures are `plot::study::render`, written alongside this runner: it is wired in here
-/// when both are merged, and until then a run draws none.
-fn draw_figures(_dir: &Path, _input: &FigureInput) -> Result<Vec<PathBuf>> {
-    Ok(Vec::new())
 }
 
 /// A topography as the study solves it: read or generated, prepared, compounded with its
