@@ -176,7 +176,9 @@ fn every_figure_movie_and_the_report() {
         let png = dir.path().join(format!("figures/{name}.png"));
         let (pw, ph, inked) = png_facts(&png);
         assert_eq!((pw, ph), (w, h), "{name}");
-        assert!(inked > 0.02 && inked < 0.9, "{name}: {inked} of the pixels drawn");
+        // The class map inks only its contact pixels, a small share of the window.
+        let least = if name == "class-map" { 0.01 } else { 0.02 };
+        assert!(inked > least && inked < 0.9, "{name}: {inked} of the pixels drawn");
         let svg = std::fs::read_to_string(dir.path().join(format!("figures/{name}.svg"))).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("</svg>") && svg.contains("<text"), "{name}");
         expected.extend([format!("figures/{name}.png"), format!("figures/{name}.svg")]);

@@ -164,7 +164,8 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
         let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();
         assert_eq!((snap.load_n, snap.topography.as_str(), snap.grid), (*load, "ball-1", (64, 64)));
         let full: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/{k:02}.npy"))).unwrap();
-        assert_eq!(snap.pressure.sum(), full.sum());
+        // The same values summed in another order.
+        assert!((snap.pressure.sum() / full.sum() - 1.0).abs() < 1e-13);
         let area = snap.pixel_area();
         assert!((full.sum() * area / load - 1.0).abs() < 1e-10);
         assert_eq!(full.iter().filter(|p| **p > 0.0).count(), json[k].contact_points);
