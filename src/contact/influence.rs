@@ -12,7 +12,7 @@
 
 use rustfft::num_complex::Complex64;
 
-use crate::fft::{Fft2, Fft2Work};
+use crate::fft::{large_buffer, Fft2, Fft2Work};
 
 /// The boundary condition of the elastic half-space.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -90,7 +90,10 @@ impl Influence {
         Self::with_kernel(ny, nx, fft, kernel)
     }
 
-    fn with_kernel(ny: usize, nx: usize, fft: Fft2, kernel: Vec<f64>) -> Self {
+    fn with_kernel(ny: usize, nx: usize, fft: Fft2, values: Vec<f64>) -> Self {
+        // Read beside the spectrum in every column pass: the same huge pages.
+        let mut kernel = large_buffer(values.len(), 0.0);
+        kernel.copy_from_slice(&values);
         let spectrum = fft.make_spectrum();
         let work = fft.make_work();
         Influence { ny, nx, fft, kernel, spectrum, work }

@@ -35,7 +35,7 @@ use rustfft::num_complex::Complex64;
 
 use super::influence::{Boundary, Influence};
 use crate::error::{Error, Result};
-use crate::fft::{split_rows, split_rows_mut};
+use crate::fft::{large_buffer, split_rows, split_rows_mut};
 
 /// Iterations without a new best residual after which the conjugate gradient restarts.
 const STALL: usize = 50;
@@ -292,17 +292,19 @@ impl ContactSolver {
         let twiddle = |n: usize| {
             (0..n).map(|k| Complex64::from_polar(1.0, -2.0 * std::f64::consts::PI * k as f64 / n as f64)).collect()
         };
+        let mut heights_buffer = large_buffer(n, 0.0);
+        heights_buffer.copy_from_slice(heights);
         Ok(ContactSolver {
             ny,
             nx,
             size: (lx, ly),
             boundary,
             e_star,
-            heights: heights.to_vec(),
+            heights: heights_buffer,
             h_rms,
             operator,
             options,
-            displacement: vec![0.0; n],
+            displacement: large_buffer(n, 0.0),
             scale: 1.0,
             reference: 0.0,
             contact: ContactSet::default(),
@@ -316,7 +318,7 @@ impl ContactSolver {
             direct_rows: 0,
             row_sums: vec![[0.0; SUMS]; ny],
             spectrum_sums: vec![[0.0; 2]; nxh],
-            pressure_field: vec![0.0; n],
+            pressure_field: large_buffer(n, 0.0),
             warm: false,
         })
     }
