@@ -14,25 +14,22 @@ fn fixture() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tamaas/heights.npy")
 }
 
+/// Runs `contact` on the fixture with `loads` into `out`, expects success, returns contact.json.
+fn contact(loads: &[&str], out: &Path) -> serde_json::Value {
+    let surface = fixture();
+    let mut args = vec!["contact", surface.to_str().unwrap(), "--size", "8e-6,6e-6"];
+    args.extend_from_slice(loads);
+    args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    let o = asperity(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_str(&std::fs::read_to_string(out.join("contact.json")).unwrap()).unwrap()
+}
+
 #[test]
 fn writes_contact_json_and_one_pressure_map_per_load() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
-    let o = asperity(&[
-        "contact",
-        fixture().to_str().unwrap(),
-        "--size",
-        "8e-6,6e-6",
-        "--load",
-        "2e-3",
-        "--load",
-        "2e-4",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("contact.json")).unwrap()).unwrap();
+    let json = contact(&["--load", "2e-3", "--load", "2e-4"], &out);
     assert_eq!(json["grid"], serde_json::json!([96, 128]));
     assert_eq!(json["physical_size_m"], serde_json::json!([8e-6, 6e-6]));
     assert_eq!(json["boundary"], "periodic");
@@ -112,18 +109,6 @@ fn bad_input_is_refused_in_one_line() {
 fn full_contact_is_a_result() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("full");
-    let o = asperity(&[
-        "contact",
-        fixture().to_str().unwrap(),
-        "--size",
-        "8e-6,6e-6",
-        "--load",
-        "50",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("contact.json")).unwrap()).unwrap();
+    let json = contact(&["--load", "50"], &out);
     assert_eq!(json["loads"][0]["contact_fraction"].as_f64(), Some(1.0));
 }

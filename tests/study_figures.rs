@@ -47,13 +47,7 @@ fn study() -> &'static Study {
                 let report = solver.solve(load, |_, _| {}).unwrap();
                 let pressure = Array2::from_shape_vec((ny, nx), solver.pressure().to_vec()).unwrap();
                 let summary = summarize(solver.pressure(), (ny, nx), surface.size, Boundary::Free);
-                let facts = SolveFacts {
-                    contact_points: summary.contact_points,
-                    patches: summary.patch_sizes.len(),
-                    contact_fraction: summary.contact_fraction,
-                    iterations: report.iterations,
-                    seconds: report.seconds,
-                };
+                let facts = SolveFacts::new(&summary, &report);
                 let loads = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).unwrap();
                 for law in &laws {
                     rows.push(Row::new(&name, load, &facts, &Onset::new(&loads, law)));

@@ -14,6 +14,7 @@ use std::path::Path;
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
+use crate::contact::{ContactSummary, SolveReport};
 use crate::error::{Error, Result};
 use crate::friction::{ClassShare, FrictionLaw, Onset};
 use crate::shs::ShsPoint;
@@ -104,6 +105,19 @@ pub struct SolveFacts {
     pub contact_fraction: f64,
     pub iterations: usize,
     pub seconds: f64,
+}
+
+impl SolveFacts {
+    /// The facts of a solve from its contact statistics and the solver's report.
+    pub fn new(summary: &ContactSummary, report: &SolveReport) -> SolveFacts {
+        SolveFacts {
+            contact_points: summary.contact_points,
+            patches: summary.patch_sizes.len(),
+            contact_fraction: summary.contact_fraction,
+            iterations: report.iterations,
+            seconds: report.seconds,
+        }
+    }
 }
 
 /// The contact region of one solve, kept for the figures: the pressure inside the bounding box

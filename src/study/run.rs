@@ -316,13 +316,7 @@ impl Study {
             let report = solver.solve(load, |_, _| ()).map_err(context)?;
             let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
             let summary = contact::summarize(solver.pressure(), shape, size, c.boundary);
-            let facts = SolveFacts {
-                contact_points: summary.contact_points,
-                patches: summary.patch_sizes.len(),
-                contact_fraction: summary.contact_fraction,
-                iterations: report.iterations,
-                seconds: report.seconds,
-            };
+            let facts = SolveFacts::new(&summary, &report);
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
             let rows = self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law))).collect();
 
