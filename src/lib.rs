@@ -12,6 +12,7 @@ pub mod fft;
 pub mod friction;
 pub mod output;
 pub mod plot;
+pub mod quantity;
 pub mod shs;
 pub mod study;
 pub mod topography;

@@ -267,8 +267,8 @@ fn renamed_columns_and_units() {
         normal_column: "N".into(),
         displacement_column: Some("x".into()),
         time_unit: shs::seconds_per("ms").unwrap(),
-        friction_unit: shs::newtons_per("mN").unwrap(),
-        normal_unit: shs::newtons_per("mN").unwrap(),
+        friction_unit: asperity::quantity::newtons_per("mN").unwrap(),
+        normal_unit: asperity::quantity::newtons_per("mN").unwrap(),
         displacement_unit: 1e-6,
     };
     let trace = shs::read_trace(&path, &format).unwrap();

@@ -60,19 +60,43 @@ fn bad_study_files_fail_on_one_line_at_their_place() {
         // An unknown key.
         ("tolerance = 1e-8", "tolerence = 1e-8", "error: study.toml:8:1: contact.tolerence: unknown field `tolerence`"),
         // A wrong unit: a length for a load, a force for a length.
-        ("min = \"0.1 mN\"", "min = \"0.1 mm\"", "error: study.toml:12:7: loads.min: '0.1 mm' is a length, not a force"),
+        (
+            "min = \"0.1 mN\"",
+            "min = \"0.1 mm\"",
+            "error: study.toml:12:7: loads.min: '0.1 mm' is a length, not a force",
+        ),
         ("\"22 nm\"", "\"22 mN\"", "topography[0].synthetic: roughness.rms_height_m: '22 mN' is a force, not a length"),
         // An empty load list, a non-positive load.
-        ("min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3", "values = []", "error: study.toml:12:1: loads.values: the load list is empty"),
-        ("min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3", "values = [\"1 mN\", 0]", "loads.values[1]: 0 N is not positive"),
+        (
+            "min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3",
+            "values = []",
+            "error: study.toml:12:1: loads.values: the load list is empty",
+        ),
+        (
+            "min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3",
+            "values = [\"1 mN\", 0]",
+            "loads.values[1]: 0 N is not positive",
+        ),
         ("min = \"0.1 mN\"", "min = \"-0.1 mN\"", "error: study.toml:12:1: loads.min: -0.0001 N is not positive"),
         // Bad laws.
-        ("preset = \"hold 100 s\"", "preset = \"hold 1 s\"", "error: study.toml:16:1: law[0]: unknown law \"hold 1 s\""),
-        ("preset = \"hold 100 s\"", "name = \"x\"\nmu_s = 0.2\nmu_d = 0.4", "law[0]: the static friction coefficient 0.2 is below the dynamic one"),
+        (
+            "preset = \"hold 100 s\"",
+            "preset = \"hold 1 s\"",
+            "error: study.toml:16:1: law[0]: unknown law \"hold 1 s\"",
+        ),
+        (
+            "preset = \"hold 100 s\"",
+            "name = \"x\"\nmu_s = 0.2\nmu_d = 0.4",
+            "law[0]: the static friction coefficient 0.2 is below the dynamic one",
+        ),
         ("preset = \"hold 100 s\"", "mu_s = 0.6", "law[0]: give exactly one of"),
         // A boundary that does not exist, a cap too small for its window.
         ("\"periodic\"", "\"periodical\"", "error: study.toml:7:12: contact.boundary: 'periodical' is not"),
-        ("\"1.5 mm\"", "\"10 µm\"", "topography[0].synthetic: cap.radius_m: 0.00001 m is smaller than the window's half-diagonal"),
+        (
+            "\"1.5 mm\"",
+            "\"10 µm\"",
+            "topography[0].synthetic: cap.radius_m: 0.00001 m is smaller than the window's half-diagonal",
+        ),
     ];
     for (from, to, expected) in cases {
         assert!(GOOD.contains(from), "{from}");
@@ -90,7 +114,10 @@ fn files_are_read_before_anything_is_solved() {
     assert!(stderr.starts_with("error: study.toml: topography \"ball-2\": "), "{stderr}");
     assert!(stderr.contains("scans/ball.npy") && stderr.contains("No such file"), "{stderr}");
     // A wafer file, a friction curve, measured points.
-    let wafer = GOOD.replace("cap = { radius_m = \"1.5 mm\" } }", "cap = { radius_m = \"1.5 mm\" } }\nwafer = { file = \"w.npy\" }");
+    let wafer = GOOD.replace(
+        "cap = { radius_m = \"1.5 mm\" } }",
+        "cap = { radius_m = \"1.5 mm\" } }\nwafer = { file = \"w.npy\" }",
+    );
     let stderr = refused(&wafer);
     assert!(stderr.starts_with("error: study.toml: topography \"ball\": ") && stderr.contains("w.npy"), "{stderr}");
     let curve = GOOD.replace("preset = \"hold 100 s\"", "curve = \"afm.csv\"");
@@ -130,10 +157,40 @@ fn print_default_is_the_default_study_and_explains_it() {
     assert_eq!(text, DEFAULT_STUDY);
     assert_eq!(StudyConfig::parse(&text, "default").unwrap(), StudyConfig::default_study());
     for key in [
-        "size_m", "grid", "seed", "hurst", "rms_height_m", "rolloff_wavelength_m", "radius_m", "file", "format",
-        "channel", "size", "height_unit", "crop", "fill_missing", "detrend", "pixel_size", "wafer", "youngs", "poisson",
-        "counter_youngs", "boundary", "tolerance", "max_iterations", "values", "count", "preset", "mu_s", "curve",
-        "window", "pressure_maps", "experiments", "figures", "snapshot_fractions", "PLACEHOLDERS",
+        "size_m",
+        "grid",
+        "seed",
+        "hurst",
+        "rms_height_m",
+        "rolloff_wavelength_m",
+        "radius_m",
+        "file",
+        "format",
+        "channel",
+        "size",
+        "height_unit",
+        "crop",
+        "fill_missing",
+        "detrend",
+        "pixel_size",
+        "wafer",
+        "youngs",
+        "poisson",
+        "counter_youngs",
+        "boundary",
+        "tolerance",
+        "max_iterations",
+        "values",
+        "count",
+        "preset",
+        "mu_s",
+        "curve",
+        "window",
+        "pressure_maps",
+        "experiments",
+        "figures",
+        "snapshot_fractions",
+        "PLACEHOLDERS",
     ] {
         assert!(text.contains(key), "{key} is not explained");
     }

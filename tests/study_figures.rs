@@ -214,8 +214,7 @@ fn missing_data_and_a_subset_leave_notes() {
     let figures = [FigureKind::Movies, FigureKind::FrictionDrop, FigureKind::ContactMaps];
     let dir = tempfile::tempdir().unwrap();
     let files = render(dir.path(), &input(s, &maps, &[], &figures, &[0.5, 1.0])).unwrap();
-    let names: BTreeSet<String> =
-        files.iter().map(|f| f.file_name().unwrap().to_string_lossy().to_string()).collect();
+    let names: BTreeSet<String> = files.iter().map(|f| f.file_name().unwrap().to_string_lossy().to_string()).collect();
     let expected = [
         "friction-drop.png",
         "friction-drop.svg",

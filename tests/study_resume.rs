@@ -33,7 +33,11 @@ fn records(out: &Path) -> usize {
 }
 
 fn run(dir: &Path, out: &str) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_asperity")).args(["run", "study.toml", "--out", out]).current_dir(dir).output().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["run", "study.toml", "--out", out])
+        .current_dir(dir)
+        .output()
+        .unwrap()
 }
 
 /// Rows of a results.csv without the column of timings.

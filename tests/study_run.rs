@@ -54,11 +54,15 @@ fn direct_rows() -> Vec<Row> {
         size: (31.13e-6, 31.13e-6),
         grid: (64, 64),
         seed,
-        roughness: Some(SelfAffine { amplitude: asperity::topography::synth::Amplitude::RmsHeight(rms), ..SelfAffine::silicon_ball() }),
+        roughness: Some(SelfAffine {
+            amplitude: asperity::topography::synth::Amplitude::RmsHeight(rms),
+            ..SelfAffine::silicon_ball()
+        }),
         cap,
     };
     let cap = SyntheticSurface::default().cap;
-    let ball_1 = compound(&surface(1, 22e-9, cap).generate().unwrap(), &surface(101, 0.2e-9, None).generate().unwrap()).unwrap();
+    let ball_1 =
+        compound(&surface(1, 22e-9, cap).generate().unwrap(), &surface(101, 0.2e-9, None).generate().unwrap()).unwrap();
     let ball_2 = surface(2, 22e-9, cap).generate().unwrap();
     let laws = [FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::new(0.9, 0.3).unwrap().named("strong")];
     let e_star = Material::SILICON.plane_strain_modulus();
@@ -81,7 +85,8 @@ fn direct_rows() -> Vec<Row> {
             };
             let p = Array2::from_shape_vec((64, 64), solver.pressure().to_vec()).unwrap();
             let elements = ElementLoads::from_pressure(&p, (size.0 / 64.0) * (size.1 / 64.0)).unwrap();
-            per_load.push(laws.iter().map(|l| Row::new(name, load, &facts, &Onset::new(&elements, l))).collect::<Vec<_>>());
+            per_load
+                .push(laws.iter().map(|l| Row::new(name, load, &facts, &Onset::new(&elements, l))).collect::<Vec<_>>());
         }
         for l in 0..laws.len() {
             rows.extend(per_load.iter().map(|r| r[l].clone()));
@@ -129,23 +134,41 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
     }
     // Topography × law × load, loads ascending whatever order the file gave them in.
     let order: Vec<_> = json.iter().map(|r| (r.topography.as_str(), r.law.as_str(), r.load_n)).collect();
-    assert_eq!(order[..5], [
-        ("ball-1", "hold 100 s", 1e-4),
-        ("ball-1", "hold 100 s", 1e-3),
-        ("ball-1", "hold 100 s", 1e-2),
-        ("ball-1", "hold 100 s", 1e-1),
-        ("ball-1", "strong", 1e-4)
-    ]);
+    assert_eq!(
+        order[..5],
+        [
+            ("ball-1", "hold 100 s", 1e-4),
+            ("ball-1", "hold 100 s", 1e-3),
+            ("ball-1", "hold 100 s", 1e-2),
+            ("ball-1", "hold 100 s", 1e-1),
+            ("ball-1", "strong", 1e-4)
+        ]
+    );
 
     // results.csv: the same rows, every column.
     let mut csv = csv::Reader::from_path(out.join("results.csv")).unwrap();
     let header: Vec<String> = csv.headers().unwrap().iter().map(String::from).collect();
     for column in [
-        "load_n", "topography", "law", "contact_points", "patches", "contact_fraction", "static_coefficient",
-        "dynamic_coefficient", "friction_drop", "critical_count", "critical_normal_fraction",
-        "critical_friction_fraction", "pre_sliding_count", "pre_sliding_normal_fraction",
-        "pre_sliding_friction_fraction", "subcritical_count", "subcritical_normal_fraction",
-        "subcritical_friction_fraction", "iterations", "seconds",
+        "load_n",
+        "topography",
+        "law",
+        "contact_points",
+        "patches",
+        "contact_fraction",
+        "static_coefficient",
+        "dynamic_coefficient",
+        "friction_drop",
+        "critical_count",
+        "critical_normal_fraction",
+        "critical_friction_fraction",
+        "pre_sliding_count",
+        "pre_sliding_normal_fraction",
+        "pre_sliding_friction_fraction",
+        "subcritical_count",
+        "subcritical_normal_fraction",
+        "subcritical_friction_fraction",
+        "iterations",
+        "seconds",
     ] {
         assert!(header.iter().any(|h| h == column), "no column {column} in {header:?}");
     }
@@ -171,8 +194,10 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
         assert_eq!(full.iter().filter(|p| **p > 0.0).count(), json[k].contact_points);
     }
     // Nothing left over from the sweep but its records.
-    let mut solves: Vec<_> =
-        std::fs::read_dir(out.join("solves/ball-2")).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut solves: Vec<_> = std::fs::read_dir(out.join("solves/ball-2"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
     solves.sort();
     assert_eq!(solves, ["00.json", "01.json", "02.json", "03.json"]);
 
@@ -220,8 +245,15 @@ fn a_warm_start_from_a_saved_pressure_continues_the_sweep_exactly() {
     let heights: Vec<f64> = topo.heights.iter().copied().collect();
     let new = || {
         let e_star = Material::SILICON.plane_strain_modulus();
-        ContactSolver::new(&heights, (64, 64), topo.physical_size.unwrap(), e_star, Boundary::Periodic, SolverOptions::default())
-            .unwrap()
+        ContactSolver::new(
+            &heights,
+            (64, 64),
+            topo.physical_size.unwrap(),
+            e_star,
+            Boundary::Periodic,
+            SolverOptions::default(),
+        )
+        .unwrap()
     };
     let mut sweep = new();
     sweep.solve(1e-3, |_, _| ()).unwrap();

@@ -22,18 +22,19 @@ use super::ReadArgs;
 pub struct ContactArgs {
     #[command(flatten)]
     read: ReadArgs,
-    /// Normal load [N]; repeat for a sweep (--load 1e-4 --load 1e-3 …) or give a list (1e-4,1e-3).
-    #[arg(long, value_name = "N", required = true, value_delimiter = ',', allow_negative_numbers = true)]
+    /// Normal load [N, or with a unit: 1mN]; repeat for a sweep (--load 1e-4 --load 1e-3 …) or
+    /// give a list (0.1mN,1mN).
+    #[arg(long, value_name = "N", required = true, value_delimiter = ',', allow_negative_numbers = true, value_parser = super::force)]
     load: Vec<f64>,
-    /// Young's modulus of the elastic body [Pa] (default: silicon).
-    #[arg(long, value_name = "E", default_value_t = Material::SILICON.youngs, allow_negative_numbers = true)]
+    /// Young's modulus of the elastic body [Pa, or with a unit: 130GPa] (default: silicon).
+    #[arg(long, value_name = "E", default_value_t = Material::SILICON.youngs, allow_negative_numbers = true, value_parser = super::pressure)]
     youngs: f64,
     /// Poisson's ratio of the elastic body, in (−1, 0.5) (default: silicon).
     #[arg(long, value_name = "NU", default_value_t = Material::SILICON.poisson, allow_negative_numbers = true)]
     poisson: f64,
     /// Young's modulus of a second elastic body [Pa]; with --poisson2, the two combine as
     /// 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2. Without it the counter-body is rigid.
-    #[arg(long, value_name = "E2", requires = "poisson2", allow_negative_numbers = true)]
+    #[arg(long, value_name = "E2", requires = "poisson2", allow_negative_numbers = true, value_parser = super::pressure)]
     youngs2: Option<f64>,
     /// Poisson's ratio of the second elastic body.
     #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]

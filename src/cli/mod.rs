@@ -13,6 +13,7 @@ use std::process::ExitCode;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 
+use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
 
 /// Print a usage error as one line (help and version requests print in full) and exit 2.
@@ -43,8 +44,8 @@ pub struct ReadArgs {
     /// Channel to read, by name or 0-based index [default: the first height channel].
     #[arg(long, value_name = "C")]
     channel: Option<String>,
-    /// Physical size in metres, LX or LX,LY (LY defaults to LX): needed for a bare array
-    /// (.npy), checked against the size a file states.
+    /// Physical size LX or LX,LY [m, or with a unit: 31.13um] (LY defaults to LX): needed for
+    /// a bare array (.npy), checked against the size a file states.
     #[arg(long, value_name = "LX[,LY]", value_parser = parse_size)]
     size: Option<(f64, f64)>,
     /// Unit of the heights of a file that states none (m, mm, µm, nm, Å); a bare array
@@ -67,13 +68,30 @@ impl ReadArgs {
     }
 }
 
-/// `LX` or `LX,LY` in metres.
+/// `LX` or `LX,LY`: lengths, bare numbers in metres or with a unit ("31.13um").
 fn parse_size(s: &str) -> std::result::Result<(f64, f64), String> {
-    let number = |t: &str| t.trim().parse::<f64>().map_err(|_| format!("'{t}' is not a length in metres"));
     match s.split_once(',') {
-        Some((lx, ly)) => Ok((number(lx)?, number(ly)?)),
-        None => number(s).map(|l| (l, l)),
+        Some((lx, ly)) => Ok((length(lx)?, length(ly)?)),
+        None => length(s).map(|l| (l, l)),
     }
+}
+
+// Clap value parsers for quantities: a bare number in SI units, or a number with its unit as
+// in the study file ("1mN", "31.13 µm", "130GPa").
+
+/// A length [m].
+pub fn length(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::LENGTH, true)
+}
+
+/// A force [N].
+pub fn force(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::FORCE, true)
+}
+
+/// A pressure or modulus [Pa].
+pub fn pressure(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::PRESSURE, true)
 }
 
 /// A progress bar on stderr for long work, hidden when stderr is not a terminal.
@@ -96,6 +114,9 @@ mod tests {
     fn sizes_parse() {
         assert_eq!(parse_size("1e-6"), Ok((1e-6, 1e-6)));
         assert_eq!(parse_size("1e-6, 2e-6"), Ok((1e-6, 2e-6)));
-        assert!(parse_size("10um").is_err());
+        assert_eq!(parse_size("31.13um"), Ok((31.13e-6, 31.13e-6)));
+        assert!(parse_size("10 mN").unwrap_err().contains("not a length"));
+        assert_eq!(force("1mN"), Ok(1e-3));
+        assert_eq!(pressure("130 GPa"), Ok(130e9));
     }
 }

@@ -85,8 +85,8 @@ pub fn run(args: Args) -> asperity::Result<()> {
         normal_column: args.normal_column,
         displacement_column: args.displacement_column,
         time_unit: unit("--time-unit", &args.time_unit, shs::seconds_per, "s, ms, us, min or h")?,
-        friction_unit: unit("--friction-unit", &args.friction_unit, shs::newtons_per, forces)?,
-        normal_unit: unit("--normal-unit", &args.normal_unit, shs::newtons_per, forces)?,
+        friction_unit: unit("--friction-unit", &args.friction_unit, asperity::quantity::newtons_per, forces)?,
+        normal_unit: unit("--normal-unit", &args.normal_unit, asperity::quantity::newtons_per, forces)?,
         displacement_unit: unit(
             "--displacement-unit",
             &args.displacement_unit,

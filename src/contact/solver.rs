@@ -387,7 +387,8 @@ impl ContactSolver {
             return Err(Error::invalid("warm start", format!("pressure {} Pa at point {i}", pressure[i])));
         }
         let c = &mut self.contact;
-        (c.index, c.pressure) = pressure.iter().enumerate().filter(|(_, p)| **p > 0.0).map(|(i, p)| (i as u32, *p)).unzip();
+        (c.index, c.pressure) =
+            pressure.iter().enumerate().filter(|(_, p)| **p > 0.0).map(|(i, p)| (i as u32, *p)).unzip();
         c.row_start = (0..=ny).map(|y| c.index.partition_point(|&i| (i as usize) < y * nx)).collect();
         c.direction = vec![0.0; c.index.len()];
         c.gap = vec![0.0; c.index.len()];

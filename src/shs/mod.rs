@@ -22,7 +22,7 @@ mod trace;
 
 pub use figure::trace_figure;
 pub use points::{read_points, write_points, ShsPoint};
-pub use trace::{newtons_per, read_trace, seconds_per, Trace, TraceFormat, DISPLACEMENT_COLUMN};
+pub use trace::{read_trace, seconds_per, Trace, TraceFormat, DISPLACEMENT_COLUMN};
 
 use serde::Serialize;
 

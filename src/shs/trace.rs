@@ -43,18 +43,6 @@ impl Default for TraceFormat {
 /// The default name of the optional displacement column.
 pub const DISPLACEMENT_COLUMN: &str = "displacement_m";
 
-/// Newtons per `unit` for the force units instruments write (`"N"`, `"mN"`, `"uN"`, `"µN"`, …).
-pub fn newtons_per(unit: &str) -> Option<f64> {
-    Some(match unit.trim() {
-        "kN" => 1e3,
-        "N" => 1.0,
-        "mN" => 1e-3,
-        "uN" | "µN" | "μN" => 1e-6,
-        "nN" => 1e-9,
-        _ => return None,
-    })
-}
-
 /// Seconds per `unit` (`"s"`, `"ms"`, `"min"`, `"h"`).
 pub fn seconds_per(unit: &str) -> Option<f64> {
     Some(match unit.trim() {

@@ -53,9 +53,9 @@ use super::FigureKind;
 use crate::contact::{Boundary, Material};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
+use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE};
 use crate::topography::detrend::Detrend;
 use crate::topography::synth::SyntheticSurface;
-use crate::topography::units;
 
 /// The default study, as `asperity run --print-default` prints it: three synthetic silicon
 /// balls against synthetic wafers, silicon, 13 loads from 0.1 to 100 mN, two placeholder laws.
@@ -299,7 +299,9 @@ impl StudyConfig {
         let loads = self.load_values();
         let (min, max) = (loads[0], loads[loads.len() - 1]);
         self.loads = LoadsSpec {
-            values: Some(log_spaced(min, max, if min < max { QUICK_LOADS } else { 1 }).into_iter().map(Force).collect()),
+            values: Some(
+                log_spaced(min, max, if min < max { QUICK_LOADS } else { 1 }).into_iter().map(Force).collect(),
+            ),
             min: None,
             max: None,
             count: None,
@@ -380,8 +382,7 @@ impl StudyConfig {
 
         let m = &self.material;
         let material = key("material");
-        Material::new(m.youngs.0, m.poisson, "material")
-            .map_err(|e| (vec![material.clone()], reason_of(e)))?;
+        Material::new(m.youngs.0, m.poisson, "material").map_err(|e| (vec![material.clone()], reason_of(e)))?;
         match (m.counter_youngs, m.counter_poisson) {
             (Some(e), Some(nu)) => {
                 Material::new(e.0, nu, "counter-body").map_err(|e| (vec![material.clone()], reason_of(e)))?;
@@ -488,7 +489,7 @@ impl SurfaceSpec {
                     }
                 }
                 if let Some(unit) = &self.height_unit {
-                    if units::metres_per(unit).is_none() {
+                    if crate::topography::units::metres_per(unit).is_none() {
                         return at("height_unit", format!("'{unit}' is not a length unit"));
                     }
                 }
@@ -519,7 +520,9 @@ impl CropSpec {
             (Some(x), Some(y), None, None) if ordered(x) && ordered(y) => Ok(()),
             (Some(_), Some(_), None, None) => Err("each of x and y must be [start, end] with 0 ≤ start < end".into()),
             (None, None, Some(c), Some(r)) if c[0] < c[1] && r[0] < r[1] => Ok(()),
-            (None, None, Some(_), Some(_)) => Err("each of columns and rows must be [start, end] with start < end".into()),
+            (None, None, Some(_), Some(_)) => {
+                Err("each of columns and rows must be [start, end] with start < end".into())
+            }
             _ => Err("give either `x` and `y` (lengths) or `columns` and `rows` (pixels)".into()),
         }
     }
@@ -637,75 +640,6 @@ pub fn log_spaced(min: f64, max: f64, count: usize) -> Vec<f64> {
 
 // ── Quantities ─────────────────────────────────────────────────────────────────────────────
 
-/// What a quantity measures: its SI unit, the units a string may carry and their factors.
-struct Dimension {
-    name: &'static str,
-    si: &'static str,
-    units: &'static str,
-    per_unit: fn(&str) -> Option<f64>,
-}
-
-const LENGTH: Dimension = Dimension { name: "length", si: "m", units: "m, mm, µm (um), nm, Å", per_unit: units::metres_per };
-const FORCE: Dimension =
-    Dimension { name: "force", si: "N", units: "N, mN, µN (uN), nN", per_unit: crate::shs::newtons_per };
-const PRESSURE: Dimension =
-    Dimension { name: "pressure", si: "Pa", units: "Pa, kPa, MPa, GPa", per_unit: pascals_per };
-
-fn pascals_per(unit: &str) -> Option<f64> {
-    Some(match unit.trim() {
-        "Pa" => 1.0,
-        "kPa" => 1e3,
-        "MPa" => 1e6,
-        "GPa" => 1e9,
-        _ => return None,
-    })
-}
-
-/// The value [SI] of a quantity written `text` ("0.1 mN", "31.13µm").
-fn parse_quantity(text: &str, dim: &Dimension) -> std::result::Result<f64, String> {
-    let t = text.trim();
-    // The longest prefix that reads as a number; the rest is the unit.
-    let split = (1..=t.len()).rev().filter(|&i| t.is_char_boundary(i)).find(|&i| t[..i].trim().parse::<f64>().is_ok());
-    let Some(split) = split else {
-        return Err(format!("'{text}' is not a {} (a number and a unit: {})", dim.name, dim.units));
-    };
-    let (number, unit) = (t[..split].trim().parse::<f64>().expect("found above"), t[split..].trim());
-    if unit.is_empty() {
-        return Err(format!(
-            "'{text}' has no unit: write a bare number for {}, or a string with a unit ({})",
-            dim.si, dim.units
-        ));
-    }
-    let factor = (dim.per_unit)(unit).ok_or_else(|| {
-        match [&LENGTH, &FORCE, &PRESSURE].into_iter().find(|d| (d.per_unit)(unit).is_some()) {
-            Some(other) => format!("'{text}' is a {}, not a {} (units: {})", other.name, dim.name, dim.units),
-            None => format!("'{text}': unknown unit '{unit}' for a {} (units: {})", dim.name, dim.units),
-        }
-    })?;
-    // A power-of-ten unit shifts the decimal exponent, so "0.1 mN" is exactly what 1e-4 is.
-    let exponent = factor.log10().round() as i32;
-    let value = if 10f64.powi(exponent) == factor { shifted(&t[..split], exponent) } else { None };
-    finite(value.unwrap_or(number * factor), text)
-}
-
-/// The decimal number `number` times 10^`exponent`, rounded once.
-fn shifted(number: &str, exponent: i32) -> Option<f64> {
-    let number = number.trim();
-    let (mantissa, own) = match number.find(['e', 'E']) {
-        Some(i) => (&number[..i], number[i + 1..].parse::<i32>().ok()?),
-        None => (number, 0),
-    };
-    format!("{mantissa}e{}", own.checked_add(exponent)?).parse().ok()
-}
-
-fn finite(v: f64, text: &str) -> std::result::Result<f64, String> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("'{text}' is not finite"))
-    }
-}
-
 /// Deserialise a bare number (SI) or a string with its unit.
 fn deserialize_quantity<'de, D: Deserializer<'de>>(d: D, dim: &'static Dimension) -> Result<f64, D::Error> {
     struct Quantity(&'static Dimension);
@@ -715,7 +649,7 @@ fn deserialize_quantity<'de, D: Deserializer<'de>>(d: D, dim: &'static Dimension
             write!(f, "a {} (a number in {} or a string with a unit)", self.0.name, self.0.si)
         }
         fn visit_f64<E: de::Error>(self, v: f64) -> Result<f64, E> {
-            finite(v, &v.to_string()).map_err(E::custom)
+            quantity::finite(v, &v.to_string()).map_err(E::custom)
         }
         fn visit_i64<E: de::Error>(self, v: i64) -> Result<f64, E> {
             Ok(v as f64)
@@ -724,7 +658,7 @@ fn deserialize_quantity<'de, D: Deserializer<'de>>(d: D, dim: &'static Dimension
             Ok(v as f64)
         }
         fn visit_str<E: de::Error>(self, v: &str) -> Result<f64, E> {
-            parse_quantity(v, self.0).map_err(E::custom)
+            quantity::parse(v, self.0, false).map_err(E::custom)
         }
     }
     d.deserialize_any(Quantity(dim))
@@ -794,7 +728,7 @@ impl<'de> Deserialize<'de> for Size {
                 self.visit_f64(v as f64)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<Size, E> {
-                let l = Length(parse_quantity(v, &LENGTH).map_err(E::custom)?);
+                let l = Length(quantity::parse(v, &LENGTH, false).map_err(E::custom)?);
                 Ok(Size(l, l))
             }
         }
@@ -808,7 +742,7 @@ fn synthetic<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SyntheticSurface>
         for (k, v) in table.iter_mut() {
             let convert = |v: &mut toml::Value| -> std::result::Result<(), String> {
                 if let toml::Value::String(s) = v {
-                    *v = toml::Value::Float(parse_quantity(s, &LENGTH).map_err(|r| format!("{k}: {r}"))?);
+                    *v = toml::Value::Float(quantity::parse(s, &LENGTH, false).map_err(|r| format!("{k}: {r}"))?);
                 }
                 Ok(())
             };
@@ -1008,25 +942,6 @@ mod tests {
         let loads = q.load_values();
         assert_eq!(loads, [1e-4, 3.16227766017e-4, 1e-3, 3.16227766017e-3, 1e-2, 3.16227766017e-2, 1e-1]);
         assert_eq!(q.topographies, StudyConfig::default_study().topographies);
-    }
-
-    #[test]
-    fn units_convert_and_wrong_kinds_are_refused() {
-        assert_eq!(parse_quantity("0.1 mN", &FORCE), Ok(1e-4));
-        assert_eq!(parse_quantity("31.13 µm", &LENGTH), Ok(31.13e-6));
-        assert_eq!(parse_quantity("31.13um", &LENGTH), Ok(31.13e-6));
-        assert_eq!(parse_quantity("130 GPa", &PRESSURE), Ok(130e9));
-        assert_eq!(parse_quantity("20.75 nm", &LENGTH), Ok(20.75e-9));
-        assert_eq!(parse_quantity("1e-3 N", &FORCE), Ok(1e-3));
-        assert_eq!(parse_quantity("0.2 nm", &LENGTH), Ok(0.2e-9));
-        assert_eq!(parse_quantity("22E-1 nm", &LENGTH), Ok(2.2e-9));
-        assert_eq!(parse_quantity("-5 kPa", &PRESSURE), Ok(-5e3));
-        let e = parse_quantity("0.1 mm", &FORCE).unwrap_err();
-        assert!(e.contains("is a length, not a force"), "{e}");
-        assert!(parse_quantity("2 furlongs", &LENGTH).unwrap_err().contains("unknown unit 'furlongs'"));
-        assert!(parse_quantity("0.1", &FORCE).unwrap_err().contains("no unit"));
-        assert!(parse_quantity("inf N", &FORCE).unwrap_err().contains("not finite"));
-        assert!(parse_quantity("mN", &FORCE).is_err());
     }
 
     #[test]

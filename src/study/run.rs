@@ -120,7 +120,8 @@ impl Study {
         };
         let loads = config.load_values();
         let mut config = config;
-        config.loads = LoadsSpec { values: Some(loads.iter().map(|&l| Force(l)).collect()), min: None, max: None, count: None };
+        config.loads =
+            LoadsSpec { values: Some(loads.iter().map(|&l| Force(l)).collect()), min: None, max: None, count: None };
         config.laws = laws
             .iter()
             .map(|l| LawSpec { name: l.name.clone(), mu_s: Some(l.mu_s), mu_d: Some(l.mu_d), ..LawSpec::default() })
@@ -325,7 +326,8 @@ impl Study {
                 output::write_npy(&maps.join(format!("{k:02}.npy")), &pressure)?;
             }
             if snapshots.contains(&k) {
-                let snap = MapSnapshot::crop(name, load, &pressure, pixel, SNAPSHOT_MARGIN).expect("a load makes contact");
+                let snap =
+                    MapSnapshot::crop(name, load, &pressure, pixel, SNAPSHOT_MARGIN).expect("a load makes contact");
                 let dir = dir.join("snapshots");
                 std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
                 snap.save(&dir, &self.snapshot_stem(k))?;
@@ -333,7 +335,10 @@ impl Study {
             if k + 1 < n {
                 output::write_npy(&warm(k), &pressure)?;
             }
-            output::write_json(&solves.join(format!("{k:02}.json")), &SolveRecord { load_n: load, solve: facts, rows })?;
+            output::write_json(
+                &solves.join(format!("{k:02}.json")),
+                &SolveRecord { load_n: load, solve: facts, rows },
+            )?;
             if k > 0 {
                 let old = warm(k - 1);
                 std::fs::remove_file(&old).or_else(|e| if old.exists() { Err(Error::io(&old, e)) } else { Ok(()) })?;

@@ -1,0 +1,195 @@
+//! Physical quantities written by people: a number in SI units, or a number with its unit
+//! ("0.1 mN", "31.13 µm", "130 GPa"). One parser serves the study file and the command line.
+
+use crate::topography::units;
+
+/// What a quantity measures: its SI unit, the units a string may carry and their factors.
+#[derive(Debug)]
+pub struct Dimension {
+    /// "length", "force", "pressure".
+    pub name: &'static str,
+    /// The SI unit a bare number is taken in.
+    pub si: &'static str,
+    /// The units accepted, as a help text lists them.
+    pub units: &'static str,
+    per_unit: fn(&str) -> Option<f64>,
+}
+
+/// A length [m].
+pub const LENGTH: Dimension =
+    Dimension { name: "length", si: "m", units: "m, mm, µm (um), nm, Å", per_unit: units::metres_per };
+/// A force [N].
+pub const FORCE: Dimension = Dimension { name: "force", si: "N", units: "N, mN, µN (uN), nN", per_unit: newtons_per };
+/// A pressure, stress or modulus [Pa].
+pub const PRESSURE: Dimension =
+    Dimension { name: "pressure", si: "Pa", units: "Pa, kPa, MPa, GPa", per_unit: pascals_per };
+
+/// Newtons per `unit` ("kN", "N", "mN", "µN"/"uN", "nN"), `None` for anything else.
+pub fn newtons_per(unit: &str) -> Option<f64> {
+    Some(match unit.trim() {
+        "kN" => 1e3,
+        "N" => 1.0,
+        "mN" => 1e-3,
+        "µN" | "μN" | "uN" => 1e-6,
+        "nN" => 1e-9,
+        _ => return None,
+    })
+}
+
+/// Pascals per `unit` ("Pa", "kPa", "MPa", "GPa"), `None` for anything else.
+pub fn pascals_per(unit: &str) -> Option<f64> {
+    Some(match unit.trim() {
+        "Pa" => 1.0,
+        "kPa" => 1e3,
+        "MPa" => 1e6,
+        "GPa" => 1e9,
+        _ => return None,
+    })
+}
+
+/// How much of a quoted token an error message repeats, so that a message stays one short line.
+const QUOTED_CHARS: usize = 40;
+
+/// `text` as an error message quotes it: whole when short, else its start and an ellipsis.
+pub fn quoted(text: &str) -> String {
+    if text.chars().count() <= QUOTED_CHARS {
+        format!("'{text}'")
+    } else {
+        format!("'{}…'", text.chars().take(QUOTED_CHARS).collect::<String>())
+    }
+}
+
+/// The length in bytes of the number at the start of `t` (sign, digits, point, exponent), in
+/// one pass; 0 when `t` does not start with one.
+fn number_prefix(t: &str) -> usize {
+    let b = t.as_bytes();
+    let mut i = 0;
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while *i < b.len() && b[*i].is_ascii_digit() {
+            *i += 1;
+        }
+        *i - start
+    };
+    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        i += 1;
+    }
+    let mut mantissa = digits(&mut i);
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        mantissa += digits(&mut i);
+    }
+    if mantissa == 0 {
+        // "inf", "nan": let the float parser have them, to be refused as not finite.
+        let rest = t[i..].to_ascii_lowercase();
+        return ["infinity", "inf", "nan"].iter().find(|w| rest.starts_with(*w)).map_or(0, |w| i + w.len());
+    }
+    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
+        let mut j = i + 1;
+        if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
+            j += 1;
+        }
+        if digits(&mut j) > 0 {
+            i = j;
+        }
+    }
+    i
+}
+
+/// The value [SI] of `text`: a number followed by a unit of `dim` ("0.1 mN", "31.13µm"), or,
+/// when `bare_is_si`, also a bare number taken in SI units (the command line's form; in the
+/// study file a bare quantity is a TOML number, so a string must carry its unit).
+pub fn parse(text: &str, dim: &Dimension, bare_is_si: bool) -> Result<f64, String> {
+    let t = text.trim();
+    let split = number_prefix(t);
+    let Ok(number) = t[..split].parse::<f64>() else {
+        return Err(format!("{} is not a {} (a number and a unit: {})", quoted(text), dim.name, dim.units));
+    };
+    let unit = t[split..].trim();
+    if unit.is_empty() {
+        if bare_is_si {
+            return finite(number, text);
+        }
+        return Err(format!(
+            "{} has no unit: write a bare number for {}, or a string with a unit ({})",
+            quoted(text),
+            dim.si,
+            dim.units
+        ));
+    }
+    let factor = (dim.per_unit)(unit).ok_or_else(|| {
+        match [&LENGTH, &FORCE, &PRESSURE].into_iter().find(|d| (d.per_unit)(unit).is_some()) {
+            Some(other) => format!("{} is a {}, not a {} (units: {})", quoted(text), other.name, dim.name, dim.units),
+            None => {
+                format!("{}: unknown unit {} for a {} (units: {})", quoted(text), quoted(unit), dim.name, dim.units)
+            }
+        }
+    })?;
+    // A power-of-ten unit shifts the decimal exponent, so "0.1 mN" is exactly what 1e-4 is.
+    let exponent = factor.log10().round() as i32;
+    let value = if 10f64.powi(exponent) == factor { shifted(&t[..split], exponent) } else { None };
+    finite(value.unwrap_or(number * factor), text)
+}
+
+/// The decimal number `number` times 10^`exponent`, rounded once.
+fn shifted(number: &str, exponent: i32) -> Option<f64> {
+    let (mantissa, own) = match number.find(['e', 'E']) {
+        Some(i) => (&number[..i], number[i + 1..].parse::<i32>().ok()?),
+        None => (number, 0),
+    };
+    format!("{mantissa}e{}", own.checked_add(exponent)?).parse().ok()
+}
+
+/// `v`, or the reason it is refused.
+pub fn finite(v: f64, text: &str) -> Result<f64, String> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{} is not finite", quoted(text)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantities() {
+        assert_eq!(parse("0.1 mN", &FORCE, false), Ok(1e-4));
+        assert_eq!(parse("31.13 µm", &LENGTH, false), Ok(31.13e-6));
+        assert_eq!(parse("31.13um", &LENGTH, false), Ok(31.13e-6));
+        assert_eq!(parse("130 GPa", &PRESSURE, false), Ok(130e9));
+        assert_eq!(parse("20.75 nm", &LENGTH, false), Ok(20.75e-9));
+        assert_eq!(parse("1e-3 N", &FORCE, false), Ok(1e-3));
+        assert_eq!(parse("0.2 nm", &LENGTH, false), Ok(0.2e-9));
+        assert_eq!(parse("22E-1 nm", &LENGTH, false), Ok(2.2e-9));
+        assert_eq!(parse("-5 kPa", &PRESSURE, false), Ok(-5e3));
+        assert_eq!(parse(".5 mm", &LENGTH, false), Ok(0.5e-3));
+        assert_eq!(parse("2e3m", &LENGTH, false), Ok(2e3));
+        // "1e" is the number 1 followed by the unit "e", which no dimension has.
+        assert!(parse("1e", &LENGTH, true).unwrap_err().contains("unknown unit 'e'"));
+        let e = parse("0.1 mm", &FORCE, false).unwrap_err();
+        assert!(e.contains("is a length, not a force"), "{e}");
+        assert!(parse("2 furlongs", &LENGTH, false).unwrap_err().contains("unknown unit 'furlongs'"));
+        assert!(parse("0.1", &FORCE, false).unwrap_err().contains("no unit"));
+        assert!(parse("inf N", &FORCE, false).unwrap_err().contains("not finite"));
+        assert!(parse("mN", &FORCE, false).is_err());
+    }
+
+    #[test]
+    fn bare_numbers_on_the_command_line_are_si() {
+        assert_eq!(parse("1e-3", &FORCE, true), Ok(1e-3));
+        assert_eq!(parse(" 130e9 ", &PRESSURE, true), Ok(130e9));
+        assert!(parse("-inf", &FORCE, true).unwrap_err().contains("not finite"));
+        assert!(parse("1e999", &FORCE, true).unwrap_err().contains("not finite"));
+    }
+
+    #[test]
+    fn long_tokens_are_quoted_short_and_parsed_in_linear_time() {
+        let long = "9".repeat(100_000) + "x";
+        let e = parse(&long, &LENGTH, true).unwrap_err();
+        assert!(e.len() < 200, "{} characters", e.len());
+        let junk = "[".repeat(100_000);
+        assert!(parse(&junk, &LENGTH, true).unwrap_err().len() < 200);
+    }
+}
