@@ -10,6 +10,7 @@ pub mod contact;
 pub mod error;
 pub mod fft;
 pub mod friction;
+pub mod limits;
 pub mod output;
 pub mod plot;
 pub mod quantity;

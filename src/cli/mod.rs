@@ -13,6 +13,7 @@ use std::process::ExitCode;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 
+use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
 
@@ -55,6 +56,8 @@ pub struct ReadArgs {
     /// File format, overriding detection.
     #[arg(long, value_name = "F", value_parser = PossibleValuesParser::new(io::format_names()))]
     format: Option<String>,
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 impl ReadArgs {
@@ -64,8 +67,47 @@ impl ReadArgs {
             channel: self.channel.clone(),
             physical_size: self.size,
             height_unit: self.height_unit.clone(),
+            limits: self.limits.limits(),
         }
     }
+}
+
+/// The input limit every command that reads or makes a grid takes.
+#[derive(Args, Debug)]
+pub struct LimitArgs {
+    /// Largest grid accepted, read from a file or made [points; default 2^28 = 268435456]; a
+    /// file is read only up to 128 bytes per point.
+    #[arg(long, value_name = "N", value_parser = max_points, allow_hyphen_values = true)]
+    max_points: Option<Limits>,
+}
+
+impl LimitArgs {
+    /// The limits: --max-points, or the defaults.
+    pub fn limits(&self) -> Limits {
+        self.max_points.unwrap_or_default()
+    }
+
+    /// --max-points, when given.
+    pub fn given(&self) -> Option<Limits> {
+        self.max_points
+    }
+}
+
+/// `--max-points N`: a count of points, written as an integer or in float notation (1e9).
+fn max_points(s: &str) -> std::result::Result<Limits, String> {
+    let n = match s.trim().parse::<usize>() {
+        Ok(n) => n,
+        Err(_) => match s.trim().parse::<f64>() {
+            Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < usize::MAX as f64 => x as usize,
+            _ => {
+                return Err(format!("{} is not a number of points (default {DEFAULT_MAX_POINTS})", quantity::quoted(s)))
+            }
+        },
+    };
+    Limits::new(n, "--max-points").map_err(|e| match e {
+        asperity::Error::Invalid { reason, .. } => reason,
+        e => e.to_string(),
+    })
 }
 
 /// `LX` or `LX,LY`: lengths, bare numbers in metres or with a unit ("31.13um").

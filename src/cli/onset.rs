@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use asperity::friction::{write_curves_csv, ClassShare, Curve, ElementLoads, FrictionLaw, Loading, Onset};
+use asperity::limits::Limits;
 use asperity::output::{write_json, write_npy, StagedDir};
 use asperity::{Error, Result};
 use ndarray::Array2;
@@ -65,6 +66,8 @@ pub struct Args {
     /// Most rows per loading mode in curve.csv (the peak is always kept exactly).
     #[arg(long, default_value_t = 2000)]
     pub curve_rows: usize,
+    #[command(flatten)]
+    pub limits: super::LimitArgs,
 }
 
 /// The part of `asperity contact`'s contact.json this command reads.
@@ -225,12 +228,12 @@ fn read_input(args: &Args) -> Result<Input> {
             let option = if args.size.is_some() { "--size" } else { "--pixel-area" };
             return Err(Error::invalid(option, "not used with a contact directory: its contact.json gives the size"));
         }
-        return read_contact_dir(&args.input, args.load_index);
+        return read_contact_dir(&args.input, args.load_index, &args.limits.limits());
     }
     if args.load_index.is_some() {
         return Err(Error::invalid("--load-index", "only a contact directory holds several loads"));
     }
-    let pressure = read_pressure(&args.input)?;
+    let pressure = read_pressure(&args.input, &args.limits.limits())?;
     let (ny, nx) = pressure.dim();
     let pixel_area = match (&args.size, args.pixel_area) {
         (Some(size), _) => {
@@ -255,14 +258,16 @@ fn read_input(args: &Args) -> Result<Input> {
     Ok(Input { pressure, path: args.input.clone(), pixel_area, load: None })
 }
 
-fn read_pressure(path: &Path) -> Result<Array2<f64>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    asperity::topography::io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))
+fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
+    let bytes = limits.read_file(path)?;
+    let pressure = asperity::topography::io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))?;
+    limits.check_grid(pressure.ncols(), pressure.nrows()).map_err(|r| Error::file(path, r))?;
+    Ok(pressure)
 }
 
-fn read_contact_dir(dir: &Path, load_index: Option<usize>) -> Result<Input> {
+fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> Result<Input> {
     let json_path = dir.join("contact.json");
-    let text = std::fs::read_to_string(&json_path).map_err(|e| Error::io(&json_path, e))?;
+    let text = limits.read_text(&json_path)?;
     let contact: ContactResult =
         serde_json::from_str(&text).map_err(|e| Error::file(&json_path, format!("not a contact result: {e}")))?;
     let [ny, nx] = contact.grid;
@@ -290,7 +295,7 @@ fn read_contact_dir(dir: &Path, load_index: Option<usize>) -> Result<Input> {
     };
     let load = &contact.loads[index];
     let path = dir.join(&load.pressure_file);
-    let pressure = read_pressure(&path)?;
+    let pressure = read_pressure(&path, limits)?;
     if pressure.dim() != (ny, nx) {
         let (a, b) = pressure.dim();
         return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));

@@ -44,6 +44,8 @@ pub struct RunArgs {
     /// Discard the solves an earlier run left in DIR and start over.
     #[arg(long)]
     fresh: bool,
+    #[command(flatten)]
+    limits: super::LimitArgs,
 }
 
 pub fn run(args: RunArgs) -> Result<()> {
@@ -56,7 +58,10 @@ pub fn run(args: RunArgs) -> Result<()> {
         Some(path) => (StudyConfig::from_file(path)?, path.display().to_string()),
         None => (StudyConfig::default_study(), "the default study".to_string()),
     };
-    let config = if args.quick { config.quick() } else { config };
+    let mut config = if args.quick { config.quick() } else { config };
+    if let Some(limits) = args.limits.given() {
+        config.limits.max_points = limits.max_points;
+    }
     let study = Study::prepare(config, &origin)?;
 
     let bar = super::progress_bar(0, "solving");

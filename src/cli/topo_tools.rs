@@ -93,6 +93,8 @@ pub struct GenerateArgs {
     /// Output file: heights [m] as a float64 .npy array of shape (ny, nx), or as .gsf (float32,
     /// with the physical size)
     pub out: PathBuf,
+    #[command(flatten)]
+    pub limits: super::LimitArgs,
 }
 
 /// `asperity topo psd`.
@@ -169,7 +171,7 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
     let (mut topo, fit) = prepare(&args.read, &args.prepare)?;
     if let Some(p) = args.pixel_size {
-        topo = resample(&topo, p)?;
+        topo = resample(&topo, p, &args.read.limits.limits())?;
     }
     format.write(&args.out, &topo)?;
     if let Some(fit) = fit {
@@ -182,6 +184,7 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
 /// `asperity topo generate`.
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
+    args.limits.limits().check_grid(args.grid.0, args.grid.1).map_err(|r| Error::invalid("--grid", r))?;
     let amplitude = match (args.rms, args.rms_slope) {
         (_, Some(g)) => Amplitude::RmsSlope(g),
         (h, None) => Amplitude::RmsHeight(h.expect("clap requires one of --rms and --rms-slope")),

@@ -71,7 +71,7 @@ impl FrictionLaw {
     /// A law read from a measured nanoscale friction–displacement curve (CSV, see
     /// [`law_from_curve`]) in the file at `path`; content errors name the file.
     pub fn from_curve_file(path: &Path, window: Option<(f64, f64)>) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::limits::Limits::default().read_text(path)?;
         let points = parse_curve(&text).map_err(|r| Error::file(path, r))?;
         let (mu_s, mu_d) = law_from_curve(&points, window).map_err(|e| match e {
             CurveError::Window(reason) => Error::invalid("--window", format!("{}: {reason}", path.display())),

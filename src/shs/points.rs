@@ -77,11 +77,8 @@ pub fn write_points(path: &Path, points: &[ShsPoint]) -> Result<()> {
 
 /// Read points written by [`write_points`] (or by hand, with at least the required columns).
 pub fn read_points(path: &Path) -> Result<Vec<ShsPoint>> {
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_path(path)
-        .map_err(|e| Error::file(path, e.to_string()))?;
+    let bytes = crate::limits::Limits::default().read_file(path)?;
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(&bytes[..]);
     let mut points = Vec::new();
     for row in reader.deserialize::<ShsPoint>() {
         let point = row.map_err(|e| {

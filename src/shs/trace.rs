@@ -131,11 +131,8 @@ impl Trace {
 /// columns other than the four named in `format` are ignored. Errors name the file and, for a
 /// bad value, its line and column.
 pub fn read_trace(path: &Path, format: &TraceFormat) -> Result<Trace> {
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_path(path)
-        .map_err(|e| csv_error(path, e))?;
+    let bytes = crate::limits::Limits::default().read_file(path)?;
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(&bytes[..]);
     let headers = reader.headers().map_err(|e| csv_error(path, e))?.clone();
     if headers.iter().all(str::is_empty) {
         return Err(Error::file(path, "empty file: no header row"));

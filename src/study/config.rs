@@ -29,6 +29,9 @@
 //! preset = "hold 100 s"
 //!
 //! [output]                        # pressure_maps, experiments, figures, snapshot_fractions
+//!
+//! [limits]                        # max_points: the largest grid read, generated or solved
+//! max_points = 268435456          # (the default, 2^28; `asperity run --max-points` overrides)
 //! ```
 //!
 //! Quantities: a bare number is in SI units (m, N, Pa); a string carries its unit ("0.1 mN",
@@ -53,6 +56,7 @@ use super::FigureKind;
 use crate::contact::{Boundary, Material};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
+use crate::limits::{Limits, DEFAULT_MAX_POINTS};
 use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE};
 use crate::topography::detrend::Detrend;
 use crate::topography::synth::SyntheticSurface;
@@ -66,6 +70,9 @@ pub const QUICK_GRID: (usize, usize) = (256, 256);
 
 /// The number of loads of `asperity run --quick`.
 pub const QUICK_LOADS: usize = 7;
+
+/// The most loads a study takes: each is a contact solve of every topography.
+pub const MAX_LOADS: usize = 1000;
 
 /// A study as its file describes it. Serialised, it is the study as run (`DIR/study.toml`):
 /// paths absolute, loads and laws resolved to explicit values.
@@ -84,6 +91,8 @@ pub struct StudyConfig {
     pub laws: Vec<LawSpec>,
     #[serde(default = "defaults::output")]
     pub output: OutputSpec,
+    #[serde(default, skip_serializing_if = "LimitsSpec::is_default")]
+    pub limits: LimitsSpec,
 }
 
 /// A surface: a topography of the study (with its `name`) or its wafer (without).
@@ -216,6 +225,31 @@ pub struct OutputSpec {
     pub snapshot_fractions: Vec<f64>,
 }
 
+/// How large the study's inputs and grids may be (see [`crate::limits`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitsSpec {
+    /// The largest grid read from a file, generated, resampled or solved [points].
+    pub max_points: usize,
+}
+
+impl Default for LimitsSpec {
+    fn default() -> Self {
+        LimitsSpec { max_points: DEFAULT_MAX_POINTS }
+    }
+}
+
+impl LimitsSpec {
+    fn is_default(&self) -> bool {
+        *self == LimitsSpec::default()
+    }
+
+    /// The limits the study's inputs are held to.
+    pub fn limits(&self) -> Limits {
+        Limits { max_points: self.max_points }
+    }
+}
+
 fn all_figures() -> Vec<FigureKind> {
     FigureKind::ALL.to_vec()
 }
@@ -283,7 +317,7 @@ impl StudyConfig {
     /// Read and check the study file at `path`; its relative paths become relative to its
     /// folder.
     pub fn from_file(path: &Path) -> Result<StudyConfig> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::limits::Limits::default().read_text(path)?;
         let config = StudyConfig::parse(&text, &path.display().to_string())?;
         let base = match path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p,
@@ -411,6 +445,12 @@ impl StudyConfig {
                 if values.is_empty() {
                     return at(&[loads, key("values")], "the load list is empty".into());
                 }
+                if values.len() > MAX_LOADS {
+                    return at(
+                        &[loads, key("values")],
+                        format!("{} loads: a study takes at most {MAX_LOADS} (each is a contact solve)", values.len()),
+                    );
+                }
                 for (i, v) in values.iter().enumerate() {
                     if !(v.0 > 0.0) {
                         return at(&[loads, key("values"), Segment::Index(i)], format!("{} N is not positive", v.0));
@@ -428,6 +468,12 @@ impl StudyConfig {
                 }
                 if count == 0 || (count == 1 && min != max) {
                     return at(&[loads, key("count")], format!("{count} loads cannot span {} to {} N", min.0, max.0));
+                }
+                if count > MAX_LOADS {
+                    return at(
+                        &[loads, key("count")],
+                        format!("{count} loads: a study takes at most {MAX_LOADS} (each is a contact solve)"),
+                    );
                 }
                 if count > 1 && min.0 >= max.0 {
                     return at(&[loads, key("min")], format!("{} N is not below max {} N", min.0, max.0));
@@ -447,6 +493,9 @@ impl StudyConfig {
                 return at(&here, format!("the name \"{name}\" is used twice"));
             }
         }
+
+        Limits::new(self.limits.max_points, "max_points")
+            .map_err(|e| (vec![key("limits"), key("max_points")], reason_of(e)))?;
 
         for (i, f) in self.output.snapshot_fractions.iter().enumerate() {
             if !(*f > 0.0 && *f <= 1.0) {

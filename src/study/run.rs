@@ -35,6 +35,7 @@ use super::{FigureInput, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
 use crate::contact::{self, ContactSolver, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
+use crate::limits::Limits;
 use crate::output;
 use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
@@ -103,10 +104,14 @@ impl Study {
     pub fn prepare(config: StudyConfig, origin: &str) -> Result<Study> {
         let at = |what: &str, e: Error| Error::invalid(format!("{origin}: {what}"), e.to_string());
         let grid = config.contact.grid;
+        let limits = config.limits.limits();
+        if let Some((nx, ny)) = grid {
+            limits.check_grid(nx, ny).map_err(|r| at("contact.grid", Error::invalid("grid", r)))?;
+        }
         let mut topographies = Vec::with_capacity(config.topographies.len());
         for spec in &config.topographies {
             let name = spec.name.clone().expect("checked: every topography has a name");
-            let topo = build_topography(spec, grid).map_err(|e| at(&format!("topography \"{name}\""), e))?;
+            let topo = build_topography(spec, grid, &limits).map_err(|e| at(&format!("topography \"{name}\""), e))?;
             topographies.push((name, topo));
         }
         let mut laws = Vec::with_capacity(config.laws.len());
@@ -241,6 +246,8 @@ impl Study {
         study.output.figures = defaults.figures;
         study.output.snapshot_fractions = defaults.snapshot_fractions;
         study.output.experiments = None;
+        // Nor do the input limits.
+        study.limits = Default::default();
         let heights = self
             .topographies
             .iter()
@@ -399,22 +406,23 @@ impl Study {
 
 /// A topography as the study solves it: read or generated, prepared, compounded with its
 /// wafer, on the `grid` override if any.
-fn build_topography(spec: &SurfaceSpec, grid: Option<(usize, usize)>) -> Result<Topography> {
-    let ball = build_surface(spec, grid)?;
+fn build_topography(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limits) -> Result<Topography> {
+    let ball = build_surface(spec, grid, limits)?;
     match &spec.wafer {
         // A measured wafer is interpolated onto the ball's grid by `compound` as it is.
-        Some(w) => compound(&ball, &build_surface(w, grid.filter(|_| w.synthetic.is_some()))?),
+        Some(w) => compound(&ball, &build_surface(w, grid.filter(|_| w.synthetic.is_some()), limits)?),
         None => Ok(ball),
     }
 }
 
 /// One surface: generated, or read, cropped, filled, levelled and resampled, in that order.
-fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>) -> Result<Topography> {
+fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limits) -> Result<Topography> {
     if let Some(s) = &spec.synthetic {
         let mut s = s.clone();
         if let Some(g) = grid {
             s.grid = g;
         }
+        limits.check_grid(s.grid.0, s.grid.1).map_err(|r| Error::invalid("synthetic.grid", r))?;
         return s.generate();
     }
     let path = spec.file.as_ref().expect("checked: a surface is synthetic or a file");
@@ -423,6 +431,7 @@ fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>) -> Result<Top
         channel: spec.channel.clone(),
         physical_size: spec.size.map(|s| (s.0 .0, s.1 .0)),
         height_unit: spec.height_unit.clone(),
+        limits: *limits,
     };
     let mut topo = io::read(path, &options)?;
     if topo.physical_size.is_none() {
@@ -438,12 +447,12 @@ fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>) -> Result<Top
     }
     spec.detrend().apply(&mut topo)?;
     if let Some(p) = spec.pixel_size {
-        topo = resample(&topo, p.0)?;
+        topo = resample(&topo, p.0, limits)?;
     }
     if let Some((nx, ny)) = grid {
         if (topo.nx(), topo.ny()) != (nx, ny) {
             let lx = topo.physical_size.expect("checked above").0;
-            topo = resample(&topo, lx / nx as f64)?;
+            topo = resample(&topo, lx / nx as f64, limits)?;
         }
     }
     if topo.nx() < 2 || topo.ny() < 2 {

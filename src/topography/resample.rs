@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use super::{Provenance, Topography};
 use crate::error::{Error, Result};
+use crate::limits::Limits;
 
 impl Topography {
     /// Pixel size (dx, dy) [m]; an error naming the topography when it has no physical size
@@ -96,7 +97,7 @@ fn samples_within(a: f64, b: f64, d: f64, n: usize) -> Range<usize> {
 /// `topo` resampled to a pixel size as close to `pixel_size` [m] as the physical size allows:
 /// the physical size is kept, the number of points along each axis is `round(l / pixel_size)`
 /// (at least 2), so the pixel size becomes `l / round(l / pixel_size)`.
-pub fn resample(topo: &Topography, pixel_size: f64) -> Result<Topography> {
+pub fn resample(topo: &Topography, pixel_size: f64, limits: &Limits) -> Result<Topography> {
     if !(pixel_size > 0.0 && pixel_size.is_finite()) {
         return Err(Error::invalid("--pixel-size", format!("must be positive and finite, got {pixel_size}")));
     }
@@ -104,11 +105,8 @@ pub fn resample(topo: &Topography, pixel_size: f64) -> Result<Topography> {
     let (lx, ly) = topo.physical_size.expect("checked by pixel_size");
     let points = |l: f64| ((l / pixel_size).round() as usize).max(2);
     let (nx2, ny2) = (points(lx), points(ly));
-    if nx2.saturating_mul(ny2) > 1 << 28 {
-        return Err(Error::invalid(
-            "--pixel-size",
-            format!("{pixel_size} m would make a {nx2}×{ny2} grid from {lx}×{ly} m: too large"),
-        ));
+    if let Err(reason) = limits.check_grid(nx2, ny2) {
+        return Err(Error::invalid("--pixel-size", format!("{pixel_size} m on {lx} × {ly} m: {reason}")));
     }
     // Fractional source indices as exact ratios, so that an unchanged grid maps onto itself.
     let xs: Vec<f64> = (0..nx2).map(|i| (i * topo.nx()) as f64 / nx2 as f64).collect();
@@ -263,7 +261,7 @@ mod tests {
         let f = |x: f64, y: f64| 1e-9 + 2e-3 * x - 1e-3 * y + 4e2 * x * x - 3e2 * x * y + 1e2 * y * y;
         let t = sampled((10e-6, 6e-6), (40, 30), false, f);
         for p in [0.07e-6, 0.37e-6, 0.2e-6] {
-            let r = resample(&t, p).unwrap();
+            let r = resample(&t, p, &Limits::default()).unwrap();
             assert_eq!(r.physical_size, t.physical_size);
             assert!(max_error(&r, f) < 1e-12 * 5e-9, "pixel {p}: error {}", max_error(&r, f));
         }
@@ -278,7 +276,7 @@ mod tests {
             let t = sampled((lx, ly), (64, 64), periodic, f);
             let (dx, dy) = t.pixel_size("test").unwrap();
             for p in [lx / 150.0, lx / 40.0] {
-                let r = resample(&t, p).unwrap();
+                let r = resample(&t, p, &Limits::default()).unwrap();
                 let (dx2, dy2) = r.pixel_size("test").unwrap();
                 // Worst error in the interior, within one pixel of an edge, beyond the last sample.
                 let mut worst = [0.0f64; 3];
@@ -300,7 +298,7 @@ mod tests {
             }
             // An unchanged pixel size gives the same map back.
             let square = sampled((lx, lx), (64, 64), periodic, f);
-            assert_eq!(resample(&square, lx / 64.0).unwrap().heights, square.heights);
+            assert_eq!(resample(&square, lx / 64.0, &Limits::default()).unwrap().heights, square.heights);
         }
     }
 
@@ -308,9 +306,9 @@ mod tests {
     fn resampling_a_map_without_size_says_so() {
         let mut t = sampled((1.0, 1.0), (8, 8), false, |x, _| x);
         t.physical_size = None;
-        let err = resample(&t, 0.1).unwrap_err().to_string();
+        let err = resample(&t, 0.1, &Limits::default()).unwrap_err().to_string();
         assert!(err.contains("resampling needs the physical size") && err.contains("--size"), "{err}");
-        assert!(resample(&sampled((1.0, 1.0), (8, 8), false, |x, _| x), -1.0).is_err());
+        assert!(resample(&sampled((1.0, 1.0), (8, 8), false, |x, _| x), -1.0, &Limits::default()).is_err());
     }
 
     #[test]

@@ -302,11 +302,13 @@ fn check_grid(size: (f64, f64), grid: (usize, usize)) -> Result<()> {
     if !(lx > 0.0 && ly > 0.0 && lx.is_finite() && ly.is_finite()) {
         return Err(Error::invalid("--size", format!("must be positive and finite, got {lx},{ly}")));
     }
+    // How many points a caller may ask for is its input policy (`crate::limits`), checked
+    // before it asks; here only what no grid can be.
     let (nx, ny) = grid;
-    if nx < 2 || ny < 2 || nx.saturating_mul(ny) > 1 << 28 {
+    if nx < 2 || ny < 2 || nx.checked_mul(ny).and_then(|n| n.checked_mul(16)).is_none() {
         return Err(Error::invalid(
             "--grid",
-            format!("needs 2 to 2^28 points with at least 2 per axis, got {nx}×{ny}"),
+            format!("needs at least 2 points per axis and a countable grid, got {nx}×{ny}"),
         ));
     }
     Ok(())

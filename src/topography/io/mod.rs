@@ -28,6 +28,7 @@ use ndarray::Array2;
 
 use super::{units, Provenance, Topography};
 use crate::error::{Error, Result};
+use crate::limits::Limits;
 
 /// One decoded channel of a file.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +57,14 @@ pub trait Format: Sync {
     fn sniff(&self, head: &[u8]) -> bool;
     /// Decode every channel of the file. Errors are reasons; the registry adds the path.
     fn read(&self, bytes: &[u8]) -> std::result::Result<Vec<Channel>, String>;
+    /// Decode every channel, refusing a grid over `limits` before allocating it. Only a format
+    /// whose data can outgrow the file (compressed) needs the limits while it decodes; the
+    /// others allocate no more than the file's length allows, and the registry checks their
+    /// grids once decoded.
+    fn read_within(&self, bytes: &[u8], limits: &Limits) -> std::result::Result<Vec<Channel>, String> {
+        let _ = limits;
+        self.read(bytes)
+    }
     /// A bare format whose files carry neither physical size nor height unit: both come
     /// from the user (`--size`, `--height-unit`).
     fn is_bare(&self) -> bool {
@@ -93,6 +102,8 @@ pub struct ReadOptions {
     pub physical_size: Option<(f64, f64)>,
     /// Height unit of a bare file (default metres).
     pub height_unit: Option<String>,
+    /// The largest grid and file accepted.
+    pub limits: Limits,
 }
 
 /// The formats the registry knows, for `--help` texts and error messages.
@@ -117,15 +128,24 @@ fn detect(path: &Path, bytes: &[u8], forced: Option<&str>) -> Result<&'static dy
     })
 }
 
-/// Read the file at `path` and decode all its channels; returns the format's name with them.
+/// Read the file at `path` and decode all its channels (within the default [`Limits`]);
+/// returns the format's name with them.
 pub fn read_channels(path: &Path, format: Option<&str>) -> Result<(&'static str, Vec<Channel>)> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    decode(path, format, &Limits::default()).map(|(fmt, channels)| (fmt.name(), channels))
+}
+
+/// The format of the file at `path` and its channels, each grid within `limits`.
+fn decode(path: &Path, format: Option<&str>, limits: &Limits) -> Result<(&'static dyn Format, Vec<Channel>)> {
+    let bytes = limits.read_file(path)?;
     let fmt = detect(path, &bytes, format)?;
-    let channels = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+    let channels = fmt.read_within(&bytes, limits).map_err(|reason| Error::file(path, reason))?;
     if channels.is_empty() {
         return Err(Error::file(path, "the file holds no data channel"));
     }
-    Ok((fmt.name(), channels))
+    if let Some(reason) = channels.iter().find_map(|c| limits.check_grid(c.data.ncols(), c.data.nrows()).err()) {
+        return Err(Error::file(path, reason));
+    }
+    Ok((fmt, channels))
 }
 
 /// Read one channel of the file at `path` as a topography in metres.
@@ -136,9 +156,7 @@ pub fn read(path: &Path, opts: &ReadOptions) -> Result<Topography> {
 /// Read one channel of the file at `path` as a topography in metres, with the names of all
 /// the file's channels.
 pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<String>)> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let fmt = detect(path, &bytes, opts.format.as_deref())?;
-    let mut channels = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+    let (fmt, mut channels) = decode(path, opts.format.as_deref(), &opts.limits)?;
     let names = channels.iter().map(|c| c.name.clone()).collect();
     let index = choose_channel(&channels, opts.channel.as_deref()).map_err(|r| Error::file(path, r))?;
     let mut ch = channels.swap_remove(index);

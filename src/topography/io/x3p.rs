@@ -13,6 +13,7 @@ use ndarray::Array2;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::limits::Limits;
 
 pub struct X3p;
 
@@ -35,12 +36,17 @@ impl Format for X3p {
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
-        decode(bytes).map_err(binary::one_line)
+        self.read_within(bytes, &Limits::default())
+    }
+
+    fn read_within(&self, bytes: &[u8], limits: &Limits) -> Result<Vec<Channel>, String> {
+        decode(bytes, limits).map_err(binary::one_line)
     }
 }
 
-/// Every channel of the file; errors may quote the file's own (possibly corrupt) text.
-fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+/// Every channel of the file, its grid within `limits` before its data are inflated; errors
+/// may quote the file's own (possibly corrupt) text.
+fn decode(bytes: &[u8], limits: &Limits) -> Result<Vec<Channel>, String> {
     let mut zip =
         zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a readable x3p (zip) file: {e}"))?;
     let xml = entry(&mut zip, "main.xml", MAX_MAIN_XML, bytes.len())?;
@@ -49,6 +55,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     let m = Main::parse(&doc)?;
 
     let n = binary::grid_points(m.nx, m.ny)?;
+    limits.check_grid(m.nx, m.ny)?;
     let len = n.checked_mul(m.sample.size()).ok_or("the declared data size overflows")?;
     let raw = entry(&mut zip, &m.data_link, len as u64, bytes.len())?;
     if raw.len() != len {
@@ -77,8 +84,8 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     }])
 }
 
-/// The content of the zip entry `name`, at most `limit` bytes (plus one, so that an entry
-/// longer than expected shows). Room is made beforehand only for what the compressed bytes
+/// The content of the zip entry `name`, inflated as a stream and stopped at `limit` bytes
+/// (plus one, so that an entry longer than expected shows). Room is made beforehand only for what the compressed bytes
 /// present in the file (`file_len` in all) can plausibly inflate to; past that the buffer grows
 /// with the bytes actually inflated, never to a size the archive merely declares.
 fn entry<R: Read + std::io::Seek>(
@@ -205,10 +212,10 @@ mod tests {
 
     use super::*;
 
-    /// An x3p of `nx` × `ny` points of type `ty` with the given raw data and validity bits.
-    fn x3p(ty: &str, (nx, ny): (usize, usize), data: &[u8], valid: Option<&[u8]>, feature: &str) -> Vec<u8> {
-        let valid_link = if valid.is_some() { "<ValidPointsLink>bindata/valid.bin</ValidPointsLink>" } else { "" };
-        let xml = format!(
+    /// The main.xml of an x3p of `nx` × `ny` points of type `ty`.
+    fn main_xml(ty: &str, (nx, ny): (usize, usize), valid: bool, feature: &str) -> String {
+        let valid_link = if valid { "<ValidPointsLink>bindata/valid.bin</ValidPointsLink>" } else { "" };
+        format!(
             r#"<?xml version="1.0" encoding="UTF-8"?>
 <p:ISO5436_2 xmlns:p="http://www.opengps.eu/2008/ISO5436_2">
   <Record1><Revision>ISO5436 - 2000</Revision><FeatureType>{feature}</FeatureType>
@@ -222,7 +229,12 @@ mod tests {
     <DataLink><PointDataLink>bindata/data.bin</PointDataLink>{valid_link}</DataLink>
   </Record3>
 </p:ISO5436_2>"#
-        );
+        )
+    }
+
+    /// An x3p of `nx` × `ny` points of type `ty` with the given raw data and validity bits.
+    fn x3p(ty: &str, grid: (usize, usize), data: &[u8], valid: Option<&[u8]>, feature: &str) -> Vec<u8> {
+        let xml = main_xml(ty, grid, valid.is_some(), feature);
         let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
         let opts = zip::write::SimpleFileOptions::default();
         let mut files = vec![("main.xml", xml.as_bytes()), ("bindata/data.bin", data)];
@@ -248,6 +260,32 @@ mod tests {
         }
         let (lx, ly) = ch[0].physical_size.unwrap();
         assert!((lx - 7.5e-7).abs() < 1e-20 && (ly - 1e-6).abs() < 1e-20);
+    }
+
+    #[test]
+    fn zip_bombs_are_refused_before_they_inflate() {
+        // A stream of zeros through the deflate encoder: 64 MB in about 64 kB.
+        let zeros = vec![0u8; 64 << 20];
+        let bomb = |grid| {
+            let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+            let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+            let main = main_xml("D", grid, false, "SUR");
+            w.start_file("main.xml", opts).unwrap();
+            w.write_all(main.as_bytes()).unwrap();
+            w.start_file("bindata/data.bin", opts).unwrap();
+            w.write_all(&zeros).unwrap();
+            w.finish().unwrap().into_inner()
+        };
+        // Self-consistent but over the point limit: refused before a byte is inflated.
+        let big = bomb((20000, 20000));
+        assert!(big.len() < 1 << 20, "{} bytes", big.len());
+        let e = X3p.read(&big).unwrap_err();
+        assert!(e.contains("20000 × 20000") && e.contains("--max-points"), "{e}");
+        let e = X3p.read_within(&big, &Limits::new(1000, "--max-points").unwrap()).unwrap_err();
+        assert!(e.contains("limit of 1000 points"), "{e}");
+        // A small grid whose entry inflates past its size: inflating stops one byte after it.
+        let e = X3p.read(&bomb((16, 16))).unwrap_err();
+        assert!(e.contains("larger than the 2048 bytes"), "{e}");
     }
 
     #[test]

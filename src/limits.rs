@@ -1,0 +1,153 @@
+//! Input limits: the one policy on how much an input may make asperity allocate.
+//!
+//! A grid is at most [`Limits::max_points`] points ([`DEFAULT_MAX_POINTS`] = 2^28, a
+//! 16384 × 16384 map, unless raised with `--max-points` or the study's `[limits] max_points`),
+//! whatever declares it: a file's header, a synthetic surface, a resampling or the study's
+//! `[contact] grid`. Input files are read only when they are regular files (not a directory,
+//! device or pipe), and never past [`Limits::max_file_bytes`], the most a file within the point
+//! limit can need; a file's own header is checked against the bytes it actually holds before
+//! anything is allocated from it (see the readers).
+
+use std::io::Read;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// The default largest grid [points]: 2^28.
+pub const DEFAULT_MAX_POINTS: usize = 1 << 28;
+
+/// The most bytes any format needs per point: a line of text holding x, y and z at full
+/// precision (about 75 bytes), or the float64 heights of 16 channels of a binary file.
+pub const BYTES_PER_POINT: u64 = 128;
+
+/// Room for a file's headers, metadata and a study's text, beyond its points [bytes].
+const HEADER_BYTES: u64 = 16 << 20;
+
+/// How large an input may be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// The largest grid accepted [points].
+    pub max_points: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits { max_points: DEFAULT_MAX_POINTS }
+    }
+}
+
+impl Limits {
+    /// The limits with `max_points` as the largest grid; `option` names where it was given.
+    pub fn new(max_points: usize, option: &str) -> Result<Limits> {
+        if max_points < 4 {
+            return Err(Error::invalid(option, format!("{max_points} points is below the smallest grid, 2 × 2")));
+        }
+        Ok(Limits { max_points })
+    }
+
+    /// Whether an `nx` × `ny` grid is within the limit; the reason when it is not.
+    pub fn check_grid(&self, nx: usize, ny: usize) -> std::result::Result<(), String> {
+        match nx.checked_mul(ny) {
+            Some(n) if n <= self.max_points => Ok(()),
+            n => Err(format!(
+                "a {nx} × {ny} grid ({}) is over the limit of {} points (raise it with --max-points, or \
+                 max_points in the study's [limits])",
+                n.map_or("more points than can be counted".to_string(), |n| format!("{n} points")),
+                self.max_points
+            )),
+        }
+    }
+
+    /// The most bytes an input file may hold: what a file within the point limit can need.
+    pub fn max_file_bytes(&self) -> u64 {
+        (self.max_points as u64).saturating_mul(BYTES_PER_POINT).saturating_add(HEADER_BYTES)
+    }
+
+    /// The content of the regular file at `path`, refusing anything else (a directory, device
+    /// or pipe) and any file longer than [`Limits::max_file_bytes`].
+    pub fn read_file(&self, path: &Path) -> Result<Vec<u8>> {
+        let cap = self.max_file_bytes();
+        let mut file = open_regular(path)?;
+        let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
+        let too_long = |len: u64| {
+            Error::file(
+                path,
+                format!(
+                    "{len} bytes is more than the {cap} bytes an input within the limit of {} points can need \
+                     (raise it with --max-points)",
+                    self.max_points
+                ),
+            )
+        };
+        if len > cap {
+            return Err(too_long(len));
+        }
+        // The length is checked, but a file may grow while it is read: read one byte past it.
+        let mut bytes = Vec::with_capacity(len as usize);
+        (&mut file).take(cap + 1).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
+        if bytes.len() as u64 > cap {
+            return Err(too_long(bytes.len() as u64));
+        }
+        Ok(bytes)
+    }
+
+    /// The content of the regular file at `path` as UTF-8 text (see [`Limits::read_file`]).
+    pub fn read_text(&self, path: &Path) -> Result<String> {
+        String::from_utf8(self.read_file(path)?).map_err(|e| {
+            Error::file(path, format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()))
+        })
+    }
+}
+
+/// The file at `path`, opened for reading if it is a regular file. It is opened without
+/// blocking (a pipe with no writer would block an ordinary open), then checked.
+fn open_regular(path: &Path) -> Result<std::fs::File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(path)
+        .map_err(|e| Error::io(path, e))?;
+    let kind = file.metadata().map_err(|e| Error::io(path, e))?.file_type();
+    if !kind.is_file() {
+        let what = if kind.is_dir() { "a directory" } else { "not a regular file (a device, pipe or socket)" };
+        return Err(Error::file(path, format!("{what}: asperity reads its inputs from regular files only")));
+    }
+    Ok(file)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grids_are_checked_against_the_limit() {
+        let l = Limits::default();
+        assert!(l.check_grid(16384, 16384).is_ok());
+        let e = l.check_grid(20000, 20000).unwrap_err();
+        assert!(e.contains("20000 × 20000") && e.contains("400000000 points") && e.contains("--max-points"), "{e}");
+        assert!(l.check_grid(usize::MAX, 3).unwrap_err().contains("more points than can be counted"));
+        assert!(Limits::new(100, "--max-points").unwrap().check_grid(11, 10).is_err());
+        assert!(Limits::new(3, "--max-points").is_err());
+    }
+
+    #[test]
+    fn only_regular_files_are_read() {
+        let l = Limits::default();
+        let dir = tempfile::tempdir().unwrap();
+        let e = l.read_file(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("a directory"), "{e}");
+        let e = l.read_file(Path::new("/dev/zero")).unwrap_err().to_string();
+        assert!(e.starts_with("/dev/zero: not a regular file"), "{e}");
+        let fifo = dir.path().join("fifo");
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        assert!(l.read_file(&fifo).unwrap_err().to_string().contains("not a regular file"));
+        let small = Limits::new(4, "--max-points").unwrap();
+        let big = dir.path().join("big");
+        std::fs::write(&big, vec![b' '; (small.max_file_bytes() + 1) as usize]).unwrap();
+        assert!(small.read_file(&big).unwrap_err().to_string().contains("raise it with --max-points"));
+        std::fs::write(&big, b"12").unwrap();
+        assert_eq!(small.read_text(&big).unwrap(), "12");
+    }
+}
