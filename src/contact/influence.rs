@@ -124,6 +124,176 @@ impl Influence {
     }
 }
 
+/// Tangential compliance of an interface, for the Cerruti operator: A = Σ 1/G_i and
+/// B = Σ ν_i/G_i [1/Pa] over its elastic bodies (G = E / (2(1 + ν)) the shear modulus). Normal
+/// and tangential problems are uncoupled: exact for two identical bodies (the coupling terms
+/// (1 − 2ν)/G of the two cancel), Goodman's approximation otherwise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShearCompliance {
+    /// Σ 1/G_i [1/Pa].
+    pub a: f64,
+    /// Σ ν_i/G_i [1/Pa].
+    pub b: f64,
+}
+
+impl ShearCompliance {
+    /// The compliance of these bodies (one for a rigid counter-body, two otherwise).
+    pub fn of(bodies: &[super::Material]) -> Self {
+        bodies.iter().fold(ShearCompliance { a: 0.0, b: 0.0 }, |c, m| {
+            let g = m.youngs / (2.0 * (1.0 + m.poisson));
+            ShearCompliance { a: c.a + 1.0 / g, b: c.b + m.poisson / g }
+        })
+    }
+
+    /// The normal compliance Σ (1 − ν_i)/G_i = 2/E* [1/Pa] of the same bodies.
+    pub fn normal(&self) -> f64 {
+        self.a - self.b
+    }
+}
+
+/// The tangential influence operator of the half-space (Cerruti): surface displacement
+/// (u_x, u_y) from surface shear traction (q_x, q_y),
+///
+/// ```text
+///     û_α(k) = (A δ_αβ − B k_α k_β / k²) q̂_β(k) / k
+/// ```
+///
+/// (one body: A = 1/G, B = ν/G), periodic with the k = 0 mode set to zero (displacements are
+/// then measured from the mean surface displacement), or on a zero-padded (2ny, 2nx) grid with
+/// the exact influence of uniformly sheared rectangular pixels (free boundary). Two FFT pairs
+/// per application, on the same engine as [`Influence`].
+pub struct TangentialInfluence {
+    ny: usize,
+    nx: usize,
+    fft: Fft2,
+    /// Kernels xx, xy, yy in the spectrum layout, normalisation folded in.
+    kernel: [Vec<f64>; 3],
+    spectrum: [Vec<Complex64>; 2],
+    work: Fft2Work,
+}
+
+impl TangentialInfluence {
+    /// The periodic operator on an (ny, nx) window of size (lx, ly) [m].
+    pub fn periodic(ny: usize, nx: usize, (lx, ly): (f64, f64), c: ShearCompliance) -> Self {
+        let fft = Fft2::new(ny, nx);
+        let norm = 1.0 / (ny * nx) as f64;
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let mut kernel = [Vec::new(), Vec::new(), Vec::new()];
+        for (kx, ky) in fft.wavevectors() {
+            let (qx, qy) = (two_pi * kx as f64 / lx, two_pi * ky as f64 / ly);
+            let q2 = qx * qx + qy * qy;
+            if q2 == 0.0 {
+                kernel.iter_mut().for_each(|k| k.push(0.0));
+                continue;
+            }
+            let q = q2.sqrt();
+            // The cross term is odd in each component: zero on the Nyquist lines, where the
+            // sign of the wavevector is undefined.
+            let nyquist = (nx % 2 == 0 && kx == nx / 2) || (ny % 2 == 0 && ky == ny as i64 / 2);
+            kernel[0].push((c.a - c.b * qx * qx / q2) / q * norm);
+            kernel[1].push(if nyquist { 0.0 } else { -c.b * qx * qy / q2 / q * norm });
+            kernel[2].push((c.a - c.b * qy * qy / q2) / q * norm);
+        }
+        Self::with_kernels(ny, nx, fft, kernel)
+    }
+
+    /// The free-boundary operator: uniformly sheared rectangular pixels (Cerruti's point
+    /// solution integrated over each pixel), convolved on a zero-padded (2ny, 2nx) grid.
+    pub fn free(ny: usize, nx: usize, (lx, ly): (f64, f64), c: ShearCompliance) -> Self {
+        let (py, px) = (2 * ny, 2 * nx);
+        let (dx, dy) = (lx / nx as f64, ly / ny as f64);
+        let (ha, hb) = (dx / 2.0, dy / 2.0);
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let mut coefficients = [vec![0.0; py * px], vec![0.0; py * px], vec![0.0; py * px]];
+        for i in 0..py {
+            let oy = if i <= ny { i as f64 } else { i as f64 - py as f64 } * dy;
+            for j in 0..px {
+                let ox = if j <= nx { j as f64 } else { j as f64 - px as f64 } * dx;
+                let k = i * px + j;
+                let l1 = love_rectangle(ox, oy, ha, hb);
+                coefficients[0][k] = ((c.a - c.b) * l1 + c.b * rectangle(cerruti_xx, ox, oy, ha, hb)) / two_pi;
+                coefficients[2][k] = ((c.a - c.b) * l1 + c.b * rectangle(cerruti_yy, ox, oy, ha, hb)) / two_pi;
+                // Odd in each offset: left zero on the offsets ±n the window never needs, so
+                // that the spectrum is real.
+                if i != ny && j != nx {
+                    coefficients[1][k] = c.b * rectangle(cerruti_xy, ox, oy, ha, hb) / two_pi;
+                }
+            }
+        }
+        let fft = Fft2::new(py, px);
+        let mut spectrum = fft.make_spectrum();
+        let mut work = fft.make_work();
+        let norm = 1.0 / (py * px) as f64;
+        let kernel = coefficients.map(|coefficient| {
+            fft.forward(&coefficient, py, px, &mut spectrum, &mut work);
+            spectrum.iter().map(|s| s.re * norm).collect()
+        });
+        Self::with_kernels(ny, nx, fft, kernel)
+    }
+
+    fn with_kernels(ny: usize, nx: usize, fft: Fft2, values: [Vec<f64>; 3]) -> Self {
+        let kernel = values.map(|v| {
+            let mut k = large_buffer(v.len(), 0.0);
+            k.copy_from_slice(&v);
+            k
+        });
+        let spectrum = [fft.make_spectrum(), fft.make_spectrum()];
+        let work = fft.make_work();
+        TangentialInfluence { ny, nx, fft, kernel, spectrum, work }
+    }
+
+    /// Window shape (ny, nx).
+    pub fn shape(&self) -> (usize, usize) {
+        (self.ny, self.nx)
+    }
+
+    /// Displacements (u_x, u_y) [m] of the window's points under the shear traction
+    /// (q_x, q_y) [Pa], all row-major (ny, nx).
+    pub fn apply(&mut self, q: [&[f64]; 2], u: [&mut [f64]; 2]) {
+        use rayon::prelude::*;
+        let TangentialInfluence { ny, nx, fft, kernel, spectrum, work } = self;
+        let [sx, sy] = spectrum;
+        fft.forward(q[0], *ny, *nx, sx, work);
+        fft.forward(q[1], *ny, *nx, sy, work);
+        let [kxx, kxy, kyy] = &*kernel;
+        sx.par_iter_mut().zip(sy.par_iter_mut()).zip(kxx.par_iter().zip(kxy.par_iter()).zip(kyy.par_iter())).for_each(
+            |((x, y), ((kxx, kxy), kyy))| {
+                let (a, b) = (*x, *y);
+                *x = a * *kxx + b * *kxy;
+                *y = a * *kxy + b * *kyy;
+            },
+        );
+        let [ux, uy] = u;
+        fft.inverse(sx, ux, *ny, *nx, work);
+        fft.inverse(sy, uy, *ny, *nx, work);
+    }
+}
+
+/// ∫∫ f over the rectangle [−a, a] × [−b, b] seen from (x, y), from a primitive F of f in
+/// both variables.
+fn rectangle(primitive: fn(f64, f64) -> f64, x: f64, y: f64, a: f64, b: f64) -> f64 {
+    primitive(x + a, y + b) - primitive(x + a, y - b) - primitive(x - a, y + b) + primitive(x - a, y - b)
+}
+
+/// A primitive of X²/r³ in X and Y: Y·asinh(X/|Y|) (zero on Y = 0).
+fn cerruti_xx(x: f64, y: f64) -> f64 {
+    if y == 0.0 {
+        0.0
+    } else {
+        y * (x / y.abs()).asinh()
+    }
+}
+
+/// A primitive of Y²/r³ in X and Y.
+fn cerruti_yy(x: f64, y: f64) -> f64 {
+    cerruti_xx(y, x)
+}
+
+/// A primitive of XY/r³ in X and Y: −r.
+fn cerruti_xy(x: f64, y: f64) -> f64 {
+    -x.hypot(y)
+}
+
 /// ∫∫ dx' dy' / r over the rectangle [−a, a] × [−b, b], seen from the point (x, y) [m²/m = m].
 /// Times p / (π E*), it is the surface displacement under a uniform pressure p on the rectangle
 /// (Love's solution).

@@ -4,14 +4,18 @@
 //! - [`influence`]: the half-space operators u = K p (periodic, free boundary);
 //! - [`solver`]: the Polonsky–Keer constrained conjugate gradient at imposed load;
 //! - [`patches`]: contact patches (4-connected clusters);
+//! - [`tangential`]: shear tractions on a fixed contact set under a tangential displacement,
+//!   with Coulomb bounds (the sliding onset's elastic solve);
 //! - here: materials, the contact state and the distribution of local pressure.
 
 pub mod influence;
 pub mod patches;
 pub mod solver;
+pub mod tangential;
 
-pub use influence::{Boundary, Influence};
+pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
 pub use solver::{ContactSolver, SolveReport, SolverOptions};
+pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 
 use crate::error::{Error, Result};
 

@@ -6,12 +6,17 @@
 //! redistributed over them (a fibre bundle with equal load sharing). From a pressure map
 //! and a [`FrictionLaw`] this module computes the [`Onset`] of sliding (static friction,
 //! friction drop, critical / pre-sliding / subcritical elements, their maps) and the
-//! friction–displacement [`Curve`].
+//! friction–displacement [`Curve`]. [`elastic_onset`] replaces equal sharing by the elastic
+//! interaction of the contact points through the half-space (the tangential solve).
 
 mod curve;
+mod elastic;
 mod law;
 mod onset;
 
 pub use curve::{write_curves_csv, Curve, CurvePoint, Loading};
+pub use elastic::{
+    elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideWork, SlipLaw, Snapshot, Weakening,
+};
 pub use law::{law_from_curve, parse_curve, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};

@@ -1,0 +1,359 @@
+//! The constrained tangential solve: shear tractions on a fixed contact set under an imposed
+//! rigid tangential displacement, with a Coulomb bound at every point.
+//!
+//! The normal pressure p comes from the normal solve and is not changed (normal and
+//! tangential problems uncoupled: exact for identical bodies, Goodman's approximation
+//! otherwise). Unknown: the shear traction q_i = (q_x, q_y) [Pa] on the contact points. Given a
+//! target surface displacement b_i [m] (the body's displacement minus the slip accumulated
+//! before this increment) and a bound g_i [Pa] (μ_i p_i), q minimises
+//!
+//! ```text
+//!     Π(q) = ½ qᵀ K q − bᵀ q     subject to |q_i| ≤ g_i,
+//! ```
+//!
+//! K the Cerruti operator ([`TangentialInfluence`]). Its optimality conditions are the
+//! frictional contact conditions: a stuck point (|q_i| < g_i) follows the target (u_i = b_i);
+//! a slipping point carries |q_i| = g_i, with the slip increment b_i − u_i along q_i.
+//!
+//! The solve is a projected conjugate gradient in the manner of Polonsky & Keer: the search
+//! direction is the gradient u − b, with its outward radial part removed at points on their
+//! bound; the step length is the exact minimiser along it; the new traction is projected onto
+//! the disks |q_i| ≤ g_i. Conjugacy is kept while the set of points on their bound stays the
+//! same. One application of K (two FFT pairs) per iteration, a second one when the projection
+//! changed the traction (points sliding along their bound).
+//!
+//! Convergence: the projected gradient's norm relative to the target's, both over the contact
+//! points, below the tolerance, on a displacement that is exact (recomputed from scratch).
+
+use rayon::prelude::*;
+
+use super::influence::{Boundary, ShearCompliance, TangentialInfluence};
+use crate::error::{Error, Result};
+
+/// Settings of the tangential solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialOptions {
+    /// Relative norm of the projected gradient at convergence.
+    pub tolerance: f64,
+    /// Iterations after which a solve that has not converged is an error.
+    pub max_iterations: usize,
+}
+
+impl Default for TangentialOptions {
+    fn default() -> Self {
+        TangentialOptions { tolerance: 1e-8, max_iterations: 20_000 }
+    }
+}
+
+/// What one tangential solve reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialReport {
+    /// Conjugate-gradient iterations.
+    pub iterations: usize,
+    /// Applications of the operator (two FFT pairs each).
+    pub applications: usize,
+    /// Residual at convergence.
+    pub residual: f64,
+}
+
+/// The tangential problem on the contact set of one pressure map. The traction of the last
+/// solve is the starting point of the next.
+pub struct TangentialSolver {
+    shape: (usize, usize),
+    size: (f64, f64),
+    operator: TangentialInfluence,
+    options: TangentialOptions,
+    /// Flat index y·nx + x of each contact point (p > 0), raster order.
+    points: Vec<usize>,
+    /// Normal pressure p [Pa] at each contact point.
+    pressure: Vec<f64>,
+    /// Shear traction q [Pa] at each contact point.
+    traction: Vec<[f64; 2]>,
+    /// Surface displacement u = K q [m] at each contact point.
+    displacement: Vec<[f64; 2]>,
+    direction: Vec<[f64; 2]>,
+    product: Vec<[f64; 2]>,
+    /// Dense grids for the operator: input (x, y), output (x, y).
+    field_in: [Vec<f64>; 2],
+    field_out: [Vec<f64>; 2],
+    /// Whether each point was on its bound in the last iteration.
+    on_bound: Vec<bool>,
+}
+
+impl TangentialSolver {
+    /// The problem on the contact set (p > 0) of `pressure` [Pa] (row-major, `shape`) on a
+    /// window of physical size `size` [m], with the bodies' shear compliance and the boundary
+    /// of the normal solve.
+    pub fn new(
+        pressure: &[f64],
+        shape: (usize, usize),
+        size: (f64, f64),
+        compliance: ShearCompliance,
+        boundary: Boundary,
+        options: TangentialOptions,
+    ) -> Result<Self> {
+        let (ny, nx) = shape;
+        if ny < 2 || nx < 2 || pressure.len() != ny * nx {
+            return Err(Error::invalid("pressure map", format!("{} values for a {ny}×{nx} grid", pressure.len())));
+        }
+        if let Some(i) = pressure.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
+            return Err(Error::invalid(
+                "pressure map",
+                format!("pressure at row {}, column {} is {}; it must be finite and ≥ 0", i / nx, i % nx, pressure[i]),
+            ));
+        }
+        if !(size.0 > 0.0 && size.1 > 0.0 && size.0.is_finite() && size.1.is_finite()) {
+            return Err(Error::invalid("--size", format!("must be positive and finite, got {}×{} m", size.0, size.1)));
+        }
+        if !(options.tolerance > 0.0 && options.max_iterations > 0) {
+            return Err(Error::invalid("tangential solver", "needs a positive tolerance and iteration limit"));
+        }
+        let points: Vec<usize> = (0..pressure.len()).filter(|&i| pressure[i] > 0.0).collect();
+        if points.is_empty() {
+            return Err(Error::invalid("pressure map", "no contact: every pressure is zero"));
+        }
+        let operator = match boundary {
+            Boundary::Periodic => TangentialInfluence::periodic(ny, nx, size, compliance),
+            Boundary::Free => TangentialInfluence::free(ny, nx, size, compliance),
+        };
+        let m = points.len();
+        let grid = || [vec![0.0; ny * nx], vec![0.0; ny * nx]];
+        Ok(TangentialSolver {
+            shape,
+            size,
+            operator,
+            options,
+            pressure: points.iter().map(|&i| pressure[i]).collect(),
+            points,
+            traction: vec![[0.0; 2]; m],
+            displacement: vec![[0.0; 2]; m],
+            direction: vec![[0.0; 2]; m],
+            product: vec![[0.0; 2]; m],
+            field_in: grid(),
+            field_out: grid(),
+            on_bound: vec![false; m],
+        })
+    }
+
+    /// Grid shape (ny, nx).
+    pub fn shape(&self) -> (usize, usize) {
+        self.shape
+    }
+
+    /// Area of one pixel [m²].
+    pub fn pixel_area(&self) -> f64 {
+        self.size.0 / self.shape.1 as f64 * (self.size.1 / self.shape.0 as f64)
+    }
+
+    /// Flat indices y·nx + x of the contact points.
+    pub fn points(&self) -> &[usize] {
+        &self.points
+    }
+
+    /// Normal pressure p [Pa] at the contact points.
+    pub fn pressure(&self) -> &[f64] {
+        &self.pressure
+    }
+
+    /// Shear traction q [Pa] at the contact points, from the last solve.
+    pub fn traction(&self) -> &[[f64; 2]] {
+        &self.traction
+    }
+
+    /// Surface displacement u = K q [m] at the contact points, from the last solve.
+    pub fn displacement(&self) -> &[[f64; 2]] {
+        &self.displacement
+    }
+
+    /// Tangential force Σ q · a [N] of the current traction, (F_x, F_y).
+    pub fn force(&self) -> [f64; 2] {
+        let a = self.pixel_area();
+        let (fx, fy) = self.traction.iter().fold((0.0, 0.0), |(x, y), q| (x + q[0], y + q[1]));
+        [fx * a, fy * a]
+    }
+
+    /// Replace the traction (a saved state to go back to) and recompute its displacement.
+    pub fn set_traction(&mut self, traction: &[[f64; 2]]) {
+        self.traction.copy_from_slice(traction);
+        self.refresh();
+    }
+
+    /// u = K q on the contact points, from scratch.
+    fn refresh(&mut self) {
+        let TangentialSolver { operator, points, field_in, field_out, traction, displacement, .. } = self;
+        Self::apply_to(operator, points, field_in, field_out, traction, displacement);
+    }
+
+    /// `out = K v` on the contact points.
+    fn apply_to(
+        operator: &mut TangentialInfluence,
+        points: &[usize],
+        field_in: &mut [Vec<f64>; 2],
+        field_out: &mut [Vec<f64>; 2],
+        v: &[[f64; 2]],
+        out: &mut [[f64; 2]],
+    ) {
+        // Points off the contact set are never written: the input grids stay zero there.
+        for (&i, v) in points.iter().zip(v) {
+            field_in[0][i] = v[0];
+            field_in[1][i] = v[1];
+        }
+        let [ox, oy] = field_out;
+        operator.apply([&field_in[0], &field_in[1]], [ox, oy]);
+        out.par_iter_mut().zip(points.par_iter()).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
+    }
+
+    /// Solve for the targets `target` b_i [m] and bounds `bound` g_i [Pa] (one per contact
+    /// point), starting from the last traction.
+    pub fn solve(&mut self, target: &[[f64; 2]], bound: &[f64]) -> Result<TangentialReport> {
+        let m = self.points.len();
+        assert!(target.len() == m && bound.len() == m, "one target and one bound per contact point");
+        let scale = (target.iter().map(|b| b[0] * b[0] + b[1] * b[1]).sum::<f64>()).sqrt();
+        if scale == 0.0 {
+            self.traction.fill([0.0; 2]);
+            self.displacement.fill([0.0; 2]);
+            return Ok(TangentialReport { iterations: 0, applications: 0, residual: 0.0 });
+        }
+        project(&mut self.traction, bound);
+        self.refresh();
+        let mut applications = 1;
+        let mut iterations = 0;
+        let mut conjugate = false;
+        let mut exact = true;
+        let mut norm_old = 1.0;
+        let (mut best, mut best_at) = (f64::INFINITY, 0);
+        loop {
+            // Projected gradient d, and whether the set of points on their bound changed.
+            let (norm, changed) = self
+                .traction
+                .par_iter()
+                .zip(self.displacement.par_iter())
+                .zip(target.par_iter().zip(bound.par_iter()))
+                .zip(self.product.par_iter_mut().zip(self.on_bound.par_iter_mut()))
+                .map(|(((q, u), (b, g)), (d, was))| {
+                    let r = [u[0] - b[0], u[1] - b[1]];
+                    let qn = q[0].hypot(q[1]);
+                    let now = qn >= g * (1.0 - 1e-12);
+                    *d = r;
+                    if now {
+                        let n = [q[0] / qn, q[1] / qn];
+                        let radial = r[0] * n[0] + r[1] * n[1];
+                        if radial < 0.0 {
+                            *d = [r[0] - radial * n[0], r[1] - radial * n[1]];
+                        }
+                    }
+                    let changed = now != *was;
+                    *was = now;
+                    (d[0] * d[0] + d[1] * d[1], changed)
+                })
+                .reduce(|| (0.0, false), |a, b| (a.0 + b.0, a.1 || b.1));
+            let residual = norm.sqrt() / scale;
+            if !residual.is_finite() {
+                return Err(Error::invalid(
+                    "tangential solver",
+                    format!("broke down at iteration {iterations} (non-finite residual)"),
+                ));
+            }
+            if residual <= self.options.tolerance {
+                if exact {
+                    return Ok(TangentialReport { iterations, applications, residual });
+                }
+                // Converged on the displacement updated step by step: check from scratch.
+                self.refresh();
+                applications += 1;
+                exact = true;
+                continue;
+            }
+            if iterations == self.options.max_iterations {
+                return Err(Error::NotConverged {
+                    solver: "tangential solver",
+                    iterations,
+                    residual,
+                    tolerance: self.options.tolerance,
+                });
+            }
+            iterations += 1;
+            if residual < best {
+                (best, best_at) = (residual, iterations);
+            } else if iterations - best_at > 50 {
+                // Stalled: restart from the steepest descent on an exact displacement.
+                (conjugate, best_at) = (false, iterations);
+                self.refresh();
+                applications += 1;
+                continue;
+            }
+            let beta = if conjugate && !changed { norm / norm_old } else { 0.0 };
+            norm_old = norm;
+            // At points held on their bound the direction keeps no outward part either.
+            self.direction
+                .par_iter_mut()
+                .zip(self.product.par_iter())
+                .zip(self.traction.par_iter().zip(self.on_bound.par_iter()))
+                .for_each(|((t, d), (q, held))| {
+                    *t = [d[0] + beta * t[0], d[1] + beta * t[1]];
+                    if *held {
+                        let qn = q[0].hypot(q[1]);
+                        let n = [q[0] / qn, q[1] / qn];
+                        let radial = t[0] * n[0] + t[1] * n[1];
+                        if radial < 0.0 {
+                            *t = [t[0] - radial * n[0], t[1] - radial * n[1]];
+                        }
+                    }
+                });
+            {
+                let TangentialSolver { operator, points, field_in, field_out, direction, product, .. } = self;
+                Self::apply_to(operator, points, field_in, field_out, direction, product);
+            }
+            applications += 1;
+            // Exact line search along t: τ = (u − b)·t / tᵀKt.
+            let (rt, tkt) = self
+                .direction
+                .par_iter()
+                .zip(self.product.par_iter())
+                .zip(self.displacement.par_iter().zip(target.par_iter()))
+                .map(|((t, w), (u, b))| {
+                    ((u[0] - b[0]) * t[0] + (u[1] - b[1]) * t[1], t[0] * w[0] + t[1] * w[1])
+                })
+                .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+            if !(tkt > 0.0) {
+                conjugate = false;
+                continue;
+            }
+            let tau = rt / tkt;
+            self.traction.par_iter_mut().zip(self.direction.par_iter()).for_each(|(q, t)| {
+                q[0] -= tau * t[0];
+                q[1] -= tau * t[1];
+            });
+            exact = false;
+            if project(&mut self.traction, bound) {
+                self.refresh();
+                applications += 1;
+                exact = true;
+            } else {
+                self.displacement.par_iter_mut().zip(self.product.par_iter()).for_each(|(u, w)| {
+                    u[0] -= tau * w[0];
+                    u[1] -= tau * w[1];
+                });
+            }
+            conjugate = true;
+        }
+    }
+}
+
+/// Project every traction onto its disk |q_i| ≤ g_i; whether any changed.
+fn project(traction: &mut [[f64; 2]], bound: &[f64]) -> bool {
+    traction
+        .par_iter_mut()
+        .zip(bound.par_iter())
+        .map(|(q, g)| {
+            let qn = q[0].hypot(q[1]);
+            if qn > *g {
+                let s = g / qn;
+                *q = [q[0] * s, q[1] * s];
+                true
+            } else {
+                false
+            }
+        })
+        .reduce(|| false, |a, b| a || b)
+}

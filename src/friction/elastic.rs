@@ -1,0 +1,456 @@
+//! The onset of sliding with elastic interaction between the contact points: the body is
+//! displaced rigidly by δ along x, quasi-statically and increasing, and the shear tractions
+//! follow from the constrained tangential solve ([`TangentialSolver`]) instead of being shared
+//! equally among the stuck elements.
+//!
+//! The local law has memory: a point's friction coefficient is mu_s until it first slips and
+//! falls to mu_d after (the paper's instant drop), or falls linearly from mu_s to mu_d over an
+//! accumulated slip d_c ([`Weakening::Linear`]), or follows a measured μ(slip) curve
+//! ([`Weakening::Curve`]). Each displacement step is one increment: targets b_i = δ e_x − c_i
+//! (c_i the slip accumulated so far), bounds μ_i p_i; when the solve makes points slip, their
+//! coefficients are updated from the new slip and the step is solved again at the same δ
+//! (a slip cascade) until no bound changes. F(δ) = Σ q_x · a; F_S is its largest value along
+//! the path, located by going back to the step before it and repeating that stretch with
+//! finer steps.
+
+use serde::Serialize;
+
+use super::ClassShare;
+use crate::contact::TangentialSolver;
+use crate::error::{Error, Result};
+
+/// Displacement steps up to the stuck estimate of the peak, μ_s N / k_t.
+const STEPS: usize = 64;
+/// The stretch around the largest force is repeated this many times, each with steps this
+/// many times finer.
+const REFINEMENTS: usize = 3;
+const REFINE: usize = 8;
+/// Steps after which a path that has not reached total sliding is an error.
+const MAX_STEPS: usize = 100 * STEPS;
+/// Solves of one cascade after which it is an error.
+const MAX_CASCADE: usize = 2000;
+/// A traction within this fraction of its bound is on it (slipping).
+const ON_BOUND: f64 = 1e-9;
+
+/// How a point's friction coefficient falls from mu_s to mu_d as it slips.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Weakening {
+    /// At once on the first slip (the paper's law).
+    Instant,
+    /// Linearly over an accumulated slip d_c [m].
+    Linear(f64),
+    /// A measured μ(slip): (slip [m] from the onset of slip, μ) pairs, slip increasing from 0;
+    /// beyond the last point μ stays at its last value.
+    Curve(Vec<(f64, f64)>),
+}
+
+/// The local law of the sliding onset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlipLaw {
+    /// Static coefficient mu_s: the bound of a point that has never slipped.
+    pub mu_s: f64,
+    /// Dynamic coefficient mu_d: the bound once weakened.
+    pub mu_d: f64,
+    pub weakening: Weakening,
+}
+
+impl SlipLaw {
+    /// The coefficient of a point that has slipped `slip` [m] in all (path length), `slipped`
+    /// whether it has slipped at all.
+    pub fn mu(&self, slip: f64, slipped: bool) -> f64 {
+        match &self.weakening {
+            Weakening::Instant => {
+                if slipped {
+                    self.mu_d
+                } else {
+                    self.mu_s
+                }
+            }
+            Weakening::Linear(dc) => self.mu_s - (self.mu_s - self.mu_d) * (slip / dc).min(1.0),
+            Weakening::Curve(points) => {
+                let i = points.partition_point(|(s, _)| *s <= slip);
+                if i == 0 {
+                    points[0].1
+                } else if i == points.len() {
+                    points[i - 1].1
+                } else {
+                    let ((s0, m0), (s1, m1)) = (points[i - 1], points[i]);
+                    m0 + (m1 - m0) * (slip - s0) / (s1 - s0)
+                }
+            }
+        }
+    }
+
+    /// Whether nothing changes once every point has slipped this far [m].
+    fn settled(&self, slip: f64) -> bool {
+        match &self.weakening {
+            Weakening::Instant => true,
+            Weakening::Linear(dc) => slip >= *dc,
+            Weakening::Curve(points) => slip >= points.last().map_or(0.0, |p| p.0),
+        }
+    }
+}
+
+/// What a contact point is in a state of the path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[repr(i8)]
+pub enum SlideClass {
+    /// Slipped before this state (its coefficient follows the weakening).
+    Slipped = 1,
+    /// Not slipped before, on its bound now: about to slip.
+    Critical = 2,
+    /// Not slipped before, below its bound.
+    Stuck = 3,
+}
+
+/// One state along the path.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SlidePoint {
+    /// Rigid displacement δ of the body [m].
+    pub displacement_m: f64,
+    /// Tangential force F = Σ q_x · a [N].
+    pub force_n: f64,
+    /// Points below their bound.
+    pub stick_points: usize,
+    /// Points on their bound.
+    pub slip_points: usize,
+}
+
+/// A state of the path: tractions and the memory of every point.
+#[derive(Clone)]
+struct State {
+    delta: f64,
+    traction: Vec<[f64; 2]>,
+    /// Slip accumulated so far, as a vector c_i [m] and as a path length s_i [m].
+    slip: Vec<[f64; 2]>,
+    path: Vec<f64>,
+    slipped: Vec<bool>,
+}
+
+/// A solved state worth keeping: the largest force, or the end of a force ramp.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    pub point: SlidePoint,
+    /// Shear traction [Pa] at each contact point.
+    pub traction: Vec<[f64; 2]>,
+    /// Class of each contact point.
+    pub classes: Vec<SlideClass>,
+}
+
+/// Work done by the path's solves.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct SlideWork {
+    /// Displacement steps.
+    pub steps: usize,
+    /// Tangential solves (a step solves once more per cascade round).
+    pub solves: usize,
+    /// Conjugate-gradient iterations, summed.
+    pub iterations: usize,
+    /// Operator applications (two FFT pairs each), summed.
+    pub applications: usize,
+}
+
+/// The sliding onset with elastic sharing.
+#[derive(Debug, Clone)]
+pub struct ElasticOnset {
+    /// N = Σ p · a [N].
+    pub normal_force: f64,
+    /// F_S: the largest tangential force along the path [N].
+    pub static_force: f64,
+    pub mu_d: f64,
+    /// The state at the largest force.
+    pub peak: Snapshot,
+    /// Per class at the peak: stuck, critical, slipped.
+    pub stuck: ClassShare,
+    pub critical: ClassShare,
+    pub slipped: ClassShare,
+    /// F(δ) along the path (the coarse path, then the refined stretches, in increasing δ).
+    pub curve: Vec<SlidePoint>,
+    pub work: SlideWork,
+}
+
+impl ElasticOnset {
+    /// F_S / N.
+    pub fn static_coefficient(&self) -> f64 {
+        self.static_force / self.normal_force
+    }
+
+    /// F_S / (mu_d N).
+    pub fn friction_drop(&self) -> f64 {
+        self.static_force / (self.mu_d * self.normal_force)
+    }
+}
+
+/// The path driver over one tangential solver.
+struct Path<'a> {
+    solver: &'a mut TangentialSolver,
+    law: &'a SlipLaw,
+    state: State,
+    target: Vec<[f64; 2]>,
+    bound: Vec<f64>,
+    work: SlideWork,
+}
+
+impl<'a> Path<'a> {
+    fn new(solver: &'a mut TangentialSolver, law: &'a SlipLaw) -> Self {
+        let m = solver.points().len();
+        solver.set_traction(&vec![[0.0; 2]; m]);
+        let state = State {
+            delta: 0.0,
+            traction: vec![[0.0; 2]; m],
+            slip: vec![[0.0; 2]; m],
+            path: vec![0.0; m],
+            slipped: vec![false; m],
+        };
+        Path { solver, law, state, target: vec![[0.0; 2]; m], bound: vec![0.0; m], work: SlideWork::default() }
+    }
+
+    fn solve(&mut self) -> Result<()> {
+        let report = self.solver.solve(&self.target, &self.bound)?;
+        self.work.solves += 1;
+        self.work.iterations += report.iterations;
+        self.work.applications += report.applications;
+        Ok(())
+    }
+
+    /// The fully stuck tangential stiffness k_t = dF/dδ [N/m].
+    fn stuck_stiffness(&mut self) -> Result<f64> {
+        self.target.iter_mut().for_each(|b| *b = [1.0, 0.0]);
+        self.bound.fill(f64::INFINITY);
+        self.solve()?;
+        let k = self.solver.force()[0];
+        self.solver.set_traction(&self.state.traction);
+        Ok(k)
+    }
+
+    fn go_back(&mut self, state: &State) {
+        self.state = state.clone();
+        self.solver.set_traction(&state.traction);
+    }
+
+    /// One increment to `delta`, with its cascade. `visit` sees every solved state (the state
+    /// before its memory is updated) with its point on the curve.
+    fn step(&mut self, delta: f64, visit: &mut impl FnMut(&Self, SlidePoint)) -> Result<SlidePoint> {
+        self.work.steps += 1;
+        let p = self.solver.pressure();
+        let st = &self.state;
+        for i in 0..p.len() {
+            self.target[i] = [delta - st.slip[i][0], -st.slip[i][1]];
+            self.bound[i] = self.law.mu(st.path[i], st.slipped[i]) * p[i];
+        }
+        let mut slipped = st.slipped.clone();
+        let mut rounds = 0;
+        loop {
+            self.solve()?;
+            let point = self.point(delta);
+            visit(self, point);
+            // The slip of this increment, and the bounds it implies.
+            let (q, u, p) = (self.solver.traction(), self.solver.displacement(), self.solver.pressure());
+            let mut same = true;
+            for i in 0..p.len() {
+                if !at_bound(q[i], self.bound[i]) {
+                    continue;
+                }
+                let d = [self.target[i][0] - u[i][0], self.target[i][1] - u[i][1]];
+                slipped[i] = true;
+                let g = self.law.mu(self.state.path[i] + d[0].hypot(d[1]), true) * p[i];
+                if (g - self.bound[i]).abs() > 1e-12 * self.bound[i] {
+                    same = false;
+                    self.bound[i] = g;
+                }
+            }
+            rounds += 1;
+            if same {
+                break;
+            }
+            if rounds == MAX_CASCADE {
+                return Err(Error::invalid(
+                    "sliding onset",
+                    format!("a slip cascade at δ = {delta:.3e} m did not settle after {MAX_CASCADE} solves"),
+                ));
+            }
+        }
+        let (q, u) = (self.solver.traction(), self.solver.displacement());
+        let st = &mut self.state;
+        for i in 0..q.len() {
+            if at_bound(q[i], self.bound[i]) {
+                let d = [self.target[i][0] - u[i][0], self.target[i][1] - u[i][1]];
+                st.slip[i] = [st.slip[i][0] + d[0], st.slip[i][1] + d[1]];
+                st.path[i] += d[0].hypot(d[1]);
+            }
+        }
+        st.slipped = slipped;
+        st.traction.copy_from_slice(q);
+        st.delta = delta;
+        Ok(self.point(delta))
+    }
+
+    /// The curve point of the solver's current state.
+    fn point(&self, delta: f64) -> SlidePoint {
+        let q = self.solver.traction();
+        let slip = q.iter().zip(&self.bound).filter(|(q, g)| at_bound(**q, **g)).count();
+        SlidePoint { displacement_m: delta, force_n: self.solver.force()[0], stick_points: q.len() - slip, slip_points: slip }
+    }
+
+    fn snapshot(&self, point: SlidePoint) -> Snapshot {
+        let q = self.solver.traction();
+        let classes = (0..q.len())
+            .map(|i| {
+                if self.state.slipped[i] {
+                    SlideClass::Slipped
+                } else if at_bound(q[i], self.bound[i]) {
+                    SlideClass::Critical
+                } else {
+                    SlideClass::Stuck
+                }
+            })
+            .collect();
+        Snapshot { point, traction: q.to_vec(), classes }
+    }
+
+    /// Whether the interface slides as a whole and nothing changes any more.
+    fn sliding(&self, point: &SlidePoint) -> bool {
+        point.stick_points == 0
+            && self.state.slipped.iter().all(|s| *s)
+            && self.state.path.iter().all(|s| self.law.settled(*s))
+    }
+}
+
+fn at_bound(q: [f64; 2], g: f64) -> bool {
+    q[0].hypot(q[1]) >= g * (1.0 - ON_BOUND)
+}
+
+/// The sliding onset of the contact set of `solver` under `law`: displacement-controlled path
+/// to total sliding, the largest force located to 1/8³ of the first steps.
+pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<ElasticOnset> {
+    let area = solver.pixel_area();
+    let normal_force: f64 = solver.pressure().iter().sum::<f64>() * area;
+    let mut path = Path::new(solver, law);
+    let k = path.stuck_stiffness()?;
+    if !(k > 0.0 && k.is_finite()) {
+        return Err(Error::invalid("sliding onset", format!("the stuck tangential stiffness is {k} N/m")));
+    }
+    let mut h = law.mu_s * normal_force / k / STEPS as f64;
+    let mut curve = vec![SlidePoint {
+        displacement_m: 0.0,
+        force_n: 0.0,
+        stick_points: path.solver.points().len(),
+        slip_points: 0,
+    }];
+    // The largest force seen, its state, and the state at the start of its step.
+    let mut best: Option<(Snapshot, State)> = None;
+    let run = |path: &mut Path, start: &State, h: f64, until: Option<f64>, curve: &mut Vec<SlidePoint>, best: &mut Option<(Snapshot, State)>| -> Result<()> {
+        path.go_back(start);
+        for k in 1..=MAX_STEPS {
+            let before = path.state.clone();
+            let delta = start.delta + h * k as f64;
+            let mut record = |p: &Path, point: SlidePoint| {
+                if best.as_ref().is_none_or(|(s, _)| point.force_n > s.point.force_n) {
+                    *best = Some((p.snapshot(point), before.clone()));
+                }
+            };
+            let point = path.step(delta, &mut record)?;
+            curve.push(point);
+            if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) || (until.is_none() && path.sliding(&point)) {
+                return Ok(());
+            }
+        }
+        Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
+    };
+    let origin = path.state.clone();
+    run(&mut path, &origin, h, None, &mut curve, &mut best)?;
+    for _ in 0..REFINEMENTS {
+        let start = best.as_ref().expect("a path has states").1.clone();
+        let end = start.delta + 2.0 * h;
+        h /= REFINE as f64;
+        run(&mut path, &start, h, Some(end), &mut curve, &mut best)?;
+    }
+    curve.sort_by(|a, b| a.displacement_m.total_cmp(&b.displacement_m));
+    let (peak, _) = best.expect("a path has states");
+    let share = |class: SlideClass| {
+        let (mut count, mut n, mut f) = (0, 0.0, 0.0);
+        for ((c, q), p) in peak.classes.iter().zip(&peak.traction).zip(path.solver.pressure()) {
+            if *c == class {
+                count += 1;
+                n += p * area;
+                f += q[0] * area;
+            }
+        }
+        ClassShare { count, normal_fraction: n / normal_force, friction_fraction: f / peak.point.force_n }
+    };
+    let (stuck, critical, slipped) = (share(SlideClass::Stuck), share(SlideClass::Critical), share(SlideClass::Slipped));
+    Ok(ElasticOnset {
+        normal_force,
+        static_force: peak.point.force_n,
+        mu_d: law.mu_d,
+        stuck,
+        critical,
+        slipped,
+        peak,
+        curve,
+        work: path.work,
+    })
+}
+
+/// A partial-slip state under Coulomb friction (coefficient `mu`): the tangential force ramped
+/// to `force` [N] by increasing δ, located to a relative 1e-6.
+pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<(Snapshot, SlideWork)> {
+    let area = solver.pixel_area();
+    let normal_force: f64 = solver.pressure().iter().sum::<f64>() * area;
+    if !(force > 0.0 && force < mu * normal_force) {
+        return Err(Error::invalid(
+            "--tangential-force",
+            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force} N", mu * normal_force),
+        ));
+    }
+    let law = SlipLaw { mu_s: mu, mu_d: mu, weakening: Weakening::Instant };
+    let mut path = Path::new(solver, &law);
+    let k = path.stuck_stiffness()?;
+    let h = force / k / STEPS as f64;
+    let mut none = |_: &Path, _: SlidePoint| {};
+    // Step until the force passes `force`, then bisect that last step from the state before it.
+    let mut before = path.state.clone();
+    let (mut lo, mut hi) = ((0.0, 0.0), (0.0, 0.0));
+    for k in 1..=MAX_STEPS {
+        before = path.state.clone();
+        lo = hi;
+        let point = path.step(h * k as f64, &mut none)?;
+        hi = (point.displacement_m, point.force_n);
+        if hi.1 >= force {
+            break;
+        }
+    }
+    if hi.1 < force {
+        return Err(Error::invalid("--tangential-force", format!("not reached after {MAX_STEPS} displacement steps")));
+    }
+    let mut best = hi;
+    for round in 0..200 {
+        if (best.1 - force).abs() <= 1e-6 * force {
+            break;
+        }
+        // Regula falsi, every third round a bisection so that neither end sticks.
+        let mut d = lo.0 + (force - lo.1) / (hi.1 - lo.1) * (hi.0 - lo.0);
+        if round % 3 == 2 || !(d > lo.0 && d < hi.0) {
+            d = 0.5 * (lo.0 + hi.0);
+        }
+        let f = force_at(&mut path, &before, d)?;
+        if f < force {
+            lo = (d, f);
+        } else {
+            hi = (d, f);
+        }
+        if (f - force).abs() < (best.1 - force).abs() {
+            best = (d, f);
+        }
+    }
+    force_at(&mut path, &before, best.0)?;
+    let point = path.point(best.0);
+    Ok((path.snapshot(point), path.work))
+}
+
+/// The force after one increment from `start` to `delta`.
+fn force_at(path: &mut Path, start: &State, delta: f64) -> Result<f64> {
+    path.go_back(start);
+    let mut none = |_: &Path, _: SlidePoint| {};
+    Ok(path.step(delta, &mut none)?.force_n)
+}
