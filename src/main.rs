@@ -31,6 +31,10 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    if let Err(e) = cli::handle_signals() {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return cli::exit_on_usage_error(e),

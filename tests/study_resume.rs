@@ -26,7 +26,7 @@ const TOTAL: usize = 80;
 fn records(out: &Path) -> usize {
     ["ball-1", "ball-2"]
         .iter()
-        .filter_map(|t| std::fs::read_dir(out.join("solves").join(t)).ok())
+        .filter_map(|t| std::fs::read_dir(out.join("solves/topographies").join(t)).ok())
         .flat_map(|d| d.map(|e| e.unwrap().file_name().into_string().unwrap()))
         .filter(|n| n.ends_with(".json") && !n.starts_with('.'))
         .count()
@@ -96,7 +96,7 @@ fn a_killed_run_resumes_to_the_uninterrupted_results() {
     assert_eq!(json(&killed.join("results.json")), json(&dir.path().join("whole/results.json")));
     // The warm-start maps are gone once the sweeps are done.
     for t in ["ball-1", "ball-2"] {
-        let names: Vec<_> = std::fs::read_dir(killed.join("solves").join(t))
+        let names: Vec<_> = std::fs::read_dir(killed.join("solves/topographies").join(t))
             .unwrap()
             .map(|e| e.unwrap().file_name().into_string().unwrap())
             .filter(|n| n.starts_with("warm"))

@@ -194,12 +194,12 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
         assert_eq!(full.iter().filter(|p| **p > 0.0).count(), json[k].contact_points);
     }
     // Nothing left over from the sweep but its records.
-    let mut solves: Vec<_> = std::fs::read_dir(out.join("solves/ball-2"))
+    let mut solves: Vec<_> = std::fs::read_dir(out.join("solves/topographies/ball-2"))
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
         .collect();
     solves.sort();
-    assert_eq!(solves, ["00.json", "01.json", "02.json", "03.json"]);
+    assert_eq!(solves, ["00.json", "01.json", "02.json", "03.json", "loads-00-03.lock"]);
 
     // Run again: everything is found finished, and the results are the same.
     let again = s.run(&out, false, &|_| ()).unwrap();

@@ -53,8 +53,9 @@ pub struct ContactArgs {
     /// Also write gap-NNN.npy and displacement-NNN.npy [m] for each load.
     #[arg(long)]
     fields: bool,
-    /// Output directory (replaced as a whole when the run completes; nothing is left behind
-    /// by a failed run).
+    /// Output directory, with a manifest.json of the files written: a new or empty folder, or
+    /// an earlier output of `asperity contact`, replaced as a whole when the run completes
+    /// (anything else is refused; nothing is left behind by a failed run).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
 }
@@ -114,7 +115,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let mut solver =
         ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)?;
 
-    let out = StagedDir::new(&args.out)?;
+    let out = StagedDir::new(&args.out, "contact")?;
     let mut order: Vec<usize> = (0..args.load.len()).collect();
     order.sort_by(|&a, &b| args.load[a].total_cmp(&args.load[b]));
     let bar = super::progress_bar(args.load.len() as u64, "solving");

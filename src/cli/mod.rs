@@ -17,6 +17,26 @@ use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
 
+/// SIGINT and SIGTERM remove the temporaries in flight (`.asperity-*.partial`) and end the
+/// process with 130 and 143 (locks go with the process); SIGPIPE, a reader such as `head` that
+/// stops early, ends it quietly as it ends any Unix tool (Rust ignores it by default, which
+/// turns every later print into a panic).
+pub fn handle_signals() -> std::io::Result<()> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    // SAFETY: restoring a signal's default disposition, before any other thread exists.
+    if unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) } == libc::SIG_ERR {
+        return Err(std::io::Error::last_os_error());
+    }
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])?;
+    std::thread::Builder::new().name("signals".into()).spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            asperity::output::remove_temporaries();
+            std::process::exit(128 + signal);
+        }
+    })?;
+    Ok(())
+}
+
 /// Print a usage error as one line (help and version requests print in full) and exit 2.
 pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;

@@ -41,7 +41,8 @@ pub struct Args {
     pub json: bool,
     /// Write onset.json, classes.npy (int8: 0 no contact, 1 pre-sliding, 2 critical,
     /// 3 subcritical), stress_ratio.npy (float64, NaN out of contact), curve.csv and
-    /// stress_ratio_<f>.npy snapshots into this directory (replaced as a whole).
+    /// stress_ratio_<f>.npy snapshots and a manifest.json into this directory: a new or empty
+    /// folder, or an earlier output of `asperity onset`, replaced as a whole.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Area of one pixel of a bare PRESSURE.npy [m²] (only forces in newtons need it).
@@ -169,7 +170,7 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     if let Some(dir) = &args.out {
-        let staged = StagedDir::new(dir)?;
+        let staged = StagedDir::new(dir, "onset")?;
         write_json(&staged.path("onset.json"), &report)?;
         write_npy(&staged.path("classes.npy"), &onset.class_map(&input.pressure, area))?;
         write_npy(&staged.path("stress_ratio.npy"), &onset.stress_ratio_map(&input.pressure, area, 1.0)?)?;

@@ -25,7 +25,9 @@ use asperity::Result;
 /// and 100 mN), pressure/ (every map, if the study asks), figures/ and index.html.
 ///
 /// Resumable: finished solves are kept in DIR/solves, and running the same study into the same
-/// DIR continues where an interrupted run stopped, with the same results.
+/// DIR continues where an interrupted run stopped, with the same results. One writer per
+/// topography: a second run into a DIR where another works on the same topographies is
+/// refused (or waits, with --wait).
 #[derive(Args)]
 pub struct RunArgs {
     /// Study file (TOML; see --print-default) [default: the embedded default study].
@@ -41,9 +43,12 @@ pub struct RunArgs {
     /// exit.
     #[arg(long, conflicts_with_all = ["study", "quick", "fresh"])]
     print_default: bool,
-    /// Discard the solves an earlier run left in DIR and start over.
+    /// Discard what an earlier run wrote in DIR and start over (files put there by hand stay).
     #[arg(long)]
     fresh: bool,
+    /// When another run works in DIR on the same topographies, wait for it instead of refusing.
+    #[arg(long, conflicts_with = "print_default")]
+    wait: bool,
     #[command(flatten)]
     limits: super::LimitArgs,
 }
@@ -62,7 +67,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     if let Some(limits) = args.limits.given() {
         config.limits.max_points = limits.max_points;
     }
-    let study = Study::prepare(config, &origin)?;
+    let study = Study::prepare(config, &origin)?.waiting(args.wait);
 
     let bar = super::progress_bar(0, "solving");
     let outcome = study.run(&args.out, args.fresh, &|event| match event {

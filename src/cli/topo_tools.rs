@@ -157,13 +157,11 @@ impl OutFormat {
 }
 
 fn describe(out: &Path, topo: &Topography) -> String {
-    let (lx, ly) = topo.physical_size.expect("written topographies have a size");
-    format!(
-        "wrote {}: {} × {} points (nx × ny), physical size {lx:e} × {ly:e} m (--size {lx:e},{ly:e})",
-        out.display(),
-        topo.nx(),
-        topo.ny()
-    )
+    let size = match topo.physical_size {
+        Some((lx, ly)) => format!("physical size {lx:e} × {ly:e} m (--size {lx:e},{ly:e})"),
+        None => "physical size unknown (give it with --size when reading it)".to_string(),
+    };
+    format!("wrote {}: {} × {} points (nx × ny), {size}", out.display(), topo.nx(), topo.ny())
 }
 
 /// `asperity topo convert`.
@@ -223,6 +221,7 @@ pub fn power_spectrum(args: PsdArgs) -> Result<()> {
         _ => Window::default_for(&topo),
     };
     let spectrum = psd(&topo, window)?;
+    // A reader that stops early (`| head`) ends the process by SIGPIPE (see `handle_signals`).
     let write = || -> std::io::Result<()> {
         let mut w = std::io::BufWriter::new(std::io::stdout().lock());
         writeln!(w, "q_rad_per_m,psd_m4")?;
@@ -231,11 +230,7 @@ pub fn power_spectrum(args: PsdArgs) -> Result<()> {
         }
         w.flush()
     };
-    match write() {
-        // A reader that stops early (`| head`) is not an error.
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::io("standard output", e)),
-        _ => Ok(()),
-    }
+    write().map_err(|e| Error::io("standard output", e))
 }
 
 /// `NX[,NY]`: point counts.

@@ -13,11 +13,22 @@
 //!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order);
 //! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for;
 //! - `figures/`, `index.html`: the figures and their report;
-//! - `solves/`: what makes a run resumable — the study's fingerprint, one record per finished
-//!   (topography, load) solve (its rows for every law), and the last pressure map of each
-//!   unfinished sweep (float64, lossless). A killed run, run again into the same DIR, picks up
-//!   at the first missing record from that map: the solver depends only on the pressure it
-//!   starts from, so the results equal an uninterrupted run's (apart from the timings).
+//! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, and below
+//!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
+//!   solve (its rows for every law) and the last pressure map `warm-NN.npy` of an unfinished
+//!   sweep (float64, lossless). A killed run, run again into the same DIR, picks up at the
+//!   first missing record from that map: the solver depends only on the pressure it starts
+//!   from, so the results equal an uninterrupted run's (apart from the timings). Topography
+//!   names appear only as folder names there (and under `pressure/`), so no name collides
+//!   with the run's own files.
+//!
+//! One writer per unit of work: a unit is a topography with its chain of loads, locked by
+//! `solves/topographies/<topography>/loads-AA-BB.lock` while it is solved. Every process
+//! working in DIR holds `solves/study.lock` shared; claiming DIR (checking or writing the
+//! fingerprint, `fresh` discarding the earlier solves, which needs it exclusive) happens under
+//! `solves/claim.lock`, and the results, figures and report are written under
+//! `solves/results.lock`. The locks are advisory (`flock`) and released by the kernel when a
+//! process ends, so a killed run never leaves a stale one.
 //!
 //! Every file is written atomically. The library prints nothing: progress goes to a callback.
 
@@ -36,7 +47,7 @@ use crate::contact::{self, ContactSolver, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::limits::Limits;
-use crate::output;
+use crate::output::{self, Access, Lock};
 use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::missing::{fill_missing, refuse_missing};
@@ -45,6 +56,16 @@ use crate::topography::Topography;
 
 /// Pixels kept around the contact points in a [`MapSnapshot`].
 const SNAPSHOT_MARGIN: usize = 8;
+
+// The run's own names in `DIR/solves/`; topographies have theirs below `topographies/`.
+const SOLVES: &str = "solves";
+const FINGERPRINT: &str = "fingerprint.json";
+const CLAIM_LOCK: &str = "claim.lock";
+const STUDY_LOCK: &str = "study.lock";
+const RESULTS_LOCK: &str = "results.lock";
+const TOPOGRAPHIES: &str = "topographies";
+/// The run's own files at the top of DIR.
+const RESULT_FILES: [&str; 4] = ["study.toml", "results.csv", "results.json", "index.html"];
 
 /// A study ready to run: every topography built, every law resolved.
 pub struct Study {
@@ -57,6 +78,14 @@ pub struct Study {
     /// Loads [N], ascending.
     loads: Vec<f64>,
     experiments: Vec<ShsPoint>,
+    /// Wait for work another process holds, instead of refusing it.
+    wait: bool,
+}
+
+/// The locks a run holds while it works in DIR.
+struct Claim {
+    _study: Lock,
+    _units: Vec<Lock>,
 }
 
 /// What the runner reports as it goes.
@@ -131,7 +160,13 @@ impl Study {
             .iter()
             .map(|l| LawSpec { name: l.name.clone(), mu_s: Some(l.mu_s), mu_d: Some(l.mu_d), ..LawSpec::default() })
             .collect();
-        Ok(Study { origin: origin.to_string(), config, topographies, laws, loads, experiments })
+        Ok(Study { origin: origin.to_string(), config, topographies, laws, loads, experiments, wait: false })
+    }
+
+    /// When another process works in DIR on the same units, wait for it (`true`) instead of
+    /// refusing (the default).
+    pub fn waiting(self, wait: bool) -> Study {
+        Study { wait, ..self }
     }
 
     /// The study as it runs: paths absolute, loads and laws explicit.
@@ -150,14 +185,12 @@ impl Study {
     }
 
     /// Run the study into `dir`, resuming the solves an earlier run of the same study left
-    /// there; `fresh` discards them. A `dir` holding another study, or anything that is not a
-    /// study's output, is refused before anything is solved.
+    /// there; `fresh` discards them (and only them: files put in `dir` by hand stay). A `dir`
+    /// holding another study, or anything that is not a study's output, is refused before
+    /// anything is solved; so is a `dir` where another process works on the same units, unless
+    /// [waiting](Study::waiting).
     pub fn run(&self, dir: &Path, fresh: bool, progress: &(dyn Fn(Progress) + Sync)) -> Result<Outcome> {
-        self.claim(dir, fresh)?;
-        output::write_atomic(&dir.join("study.toml"), |w| {
-            let text = toml::to_string(&self.config).map_err(std::io::Error::other)?;
-            w.write_all(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")).as_bytes())
-        })?;
+        let _claim = self.claim(dir, fresh)?;
 
         let total = self.topographies.len() * self.loads.len();
         let finished: Vec<usize> = (0..self.topographies.len()).map(|t| self.finished(dir, t)).collect();
@@ -168,6 +201,9 @@ impl Study {
             .into_par_iter()
             .try_for_each(|t| self.sweep(dir, t, finished[t], progress, &solved))?;
 
+        let _results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
+        output::remove_stale_temporaries(dir)?;
+        output::remove_stale_temporaries(&dir.join("figures"))?;
         let rows = self.rows(dir)?;
         output::write_atomic(&dir.join("results.csv"), |w| {
             let mut csv = csv::Writer::from_writer(w);
@@ -200,43 +236,120 @@ impl Study {
         Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures })
     }
 
-    /// Make `dir` this study's: new, or holding this study's solves (kept, or discarded when
-    /// `fresh`). Anything else is refused.
-    fn claim(&self, dir: &Path, fresh: bool) -> Result<()> {
+    /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
+    /// `fresh`), or what a start killed before its fingerprint leaves. Anything else is
+    /// refused. Returns the locks of the run: the study's, shared, and every unit's.
+    fn claim(&self, dir: &Path, fresh: bool) -> Result<Claim> {
         let fingerprint = self.fingerprint()?;
-        let solves = dir.join("solves");
-        let stored = solves.join("fingerprint.json");
-        if dir.exists() {
-            if !dir.is_dir() {
-                return Err(Error::invalid("--out", format!("{} is a file, not a directory", dir.display())));
-            }
-            if stored.is_file() {
-                if fresh {
-                    std::fs::remove_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-                } else {
-                    let text = std::fs::read_to_string(&stored).map_err(|e| Error::io(&stored, e))?;
-                    if serde_json::from_str::<Fingerprint>(&text).ok() != Some(fingerprint) {
-                        return Err(Error::invalid(
-                            "--out",
-                            format!(
-                                "{} holds the results of a different study than {}: rerun with --fresh to start \
-                                 over, or choose another --out",
-                                dir.display(),
-                                self.origin
-                            ),
-                        ));
-                    }
-                    return Ok(());
-                }
-            } else if std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.next().is_some() {
+        // Before anything is created in it.
+        self.check_dir(dir)?;
+        let solves = dir.join(SOLVES);
+        std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
+        let _claiming = Lock::acquire(&solves.join(CLAIM_LOCK), Access::Exclusive, true)?;
+        self.check_dir(dir)?;
+        // Only claims write here, and this one holds the claim lock.
+        output::remove_stale_temporaries(&solves)?;
+        let stored_path = solves.join(FINGERPRINT);
+        let stored = match std::fs::read_to_string(&stored_path) {
+            Ok(text) => Some(serde_json::from_str::<Fingerprint>(&text).ok()),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => return Err(Error::io(&stored_path, e)),
+        };
+        let study_lock = solves.join(STUDY_LOCK);
+        let study = match stored {
+            Some(Some(f)) if f == fingerprint && !fresh => self.lock(&study_lock, Access::Shared, dir, "this study")?,
+            Some(_) if !fresh => {
                 return Err(Error::invalid(
                     "--out",
-                    format!("{} is not empty and holds no study: choose another --out", dir.display()),
-                ));
+                    format!(
+                        "{} holds the results of a different study than {}: rerun with --fresh to start over, or \
+                         choose another --out",
+                        dir.display(),
+                        self.origin
+                    ),
+                ))
             }
+            stored => {
+                let lock = self.lock(&study_lock, Access::Exclusive, dir, "its study")?;
+                if stored.is_some() {
+                    discard(dir)?;
+                }
+                output::write_json(&stored_path, &fingerprint)?;
+                // Safe to share by release and retake: the claim lock keeps other claims out.
+                lock.share()?
+            }
+        };
+        output::write_atomic(&dir.join("study.toml"), |w| {
+            let text = toml::to_string(&self.config).map_err(std::io::Error::other)?;
+            w.write_all(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")).as_bytes())
+        })?;
+        let last = self.loads.len() - 1;
+        let units = (0..self.topographies.len())
+            .map(|t| {
+                let unit = self.solves_dir(dir, t);
+                std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
+                let what = format!("topography \"{}\"", self.topographies[t].0);
+                let lock = self.lock(&unit.join(format!("loads-00-{last:02}.lock")), Access::Exclusive, dir, &what)?;
+                // This unit's own folders, now that no one else writes there.
+                output::remove_stale_temporaries(&unit)?;
+                output::remove_stale_temporaries(&dir.join("pressure").join(&self.topographies[t].0))?;
+                if t == 0 {
+                    output::remove_stale_temporaries(&dir.join("snapshots"))?;
+                }
+                Ok(lock)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Claim { _study: study, _units: units })
+    }
+
+    /// Take a lock of the run in `dir`, waiting for it or refusing when another process holds
+    /// it (working on `what`).
+    fn lock(&self, path: &Path, access: Access, dir: &Path, what: &str) -> Result<Lock> {
+        Lock::acquire(path, access, self.wait)?.ok_or_else(|| {
+            Error::invalid(
+                "--out",
+                format!(
+                    "{} is busy: another asperity run works on {what} there; wait for it with --wait, or choose \
+                     another --out",
+                    dir.display()
+                ),
+            )
+        })
+    }
+
+    /// Refuse a `dir` that is a file, or holds neither a study's solves nor only what a start
+    /// killed before its fingerprint leaves (the solves folder, its locks, temporaries).
+    fn check_dir(&self, dir: &Path) -> Result<()> {
+        match std::fs::metadata(dir) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+            Err(e) => return Err(Error::io(dir, e)),
+            Ok(m) if !m.is_dir() => {
+                return Err(Error::invalid("--out", format!("{} is a file, not a directory", dir.display())))
+            }
+            Ok(_) => {}
         }
-        std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
-        output::write_json(&stored, &fingerprint)
+        let solves = dir.join(SOLVES);
+        if solves.join(FINGERPRINT).is_file() {
+            return Ok(());
+        }
+        let only = |d: &Path, names: &[&str]| -> Result<bool> {
+            let entries = match std::fs::read_dir(d) {
+                Ok(entries) => entries,
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(true),
+                Err(e) => return Err(Error::io(d, e)),
+            };
+            for entry in entries {
+                let name = entry.map_err(|e| Error::io(d, e))?.file_name();
+                if !(output::is_temporary(&name) || names.iter().any(|n| name == *n)) {
+                    return Ok(false);
+                }
+            }
+            Ok(true)
+        };
+        if only(dir, &[SOLVES])? && only(&solves, &[CLAIM_LOCK, STUDY_LOCK])? {
+            return Ok(());
+        }
+        Err(Error::invalid("--out", format!("{} is not empty and holds no study: choose another --out", dir.display())))
     }
 
     fn fingerprint(&self) -> Result<Fingerprint> {
@@ -268,7 +381,7 @@ impl Study {
 
     /// The folder of topography `t`'s solve records.
     fn solves_dir(&self, dir: &Path, t: usize) -> PathBuf {
-        dir.join("solves").join(&self.topographies[t].0)
+        dir.join(SOLVES).join(TOPOGRAPHIES).join(&self.topographies[t].0)
     }
 
     /// How many of topography `t`'s loads have their record: the sweep resumes after them.
@@ -402,6 +515,81 @@ impl Study {
     fn snapshot_stem(&self, k: usize) -> String {
         format!("{}-{k:02}", self.topographies[0].0)
     }
+}
+
+/// Remove what a run wrote into `dir`, for `--fresh`: the run's own names only, so that files
+/// put there by hand stay (and the folders that hold them); the fingerprint last, so that a
+/// discard cut short is still a study's DIR for the next `--fresh`.
+fn discard(dir: &Path) -> Result<()> {
+    let index = |s: &str| s.len() >= 2 && s.bytes().all(|b| b.is_ascii_digit());
+    let indexed = |n: &str, ext: &str| n.strip_suffix(ext).is_some_and(index);
+    let stem_indexed =
+        |n: &str, ext: &str| n.strip_suffix(ext).and_then(|s| s.rsplit_once('-')).is_some_and(|(_, k)| index(k));
+    let figure_stems: Vec<String> = super::FigureKind::ALL
+        .iter()
+        .filter_map(|k| serde_json::to_value(k).ok()?.as_str().map(String::from))
+        .collect();
+    let figure = |n: &str| {
+        let stem = n.strip_suffix(".png").or_else(|| n.strip_suffix(".svg"));
+        stem.is_some_and(|s| figure_stems.iter().any(|f| f == s)) || (n.starts_with("movie-") && n.ends_with(".gif"))
+    };
+    remove_matching(dir, |n| RESULT_FILES.contains(&n))?;
+    remove_matching(&dir.join("figures"), figure)?;
+    remove_matching(&dir.join("snapshots"), |n| stem_indexed(n, ".npy") || stem_indexed(n, ".json"))?;
+    for folder in subfolders(&dir.join("pressure"))? {
+        remove_matching(&folder, |n| indexed(n, ".npy"))?;
+    }
+    let units = dir.join(SOLVES).join(TOPOGRAPHIES);
+    for folder in subfolders(&units)? {
+        remove_matching(&folder, |n| {
+            indexed(n, ".json")
+                || n.strip_prefix("warm-").is_some_and(|n| indexed(n, ".npy"))
+                || (n.starts_with("loads-") && n.ends_with(".lock"))
+        })?;
+    }
+    // Emptied folders go; one still holding a file of its owner's stays.
+    for folder in [subfolders(&dir.join("pressure"))?, subfolders(&units)?].concat() {
+        let _ = std::fs::remove_dir(folder);
+    }
+    for folder in ["figures", "snapshots", "pressure", "solves/topographies"] {
+        let _ = std::fs::remove_dir(dir.join(folder));
+    }
+    let fingerprint = dir.join(SOLVES).join(FINGERPRINT);
+    std::fs::remove_file(&fingerprint).map_err(|e| Error::io(&fingerprint, e))
+}
+
+/// Remove the files of `dir` whose names `pick` chooses (none when `dir` is missing).
+fn remove_matching(dir: &Path, pick: impl Fn(&str) -> bool) -> Result<()> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    for entry in entries {
+        let entry = entry.map_err(|e| Error::io(dir, e))?;
+        let is_file = entry.file_type().map_err(|e| Error::io(entry.path(), e))?.is_file();
+        if is_file && entry.file_name().to_str().is_some_and(&pick) {
+            std::fs::remove_file(entry.path()).map_err(|e| Error::io(entry.path(), e))?;
+        }
+    }
+    Ok(())
+}
+
+/// The folders in `dir` (none when `dir` is missing).
+fn subfolders(dir: &Path) -> Result<Vec<PathBuf>> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    let mut folders = Vec::new();
+    for entry in entries {
+        let entry = entry.map_err(|e| Error::io(dir, e))?;
+        if entry.file_type().map_err(|e| Error::io(entry.path(), e))?.is_dir() {
+            folders.push(entry.path());
+        }
+    }
+    Ok(folders)
 }
 
 /// A topography as the study solves it: read or generated, prepared, compounded with its

@@ -1,0 +1,84 @@
+//! Advisory locks on lock files (`flock`): held while a process works, released by the kernel
+//! when it ends, however it ends, so a crash never leaves a stale lock.
+
+use std::fs::{File, OpenOptions, TryLockError};
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// How a lock is shared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// Many holders at once, none exclusive.
+    Shared,
+    /// One holder.
+    Exclusive,
+}
+
+/// A held lock; dropping it releases it. The lock file itself stays.
+#[derive(Debug)]
+pub struct Lock {
+    file: File,
+    path: PathBuf,
+}
+
+impl Lock {
+    /// Take the lock on `path` (created if missing). With `wait`, block until it is free;
+    /// without, `None` when another process holds it.
+    pub fn acquire(path: &Path, access: Access, wait: bool) -> Result<Option<Lock>> {
+        let file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .map_err(|e| Error::io(path, e))?;
+        let lock = Lock { file, path: path.to_path_buf() };
+        Ok(lock.take(access, wait)?.then_some(lock))
+    }
+
+    /// Change a held exclusive lock into a shared one. (`flock` does it by release and retake,
+    /// so the caller holds another lock that keeps out whoever could take it exclusively.)
+    pub fn share(self) -> Result<Lock> {
+        self.file.unlock().map_err(|e| Error::io(&self.path, e))?;
+        self.take(Access::Shared, true)?;
+        Ok(self)
+    }
+
+    fn take(&self, access: Access, wait: bool) -> Result<bool> {
+        let io = |e| Error::io(&self.path, e);
+        match (access, wait) {
+            (Access::Shared, true) => self.file.lock_shared().map_err(io).map(|()| true),
+            (Access::Exclusive, true) => self.file.lock().map_err(io).map(|()| true),
+            (access, false) => {
+                let r = if access == Access::Shared { self.file.try_lock_shared() } else { self.file.try_lock() };
+                match r {
+                    Ok(()) => Ok(true),
+                    Err(TryLockError::WouldBlock) => Ok(false),
+                    Err(TryLockError::Error(e)) => Err(io(e)),
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shared_and_exclusive_exclude_each_other_until_released() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.lock");
+        let a = Lock::acquire(&path, Access::Shared, false).unwrap().unwrap();
+        let b = Lock::acquire(&path, Access::Shared, false).unwrap().unwrap();
+        assert!(Lock::acquire(&path, Access::Exclusive, false).unwrap().is_none());
+        drop((a, b));
+        let c = Lock::acquire(&path, Access::Exclusive, false).unwrap().unwrap();
+        assert!(Lock::acquire(&path, Access::Shared, false).unwrap().is_none());
+        let c = c.share().unwrap();
+        assert!(Lock::acquire(&path, Access::Shared, false).unwrap().is_some());
+        drop(c);
+        assert!(path.is_file());
+    }
+}

@@ -1,0 +1,218 @@
+//! A command's output folder, built aside and moved into place once complete, with a manifest
+//! of the files it holds: the manifest is how a later run of the same command recognises the
+//! folder as its own, the only kind of folder it replaces.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::temp::TempDir;
+use super::{resolve_symlinks, write_json};
+use crate::error::{Error, Result};
+
+/// The manifest's name in an output folder.
+pub const MANIFEST: &str = "manifest.json";
+
+/// `DIR/manifest.json`: which command wrote the folder, and every file it wrote there.
+#[derive(Debug, Serialize, Deserialize)]
+struct Manifest {
+    /// "asperity contact", "asperity onset".
+    written_by: String,
+    asperity: String,
+    files: Vec<String>,
+}
+
+/// An output folder under construction. Files are written into a hidden sibling folder;
+/// [`StagedDir::commit`] moves it to its final name. Dropped without a commit (an error or a
+/// panic on the way), it is removed, so `DIR` never holds a partial result.
+///
+/// An existing `DIR` is replaced only when it is empty or holds an earlier output of the same
+/// command and nothing else; anything else is refused, before any work, so that no file asperity
+/// did not write is ever deleted.
+#[derive(Debug)]
+pub struct StagedDir {
+    /// As the user gave it, for messages.
+    shown: PathBuf,
+    /// Where the folder goes, symbolic links followed.
+    target: PathBuf,
+    written_by: String,
+    staging: Option<TempDir>,
+}
+
+/// What is at the target now.
+enum Found {
+    Nothing,
+    EmptyDir,
+    /// An earlier output of the same command: its files (the manifest among them).
+    Earlier(Vec<PathBuf>),
+}
+
+impl StagedDir {
+    /// Start building the folder `target` as the output of `command` (e.g. "contact"). Refuses
+    /// a target it may not replace. The parent is created if needed.
+    pub fn new(target: &Path, command: &str) -> Result<Self> {
+        let written_by = format!("asperity {command}");
+        let resolved = resolve_symlinks(target)?;
+        // `.`, `..` and `/` name no folder of their own: work on the folder they stand for.
+        let resolved = match resolved.file_name() {
+            Some(_) => resolved,
+            None => fs::canonicalize(&resolved).map_err(|e| Error::io(target, e))?,
+        };
+        let parent = match resolved.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            Some(_) => PathBuf::from("."),
+            None => {
+                return Err(Error::invalid("--out", format!("{}: cannot replace the root folder", target.display())))
+            }
+        };
+        let staged = StagedDir { shown: target.to_path_buf(), target: resolved, written_by, staging: None };
+        staged.found()?;
+        fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        let staging = TempDir::new_in(&parent).map_err(|e| Error::io(&parent, e))?;
+        Ok(StagedDir { staging: Some(staging), ..staged })
+    }
+
+    /// Where to write a file named `name` while the folder is being built.
+    pub fn path(&self, name: &str) -> PathBuf {
+        assert_ne!(name, MANIFEST, "the manifest is the staged folder's own file");
+        self.staging.as_ref().expect("staging exists until commit").path().join(name)
+    }
+
+    /// Write the manifest and move the finished folder into place, replacing an earlier output
+    /// of the same command.
+    pub fn commit(mut self) -> Result<PathBuf> {
+        let staging = self.staging.take().expect("staging exists until commit");
+        let io = |e| Error::io(&self.shown, e);
+        let mut files: Vec<String> = fs::read_dir(staging.path())
+            .map_err(io)?
+            .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect::<std::io::Result<_>>()
+            .map_err(io)?;
+        files.sort();
+        let manifest =
+            Manifest { written_by: self.written_by.clone(), asperity: env!("CARGO_PKG_VERSION").to_string(), files };
+        write_json(&staging.path().join(MANIFEST), &manifest)?;
+        // Checked again: the folder may have changed while the command worked.
+        let earlier = match self.found()? {
+            Found::Earlier(files) => Some(files),
+            Found::Nothing | Found::EmptyDir => None,
+        };
+        let aside = staging.rename_into_place(&self.target, earlier.is_some()).map_err(io)?;
+        if let (Some(aside), Some(files)) = (aside, earlier) {
+            // Only the files the manifest lists: the folder is removed only once empty.
+            for file in files {
+                let path = aside.path.join(&file);
+                fs::remove_file(&path).or_else(|e| if path.exists() { Err(Error::io(&path, e)) } else { Ok(()) })?;
+            }
+            fs::remove_dir(&aside.path).map_err(|e| Error::io(&aside.path, e))?;
+        }
+        Ok(self.shown.clone())
+    }
+
+    /// What the target holds, or why it may not be replaced.
+    fn found(&self) -> Result<Found> {
+        let shown = self.shown.display();
+        let meta = match fs::metadata(&self.target) {
+            Ok(m) => m,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Found::Nothing),
+            Err(e) => return Err(Error::io(&self.shown, e)),
+        };
+        if !meta.is_dir() {
+            return Err(Error::invalid("--out", format!("{shown} is a file, not a folder")));
+        }
+        let names: BTreeSet<String> = fs::read_dir(&self.target)
+            .map_err(|e| Error::io(&self.shown, e))?
+            .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect::<std::io::Result<_>>()
+            .map_err(|e| Error::io(&self.shown, e))?;
+        if names.is_empty() {
+            return Ok(Found::EmptyDir);
+        }
+        let refuse = |why: String| Err(Error::invalid("--out", format!("{shown} {why}: choose another --out")));
+        let path = self.target.join(MANIFEST);
+        let manifest = fs::read_to_string(&path).ok().and_then(|t| serde_json::from_str::<Manifest>(&t).ok());
+        let manifest = match manifest {
+            Some(m) if m.written_by == self.written_by => m,
+            _ => {
+                return refuse(format!(
+                    "is not empty and holds no output of `{}` (no {MANIFEST} of it)",
+                    self.written_by
+                ))
+            }
+        };
+        let listed: BTreeSet<&str> = manifest.files.iter().map(String::as_str).chain([MANIFEST]).collect();
+        let others: Vec<&str> = names.iter().map(String::as_str).filter(|n| !listed.contains(n)).collect();
+        if let Some(first) = others.first() {
+            return refuse(format!(
+                "holds {} file(s) `{}` did not write ({first}{}): move them away, or",
+                others.len(),
+                self.written_by,
+                if others.len() > 1 { ", …" } else { "" }
+            ));
+        }
+        Ok(Found::Earlier(names.into_iter().map(PathBuf::from).collect()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut n: Vec<_> =
+            fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        n.sort();
+        n
+    }
+
+    #[test]
+    fn uncommitted_dir_vanishes_and_commit_replaces_its_own_output() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        {
+            let s = StagedDir::new(&target, "test").unwrap();
+            write_json(&s.path("a.json"), &1).unwrap();
+        }
+        assert!(names(root.path()).is_empty());
+        let s = StagedDir::new(&target, "test").unwrap();
+        write_json(&s.path("a.json"), &1).unwrap();
+        s.commit().unwrap();
+        assert_eq!(names(&target), ["a.json", MANIFEST]);
+        let s = StagedDir::new(&target, "test").unwrap();
+        write_json(&s.path("b.json"), &2).unwrap();
+        s.commit().unwrap();
+        assert_eq!(names(&target), ["b.json", MANIFEST]);
+        assert_eq!(names(root.path()), ["out"]);
+    }
+
+    #[test]
+    fn a_folder_it_did_not_write_is_refused_and_kept() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        fs::create_dir(&target).unwrap();
+        fs::write(target.join("notes.txt"), "mine").unwrap();
+        let e = StagedDir::new(&target, "test").unwrap_err().to_string();
+        assert!(e.starts_with("--out: ") && e.contains("no manifest.json") && !e.contains('\n'), "{e}");
+
+        // An earlier output of another command is not this one's.
+        let other = root.path().join("other");
+        let s = StagedDir::new(&other, "test").unwrap();
+        write_json(&s.path("a.json"), &1).unwrap();
+        s.commit().unwrap();
+        assert!(StagedDir::new(&other, "else").unwrap_err().to_string().contains("`asperity else`"));
+
+        // Its own output with a file added by hand: refused, before and at commit.
+        fs::write(other.join("notes.txt"), "mine").unwrap();
+        let e = StagedDir::new(&other, "test").unwrap_err().to_string();
+        assert!(e.contains("holds 1 file(s) `asperity test` did not write (notes.txt)"), "{e}");
+        fs::remove_file(other.join("notes.txt")).unwrap();
+        let s = StagedDir::new(&other, "test").unwrap();
+        fs::write(other.join("late.txt"), "mine").unwrap();
+        assert!(s.commit().unwrap_err().to_string().contains("(late.txt)"));
+        assert_eq!(names(&other), ["a.json", "late.txt", MANIFEST]);
+        assert_eq!(fs::read_to_string(target.join("notes.txt")).unwrap(), "mine");
+        assert_eq!(names(root.path()), ["other", "out"]);
+    }
+}

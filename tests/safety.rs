@@ -1,0 +1,434 @@
+//! What asperity guarantees about the files around it, tried as a careless or hostile user
+//! would: it never deletes a file it did not write, leaves no temporary behind (failed renames,
+//! SIGINT, SIGTERM, kills at any moment of a start), lets one writer at a time work on a unit of
+//! a study, and writes files with the permissions the umask gives. Every input is tiny.
+
+use std::fs::File;
+use std::os::unix::fs::PermissionsExt;
+use std::os::unix::process::ExitStatusExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use ndarray::Array2;
+
+fn asperity(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(dir).output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The one line of a refusal.
+fn refusal(o: &Output) -> String {
+    let e = stderr(o);
+    assert!(!o.status.success() && o.status.code() == Some(1), "expected a refusal, got {o:?}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+    e
+}
+
+fn succeeds(o: &Output) {
+    assert!(o.status.success(), "{}", stderr(o));
+}
+
+/// Sorted names in `dir`.
+fn names(dir: &Path) -> Vec<String> {
+    let mut n: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    n.sort();
+    n
+}
+
+/// Every `.asperity-*.partial` temporary under `dir`.
+fn temporaries(dir: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    // A process may be renaming or removing what is listed here: skip what vanishes.
+    let Ok(entries) = std::fs::read_dir(dir) else { return found };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if name.starts_with(".asperity-") {
+            found.push(path.clone());
+        }
+        if path.is_dir() && !path.is_symlink() {
+            found.extend(temporaries(&path));
+        }
+    }
+    found
+}
+
+/// A small rough surface [m] as .npy, without a physical size of its own.
+fn surface(path: &Path, n: usize) {
+    let h = Array2::from_shape_fn((n, n), |(i, j)| {
+        let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+        1e-9 * ((6.3 * x).sin() * (6.3 * y).cos()
+            + 0.3 * (31.4 * x + 12.6 * y).sin()
+            + 0.1 * ((i * 7 + j * 13) % 5) as f64)
+    });
+    ndarray_npy::write_npy(path, &h).unwrap();
+}
+
+/// A study of two topographies named like the run's own files, two loads, no figures.
+const STUDY: &str = r#"
+[[topography]]
+name = "fingerprint.json"
+synthetic = { size_m = ["1 µm", "1 µm"], grid = [16, 16], seed = 1, roughness = { hurst = 0.8, rms_height_m = "2 nm" }, cap = { radius_m = "10 µm" } }
+
+[[topography]]
+name = "study.lock"
+synthetic = { size_m = ["1 µm", "1 µm"], grid = [16, 16], seed = 2, roughness = { hurst = 0.8, rms_height_m = "2 nm" }, cap = { radius_m = "10 µm" } }
+
+[loads]
+values = ["0.1 mN", "1 mN"]
+
+[[law]]
+preset = "hold 100 s"
+
+[output]
+figures = []
+"#;
+
+fn study_dir() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("study.toml"), STUDY).unwrap();
+    std::fs::write(dir.path().join("other.toml"), STUDY.replace("\"1 mN\"]", "\"2 mN\"]")).unwrap();
+    dir
+}
+
+/// `asperity run STUDY --out OUT [extra]` in `dir`.
+fn run(dir: &Path, study: &str, out: &str, extra: &[&str]) -> Output {
+    let mut args = vec!["run", study, "--out", out];
+    args.extend_from_slice(extra);
+    asperity(dir, &args)
+}
+
+/// The loads [N] of the rows of a results.csv, as written.
+fn loads(path: &Path) -> Vec<String> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let column = reader.headers().unwrap().iter().position(|h| h == "load_n").unwrap();
+    reader.records().map(|r| r.unwrap()[column].to_string()).collect()
+}
+
+/// results.csv without its column of timings.
+fn table(path: &Path) -> Vec<Vec<String>> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let seconds = reader.headers().unwrap().iter().position(|h| h == "seconds").unwrap();
+    reader
+        .records()
+        .map(|r| r.unwrap().iter().enumerate().filter(|(i, _)| *i != seconds).map(|(_, v)| v.to_string()).collect())
+        .collect()
+}
+
+#[test]
+fn contact_and_onset_replace_only_their_own_earlier_output() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::create_dir(dir.join("scans")).unwrap();
+    surface(&dir.join("scans/s.npy"), 16);
+    std::fs::write(dir.join("scans/notes.txt"), "mine").unwrap();
+    let contact =
+        |out: &str| asperity(dir, &["contact", "scans/s.npy", "--size", "1e-6", "--load", "1e-6", "--out", out]);
+
+    // The folder of the input itself, and a folder of notes: refused, untouched.
+    let e = refusal(&contact("scans"));
+    assert!(e.starts_with("error: --out: scans is not empty") && e.contains("manifest.json"), "{e}");
+    assert_eq!(names(&dir.join("scans")), ["notes.txt", "s.npy"]);
+    assert_eq!(std::fs::read_to_string(dir.join("scans/notes.txt")).unwrap(), "mine");
+
+    // A new folder, then the same command again: its own earlier output is replaced.
+    succeeds(&contact("out"));
+    assert_eq!(names(&dir.join("out")), ["contact.json", "manifest.json", "pressure-000.npy"]);
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["written_by"], "asperity contact");
+    assert_eq!(manifest["files"], serde_json::json!(["contact.json", "pressure-000.npy"]));
+    succeeds(&contact("out"));
+    assert_eq!(names(&dir.join("out")), ["contact.json", "manifest.json", "pressure-000.npy"]);
+
+    // A file added by hand: refused, the file survives.
+    std::fs::write(dir.join("out/mine.txt"), "mine").unwrap();
+    let e = refusal(&contact("out"));
+    assert!(e.contains("did not write (mine.txt)"), "{e}");
+    assert_eq!(names(&dir.join("out")), ["contact.json", "manifest.json", "mine.txt", "pressure-000.npy"]);
+    std::fs::remove_file(dir.join("out/mine.txt")).unwrap();
+
+    // onset: never into contact's output, its own is replaced.
+    let onset = |out: &str| asperity(dir, &["onset", "out", "--mu-s", "0.6", "--mu-d", "0.4", "--out", out]);
+    let e = refusal(&onset("out"));
+    assert!(e.contains("holds no output of `asperity onset`"), "{e}");
+    succeeds(&onset("onset"));
+    succeeds(&onset("onset"));
+    assert!(names(&dir.join("onset")).contains(&"manifest.json".to_string()));
+    let e = refusal(&onset("scans"));
+    assert!(e.contains("scans is not empty"), "{e}");
+
+    // An empty folder is taken; `.` (here not empty) is refused.
+    std::fs::create_dir(dir.join("empty")).unwrap();
+    succeeds(&contact("empty"));
+    let e =
+        refusal(&asperity(&dir.join("scans"), &["contact", "s.npy", "--size", "1e-6", "--load", "1e-6", "--out", "."]));
+    assert!(e.contains("is not empty"), "{e}");
+    assert_eq!(names(&dir.join("scans")), ["notes.txt", "s.npy"]);
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+}
+
+#[test]
+fn failed_renames_and_links_leave_no_temporary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 8);
+    // The output's name is taken by a folder: the final rename fails.
+    std::fs::create_dir(dir.join("taken.npy")).unwrap();
+    std::fs::write(dir.join("taken.npy/mine"), "mine").unwrap();
+    let e = refusal(&asperity(dir, &["topo", "convert", "s.npy", "taken.npy", "--size", "1e-6"]));
+    assert!(e.contains("taken.npy"), "{e}");
+    assert_eq!(names(&dir.join("taken.npy")), ["mine"]);
+
+    // A dangling link as --out: the folder is made where it points, the link kept.
+    std::os::unix::fs::symlink("elsewhere/out", dir.join("link")).unwrap();
+    succeeds(&asperity(dir, &["contact", "s.npy", "--size", "1e-6", "--load", "1e-6", "--out", "link"]));
+    assert!(std::fs::symlink_metadata(dir.join("link")).unwrap().file_type().is_symlink());
+    assert!(dir.join("elsewhere/out/contact.json").is_file());
+    // A link to a file as an output file: written through.
+    std::os::unix::fs::symlink("elsewhere/t.npy", dir.join("t.npy")).unwrap();
+    succeeds(&asperity(dir, &["topo", "convert", "s.npy", "t.npy", "--size", "1e-6"]));
+    assert!(dir.join("elsewhere/t.npy").is_file() && dir.join("t.npy").is_symlink());
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+}
+
+#[test]
+fn convert_without_a_physical_size_writes_and_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // An XYZ point list: its coordinates carry no unit, so no physical size.
+    let heights = Array2::from_shape_fn((8, 8), |(i, j)| 1e-9 * ((i * 7 + j * 3) % 5) as f64);
+    let lines: String = heights.indexed_iter().map(|((i, j), h)| format!("{j} {i} {h:e}\n")).collect();
+    std::fs::write(dir.join("s.xyz"), lines).unwrap();
+    for out in ["o.npy", "o.gsf"] {
+        let o = asperity(dir, &["topo", "convert", "s.xyz", out]);
+        succeeds(&o);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains("8 × 8 points") && text.contains("physical size unknown"), "{text}");
+    }
+    let written: Array2<f64> = ndarray_npy::read_npy(dir.join("o.npy")).unwrap();
+    assert_eq!(written, heights);
+}
+
+#[test]
+fn a_reader_that_stops_early_ends_the_process_quietly() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 8);
+    let p = Array2::from_shape_fn((8, 8), |(i, j)| if (i + j) % 3 == 0 { 1e6 * (1 + i) as f64 } else { 0.0 });
+    ndarray_npy::write_npy(dir.join("p.npy"), &p).unwrap();
+    for args in [
+        &["onset", "p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--json"][..],
+        &["onset", "p.npy", "--mu-s", "0.6", "--mu-d", "0.4"],
+        &["topo", "info", "s.npy", "--size", "1e-6", "--json"],
+        &["topo", "psd", "s.npy", "--size", "1e-6"],
+        &["run", "--print-default"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(args)
+            .current_dir(dir)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // `| head -c0`: the reader is gone before the first line.
+        let o = child.wait_with_output().unwrap();
+        assert!(o.status.success() || o.status.signal() == Some(libc::SIGPIPE), "{args:?}: {o:?}");
+        assert!(o.stderr.is_empty(), "{args:?}: {}", stderr(&o));
+    }
+}
+
+/// Send `signal` to `child` once `ready` holds, and return its exit code.
+fn interrupt(child: &mut std::process::Child, signal: i32, ready: impl Fn() -> bool) -> Option<i32> {
+    let start = Instant::now();
+    while !ready() {
+        assert!(child.try_wait().unwrap().is_none(), "it ended before it could be interrupted");
+        assert!(start.elapsed() < Duration::from_secs(60), "never ready to be interrupted");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
+    child.wait().unwrap().code()
+}
+
+#[test]
+fn sigint_and_sigterm_remove_the_temporaries_and_exit_130_and_143() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 384);
+    for (signal, code) in [(libc::SIGINT, 130), (libc::SIGTERM, 143)] {
+        // A contact sweep far longer than it is given: the staging folder is there.
+        let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["contact", "s.npy", "--size", "1e-6", "--fields", "--out", "out"])
+            .args(["--load", "1e-7,3e-7,1e-6,3e-6,1e-5,3e-5,1e-4", "--tolerance", "1e-13"])
+            .current_dir(dir)
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let exit = interrupt(&mut child, signal, || !temporaries(dir).is_empty());
+        assert_eq!(exit, Some(code));
+        assert_eq!(names(dir), ["s.npy"]);
+    }
+
+    // A study: interrupted, nothing half-written stays, and it resumes.
+    std::fs::write(dir.join("study.toml"), STUDY.replace("grid = [16, 16]", "grid = [256, 256]")).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["run", "study.toml", "--out", "res"])
+        .current_dir(dir)
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let exit = interrupt(&mut child, libc::SIGTERM, || dir.join("res/study.toml").exists());
+    assert_eq!(exit, Some(143));
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+    assert!(!dir.join("res/results.csv").exists());
+    succeeds(&asperity(dir, &["run", "study.toml", "--out", "res"]));
+}
+
+#[test]
+fn a_run_killed_at_any_moment_of_its_start_resumes_or_starts_fresh() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    // What a run killed 1 ms after it started left (200 times out of 200): a fingerprint's
+    // temporary and nothing else.
+    std::fs::create_dir_all(dir.join("k/solves")).unwrap();
+    std::fs::write(dir.join("k/solves/.asperity-Xy12Ab.partial"), "{\"asperi").unwrap();
+    succeeds(&run(dir, "study.toml", "k", &[]));
+    let whole = table(&dir.join("k/results.csv"));
+    assert_eq!(whole.len(), 4);
+    std::fs::create_dir_all(dir.join("f/solves")).unwrap();
+    std::fs::write(dir.join("f/solves/.asperity-Xy12Ab.partial"), "").unwrap();
+    succeeds(&run(dir, "study.toml", "f", &["--fresh"]));
+
+    // Killed at every moment of its first milliseconds, then run to the end.
+    for i in 0..24 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["run", "study.toml", "--out", "again"])
+            .args(if i % 3 == 2 { &["--fresh"][..] } else { &[] })
+            .current_dir(dir)
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_micros(250 * i));
+        child.kill().unwrap();
+        child.wait().unwrap();
+    }
+    succeeds(&run(dir, "study.toml", "again", &[]));
+    assert_eq!(table(&dir.join("again/results.csv")), whole);
+    succeeds(&run(dir, "study.toml", "again", &["--fresh"]));
+    assert_eq!(table(&dir.join("again/results.csv")), whole);
+}
+
+#[test]
+fn topography_names_never_meet_the_runs_own_files() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    succeeds(&run(dir, "study.toml", "out", &[]));
+    let o = run(dir, "study.toml", "out", &[]);
+    succeeds(&o);
+    assert!(stderr(&o).contains("0 solved, 4 resumed"), "{}", stderr(&o));
+    assert_eq!(
+        names(&dir.join("out/solves")),
+        ["claim.lock", "fingerprint.json", "results.lock", "study.lock", "topographies"]
+    );
+    assert_eq!(names(&dir.join("out/solves/topographies")), ["fingerprint.json", "study.lock"]);
+}
+
+#[test]
+fn one_writer_per_unit_of_work_and_never_two_studies_in_one_dir() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    succeeds(&run(dir, "study.toml", "out", &[]));
+    let results = std::fs::read(dir.join("out/results.csv")).unwrap();
+    std::fs::write(dir.join("out/notes.txt"), "mine").unwrap();
+
+    // Another process works on a unit (this test holds its lock).
+    let unit = File::create(dir.join("out/solves/topographies/study.lock/loads-00-01.lock")).unwrap();
+    unit.lock().unwrap();
+    let e = refusal(&run(dir, "study.toml", "out", &[]));
+    assert!(e.contains("out is busy") && e.contains("topography \"study.lock\"") && e.contains("--wait"), "{e}");
+    // --wait waits for it.
+    let mut waiting = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["run", "study.toml", "--out", "out", "--wait"])
+        .current_dir(dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(waiting.try_wait().unwrap().is_none(), "it did not wait");
+    drop(unit);
+    succeeds(&waiting.wait_with_output().unwrap());
+
+    // Another study: refused; with --fresh while a run works there: busy.
+    let e = refusal(&run(dir, "other.toml", "out", &[]));
+    assert!(e.contains("different study"), "{e}");
+    let study = File::open(dir.join("out/solves/study.lock")).unwrap();
+    study.lock_shared().unwrap();
+    let e = refusal(&run(dir, "other.toml", "out", &["--fresh"]));
+    assert!(e.contains("is busy"), "{e}");
+    assert_eq!(std::fs::read(dir.join("out/results.csv")).unwrap(), results);
+    drop(study);
+    // --fresh discards the run's files, never the user's.
+    succeeds(&run(dir, "other.toml", "out", &["--fresh"]));
+    assert_eq!(std::fs::read_to_string(dir.join("out/notes.txt")).unwrap(), "mine");
+    assert_eq!(loads(&dir.join("out/results.csv")), ["0.0001", "0.002", "0.0001", "0.002"]);
+
+    // Two studies started at once into one new DIR: one wins, the other is refused, and the
+    // results are the winner's alone.
+    for _ in 0..3 {
+        let _ = std::fs::remove_dir_all(dir.join("race"));
+        let spawn = |study: &str| {
+            Command::new(env!("CARGO_BIN_EXE_asperity"))
+                .args(["run", study, "--out", "race"])
+                .current_dir(dir)
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap()
+        };
+        let (a, b) = (spawn("study.toml"), spawn("other.toml"));
+        let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
+        let won: Vec<&Output> = [&a, &b].into_iter().filter(|o| o.status.success()).collect();
+        assert_eq!(won.len(), 1, "{a:?} {b:?}");
+        let lost = if a.status.success() { &b } else { &a };
+        let e = refusal(lost);
+        assert!(e.contains("different study") || e.contains("is busy"), "{e}");
+        let loads = loads(&dir.join("race/results.csv"));
+        let expected = if a.status.success() { "0.001" } else { "0.002" };
+        assert!(loads.contains(&expected.to_string()) && loads.len() == 4, "{loads:?}");
+    }
+}
+
+#[test]
+fn files_follow_the_umask() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 8);
+    for (umask, file, folder) in [("022", 0o644, 0o755), ("077", 0o600, 0o700)] {
+        let sh = |command: &str| {
+            let o = Command::new("sh")
+                .args(["-c", &format!("umask {umask}; exec \"$0\" {command}"), env!("CARGO_BIN_EXE_asperity")])
+                .current_dir(dir)
+                .output()
+                .unwrap();
+            succeeds(&o);
+        };
+        let out = format!("c{umask}");
+        sh(&format!("contact s.npy --size 1e-6 --load 1e-6 --out {out}"));
+        sh(&format!("topo convert s.npy --size 1e-6 t{umask}.gsf"));
+        sh(&format!("run study.toml --out r{umask}"));
+        let mode = |p: &str| std::fs::metadata(dir.join(p)).unwrap().permissions().mode() & 0o777;
+        for f in [format!("{out}/contact.json"), format!("{out}/pressure-000.npy"), format!("t{umask}.gsf")] {
+            assert_eq!(mode(&f), file, "{f} under umask {umask}");
+        }
+        for f in ["results.csv", "results.json", "study.toml", "index.html"] {
+            assert_eq!(mode(&format!("r{umask}/{f}")), file, "{f} under umask {umask}");
+        }
+        assert_eq!(mode(&out), folder);
+        assert_eq!(mode(&format!("r{umask}/solves")), folder);
+    }
+}
