@@ -169,7 +169,11 @@ fn a_solve_stops_when_its_callback_says_so() {
     let mut calls = 0;
     let stop = |it: usize, _| {
         calls += 1;
-        if it >= 3 { std::ops::ControlFlow::Break(()) } else { std::ops::ControlFlow::Continue(()) }
+        if it >= 3 {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
     };
     let err = s.solve(4e-3, stop).unwrap_err();
     assert!(matches!(err, asperity::Error::Interrupted { .. }), "{err}");

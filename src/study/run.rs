@@ -150,7 +150,12 @@ impl Study {
     /// with `()`, or with a `ControlFlow` whose `Break` stops the run with
     /// [`Error::Interrupted`] once the solves under way are recorded (the run resumes from
     /// there).
-    pub fn run<R: Proceed>(&self, dir: &Path, fresh: bool, progress: &(dyn Fn(Progress) -> R + Sync)) -> Result<Outcome> {
+    pub fn run<R: Proceed>(
+        &self,
+        dir: &Path,
+        fresh: bool,
+        progress: &(dyn Fn(Progress) -> R + Sync),
+    ) -> Result<Outcome> {
         self.claim(dir, fresh)?;
         output::write_atomic(&dir.join("study.toml"), |w| {
             let text = toml::to_string(&self.config).map_err(std::io::Error::other)?;
