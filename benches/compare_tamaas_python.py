@@ -52,7 +52,7 @@ def main():
     args = parser.parse_args()
     tm.set_log_level(tm.LogLevel.warning)
     t = ap.generate(size=SIZE, grid=args.grid, hurst=0.8, rms=22e-9, rolloff=5e-6, sphere_radius=1.5e-3, seed=1)
-    h = np.ascontiguousarray(t.heights)
+    h = np.array(t.heights)  # Tamaas wants a writeable array: a copy
 
     cold = []
     for load in LOADS:

@@ -318,6 +318,23 @@ def test_a_study_from_a_dict_runs_and_resumes(tmp_path):
         [{k: v for k, v in r.items() if k != "seconds"} for r in rows]
 
 
+def test_a_study_stops_when_its_progress_callback_raises(tmp_path):
+    class Stop(Exception):
+        pass
+
+    def stop(event):
+        if event["event"] == "solved":
+            raise Stop()
+
+    with pytest.raises(Stop):
+        ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=stop)
+    # What was solved is kept; the run resumes to the full results.
+    events = []
+    rows = ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=events.append)
+    assert events[0]["event"] == "start" and events[0]["done"] >= 1
+    assert len(rows) == 2 and not (tmp_path / "r" / "solves" / "ball" / "warm-01.npy").exists()
+
+
 # --- the GIL and Ctrl-C -----------------------------------------------------------------------
 
 
