@@ -26,6 +26,10 @@ pub enum Error {
          after {iterations} iterations (raise --max-iter or loosen --tolerance)"
     )]
     NotConverged { solver: &'static str, iterations: usize, residual: f64, tolerance: f64 },
+    /// Long work stopped early because its caller asked it to (a progress callback answered
+    /// `ControlFlow::Break`, for instance on Ctrl-C).
+    #[error("{what}: interrupted")]
+    Interrupted { what: String },
 }
 
 impl Error {

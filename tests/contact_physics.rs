@@ -157,3 +157,30 @@ fn non_convergence_is_an_error() {
     assert!(err.contains("did not converge") && err.contains("2 iterations"), "{err}");
     assert!(!err.contains('\n'));
 }
+
+/// A progress callback that answers `Break` stops the solve at that iteration; the solver is
+/// then as good as new: the next solve starts cold and gives the uninterrupted answer.
+#[test]
+fn a_solve_stops_when_its_callback_says_so() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tamaas");
+    let h: Array2<f64> = read_npy(dir.join("heights.npy")).unwrap();
+    let size = (8e-6, 6e-6);
+    let mut s = solver(h.as_slice().unwrap(), h.dim(), size, Boundary::Periodic);
+    let mut calls = 0;
+    let stop = |it: usize, _| {
+        calls += 1;
+        if it >= 3 {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
+    };
+    let err = s.solve(4e-3, stop).unwrap_err();
+    assert!(matches!(err, asperity::Error::Interrupted { .. }), "{err}");
+    assert_eq!(calls, 3);
+    assert_eq!(err.to_string(), "contact solve at 0.004 N: interrupted");
+    s.solve(4e-3, |_, _| {}).unwrap();
+    let mut cold = solver(h.as_slice().unwrap(), h.dim(), size, Boundary::Periodic);
+    cold.solve(4e-3, |_, _| {}).unwrap();
+    assert_eq!(s.pressure(), cold.pressure());
+}

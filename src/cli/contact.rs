@@ -7,8 +7,8 @@ use serde::Serialize;
 
 use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
 use asperity::output::{self, StagedDir};
-use asperity::topography::{io, Topography};
-use asperity::{Error, Result};
+use asperity::topography::io;
+use asperity::Result;
 
 use super::ReadArgs;
 
@@ -95,11 +95,7 @@ struct LoadEntry {
 
 pub fn run(args: ContactArgs) -> Result<()> {
     // Every check before any long work.
-    for &load in &args.load {
-        if !(load > 0.0 && load.is_finite()) {
-            return Err(Error::invalid("--load", format!("loads must be positive and finite, got {load} N")));
-        }
-    }
+    contact::check_loads(&args.load)?;
     let body = Material::new(args.youngs, args.poisson, "--youngs/--poisson")?;
     let e_star = match (args.youngs2, args.poisson2) {
         (Some(e2), Some(nu2)) => contact::combined_modulus(&body, &Material::new(e2, nu2, "--youngs2/--poisson2")?),
@@ -107,7 +103,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     };
     let path = &args.read.file;
     let surface = io::read(path, &args.read.options())?;
-    let size = ready_for_contact(&surface, path)?;
+    let size = contact::contact_size(&surface)?;
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     let shape = (surface.ny(), surface.nx());
@@ -173,25 +169,4 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let dir = out.commit()?;
     eprintln!("wrote {}", dir.join("contact.json").display());
     Ok(())
-}
-
-/// The physical size of a surface that the contact solver can take, or a one-line reason
-/// naming the file.
-fn ready_for_contact(surface: &Topography, path: &std::path::Path) -> Result<(f64, f64)> {
-    let bad = surface.heights.iter().filter(|h| !h.is_finite()).count();
-    if bad > 0 {
-        return Err(Error::file(
-            path,
-            format!("{bad} heights are missing, NaN or infinite: fill them (asperity topo convert --fill-missing) or crop them away"),
-        ));
-    }
-    if surface.nx() < 2 || surface.ny() < 2 {
-        return Err(Error::file(
-            path,
-            format!("a {}×{} grid is too small for contact: at least 2×2 points", surface.ny(), surface.nx()),
-        ));
-    }
-    surface
-        .physical_size
-        .ok_or_else(|| Error::file(path, "the file states no physical size: give it with --size LX[,LY] (metres)"))
 }

@@ -14,10 +14,11 @@ pub mod solver;
 pub mod tangential;
 
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
-pub use solver::{ContactSolver, SolveReport, SolverOptions};
+pub use solver::{ContactSolver, Proceed, SolveReport, SolverOptions};
 pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 
 use crate::error::{Error, Result};
+use crate::topography::Topography;
 
 /// An isotropic linear elastic material.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -59,6 +60,35 @@ impl Material {
 /// Effective modulus E* [Pa] of two elastic bodies: 1/E* = (1 − ν1²)/E1 + (1 − ν2²)/E2.
 pub fn combined_modulus(a: &Material, b: &Material) -> f64 {
     1.0 / (1.0 / a.plane_strain_modulus() + 1.0 / b.plane_strain_modulus())
+}
+
+/// Every load [N] positive and finite: checked before any long work.
+pub fn check_loads(loads: &[f64]) -> Result<()> {
+    match loads.iter().find(|l| !(**l > 0.0 && l.is_finite())) {
+        Some(load) => Err(Error::invalid("--load", format!("loads must be positive and finite, got {load} N"))),
+        None => Ok(()),
+    }
+}
+
+/// The physical size (lx, ly) [m] of a surface the contact solver can take: no missing
+/// heights, at least 2×2 points and a known size; otherwise a one-line reason naming its file.
+pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
+    let bad = surface.heights.iter().filter(|h| !h.is_finite()).count();
+    if bad > 0 {
+        return Err(surface.error(format!(
+            "{bad} heights are missing, NaN or infinite: fill them (asperity topo convert --fill-missing) or crop them away"
+        )));
+    }
+    if surface.nx() < 2 || surface.ny() < 2 {
+        return Err(surface.error(format!(
+            "a {}×{} grid is too small for contact: at least 2×2 points",
+            surface.ny(),
+            surface.nx()
+        )));
+    }
+    surface
+        .physical_size
+        .ok_or_else(|| surface.error("the file states no physical size: give it with --size LX[,LY] (metres)"))
 }
 
 /// Summary of a contact state, from its pressure map.

@@ -28,6 +28,7 @@
 //! Sums are taken per grid row and added in row order, so results do not depend on the number
 //! of threads.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -64,6 +65,25 @@ enum ChangeTransform {
 struct ChangeRow {
     spectrum: Vec<Complex64>,
     phase: Vec<Complex64>,
+}
+
+/// What a progress callback answers: `()` to carry on, or a [`ControlFlow`] whose `Break`
+/// stops the work (so callbacks that only report need not say so).
+pub trait Proceed {
+    /// Whether the work goes on.
+    fn proceed(self) -> bool;
+}
+
+impl Proceed for () {
+    fn proceed(self) -> bool {
+        true
+    }
+}
+
+impl Proceed for ControlFlow<()> {
+    fn proceed(self) -> bool {
+        self.is_continue()
+    }
 }
 
 /// Solver settings.
@@ -399,8 +419,10 @@ impl ContactSolver {
     }
 
     /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
-    /// the iteration count and the current residual.
-    pub fn solve(&mut self, load: f64, mut progress: impl FnMut(usize, f64)) -> Result<SolveReport> {
+    /// the iteration count and the current residual; it answers `()`, or a [`ControlFlow`]
+    /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
+    /// cold).
+    pub fn solve<R: Proceed>(&mut self, load: f64, mut progress: impl FnMut(usize, f64) -> R) -> Result<SolveReport> {
         if !(load > 0.0 && load.is_finite()) {
             return Err(Error::invalid("--load", format!("must be positive and finite, got {load} N")));
         }
@@ -479,14 +501,18 @@ impl ContactSolver {
                     applications += 1.0;
                 }
                 exact = true;
-                progress(iterations, residual);
+                if !progress(iterations, residual).proceed() {
+                    return Err(self.interrupted(load));
+                }
                 continue;
             }
             let step = (along + self.scale * cross) / curvature;
             applications += 1.0;
             (shifts, residual) = self.step(&shifts, step, total, p_mean, norm)?;
             exact = false;
-            progress(iterations, residual);
+            if !progress(iterations, residual).proceed() {
+                return Err(self.interrupted(load));
+            }
         }
         self.warm = true;
         self.pressure_field.fill(0.0);
@@ -501,6 +527,12 @@ impl ContactSolver {
             operator_applications: applications,
             seconds: start.elapsed().as_secs_f64(),
         })
+    }
+
+    /// The error of a solve stopped by its caller; the half-done state is not a warm start.
+    fn interrupted(&mut self, load: f64) -> Error {
+        self.warm = false;
+        Error::Interrupted { what: format!("contact solve at {load} N") }
     }
 
     fn pending_is_empty(&self) -> bool {

@@ -1,7 +1,7 @@
 //! The onset of sliding: static friction force and coefficient, friction drop, and the
 //! classes of the elements at the critical state, exactly, in O(M log M).
 
-use ndarray::Array2;
+use ndarray::{Array2, ArrayBase, Data, Ix2};
 use rayon::slice::ParallelSliceMut;
 use serde::Serialize;
 
@@ -24,7 +24,7 @@ impl ElementLoads {
     /// The elements of a pressure map [Pa], shape (ny, nx): every pixel with `p > 0` carries
     /// `n = p · pixel_area`. A NaN, infinite or negative pressure, or a map without contact,
     /// is an error (named "pressure map"; callers reading a file name the file instead).
-    pub fn from_pressure(pressure: &Array2<f64>, pixel_area: f64) -> Result<Self> {
+    pub fn from_pressure<S: Data<Elem = f64>>(pressure: &ArrayBase<S, Ix2>, pixel_area: f64) -> Result<Self> {
         if !(pixel_area.is_finite() && pixel_area > 0.0) {
             return Err(Error::invalid("--pixel-area", format!("must be positive and finite, got {pixel_area} m²")));
         }
@@ -90,7 +90,7 @@ impl ElementLoads {
 }
 
 /// The one-line error for the first NaN, infinite or negative pixel of a pressure map.
-fn bad_pressure(pressure: &Array2<f64>) -> Error {
+fn bad_pressure<S: Data<Elem = f64>>(pressure: &ArrayBase<S, Ix2>) -> Error {
     let ((row, col), p) =
         pressure.indexed_iter().find(|(_, p)| !(p.is_finite() && **p >= 0.0)).expect("a bad pixel exists");
     let what = if p.is_nan() { "NaN".to_string() } else { format!("{p} Pa") };
@@ -299,13 +299,18 @@ impl Onset {
 
     /// The class of every pixel of `pressure` [Pa] (the map the onset was computed from,
     /// with the same `pixel_area` [m²]): codes of [`ElementClass`], 0 where p = 0.
-    pub fn class_map(&self, pressure: &Array2<f64>, pixel_area: f64) -> Array2<i8> {
+    pub fn class_map<S: Data<Elem = f64>>(&self, pressure: &ArrayBase<S, Ix2>, pixel_area: f64) -> Array2<i8> {
         pressure.mapv(|p| if p > 0.0 { self.class_of(p * pixel_area) as i8 } else { ElementClass::NoContact as i8 })
     }
 
     /// The local stress ratio of every pixel at δ = `fraction` · δ_peak (see
     /// [`Onset::stress_ratio_of`]); NaN where there is no contact.
-    pub fn stress_ratio_map(&self, pressure: &Array2<f64>, pixel_area: f64, fraction: f64) -> Result<Array2<f64>> {
+    pub fn stress_ratio_map<S: Data<Elem = f64>>(
+        &self,
+        pressure: &ArrayBase<S, Ix2>,
+        pixel_area: f64,
+        fraction: f64,
+    ) -> Result<Array2<f64>> {
         if !(fraction > 0.0 && fraction <= 1.0) {
             return Err(Error::invalid("--snapshots", format!("δ/δ_peak must lie in (0, 1], got {fraction}")));
         }

@@ -43,7 +43,7 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{CropSpec, Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::{FigureInput, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
-use crate::contact::{self, ContactSolver, SolverOptions};
+use crate::contact::{self, ContactSolver, Proceed, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::limits::Limits;
@@ -188,14 +188,23 @@ impl Study {
     /// there; `fresh` discards them (and only them: files put in `dir` by hand stay). A `dir`
     /// holding another study, or anything that is not a study's output, is refused before
     /// anything is solved; so is a `dir` where another process works on the same units, unless
-    /// [waiting](Study::waiting).
-    pub fn run(&self, dir: &Path, fresh: bool, progress: &(dyn Fn(Progress) + Sync)) -> Result<Outcome> {
+    /// [waiting](Study::waiting). `progress` answers each event with `()`, or with a
+    /// `ControlFlow` whose `Break` stops the run with [`Error::Interrupted`] once the solves
+    /// under way are recorded (the run resumes from there).
+    pub fn run<R: Proceed>(
+        &self,
+        dir: &Path,
+        fresh: bool,
+        progress: &(dyn Fn(Progress) -> R + Sync),
+    ) -> Result<Outcome> {
         let _claim = self.claim(dir, fresh)?;
 
         let total = self.topographies.len() * self.loads.len();
         let finished: Vec<usize> = (0..self.topographies.len()).map(|t| self.finished(dir, t)).collect();
         let resumed: usize = finished.iter().sum();
-        progress(Progress::Start { total, done: resumed });
+        if !progress(Progress::Start { total, done: resumed }).proceed() {
+            return Err(self.interrupted());
+        }
         let solved = AtomicUsize::new(0);
         (0..self.topographies.len())
             .into_par_iter()
@@ -391,12 +400,12 @@ impl Study {
     }
 
     /// Sweep topography `t` over the loads from index `first` on.
-    fn sweep(
+    fn sweep<R: Proceed>(
         &self,
         dir: &Path,
         t: usize,
         first: usize,
-        progress: &(dyn Fn(Progress) + Sync),
+        progress: &(dyn Fn(Progress) -> R + Sync),
         solved: &AtomicUsize,
     ) -> Result<()> {
         let n = self.loads.len();
@@ -464,14 +473,21 @@ impl Study {
                 std::fs::remove_file(&old).or_else(|e| if old.exists() { Err(Error::io(&old, e)) } else { Ok(()) })?;
             }
             solved.fetch_add(1, Ordering::Relaxed);
-            progress(Progress::Solved {
+            let answer = progress(Progress::Solved {
                 topography: name,
                 load_n: load,
                 iterations: report.iterations,
                 seconds: report.seconds,
             });
+            if !answer.proceed() {
+                return Err(self.interrupted());
+            }
         }
         Ok(())
+    }
+
+    fn interrupted(&self) -> Error {
+        Error::Interrupted { what: format!("study {}", self.origin) }
     }
 
     /// Every row from the solve records: topography × law × load.

@@ -1,0 +1,394 @@
+"""The Python package against closed forms, the command line, and its own error paths.
+
+The comparisons with the command line run the `asperity` binary: $ASPERITY_CLI, or
+target/release/asperity of this checkout (`.ci/test` builds it first and sets the variable).
+"""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import asperity as ap
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def cli():
+    """The asperity binary, or skip when this checkout has none and none was named."""
+    named = os.environ.get("ASPERITY_CLI")
+    if named:
+        assert Path(named).is_file(), f"ASPERITY_CLI={named} does not exist"
+        return named
+    built = ROOT / "target" / "release" / "asperity"
+    if not built.is_file():
+        pytest.skip("no asperity binary: run `cargo build --release` or set ASPERITY_CLI")
+    return str(built)
+
+
+def run_cli(*args):
+    done = subprocess.run([cli(), *map(str, args)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def rough_ball(grid=128, seed=1):
+    """A small version of the default study's ball: 31.13 µm square, H = 0.8, on a 1.5 mm sphere."""
+    return ap.generate(size=31.13e-6, grid=grid, hurst=0.8, rms=22e-9, rolloff=5e-6, sphere_radius=1.5e-3, seed=seed)
+
+
+# --- closed forms -----------------------------------------------------------------------------
+
+
+def test_hertz_contact_radius_and_peak_pressure():
+    # A paraboloid of radius R on a free half-space, E* = E (ν = 0): a = (3NR/4E*)^⅓, p0 = 3N/(2πa²).
+    r, e_star, a_hertz = 1e-3, 1e11, 10e-6
+    load = 4 * e_star * a_hertz**3 / (3 * r)
+    t = ap.generate(size=40e-6, grid=128, sphere_radius=r, paraboloid=True, seed=0)
+    (s,) = ap.contact(t, loads=load, youngs=e_star, poisson=0.0, boundary="free")
+    a = math.sqrt(s.contact_area / math.pi)
+    p0 = 3 * load / (2 * math.pi * a_hertz**2)
+    assert abs(a / a_hertz - 1) < 0.02, (a, a_hertz)
+    assert abs(s.pressure.max() / p0 - 1) < 0.02, (s.pressure.max(), p0)
+    dx, dy = t.pixel_size
+    assert abs(s.pressure.sum() * dx * dy / load - 1) < 1e-10
+    assert s.patches == 1 and s.boundary == "free"
+    assert s.gap[s.pressure > 0].max() == 0.0 and s.gap.min() >= 0.0
+    assert s.gap[0, 0] > 0.0
+
+
+def test_single_element_gives_the_local_drop():
+    p = np.zeros((4, 5))
+    p[2, 3] = 7e8
+    o = ap.onset(p, physical_size=(5e-6, 4e-6), mu_s=0.6, mu_d=0.4)
+    assert o.friction_drop == pytest.approx(0.6 / 0.4, rel=1e-15)
+    assert o.static_coefficient == pytest.approx(0.6, rel=1e-15)
+    assert o.elements == 1 and o.critical.count == 1 and o.pre_sliding.count == 0
+    assert o.normal_force == pytest.approx(7e8 * 1e-12, rel=1e-14)
+    assert o.classes[2, 3] == 2 and o.classes.sum() == 2
+
+
+@pytest.mark.parametrize(
+    "n1, n2, pre_sliding",
+    [
+        (1.0, 3.0, 1),  # F_1 = mu_d n1 + mu_s n2 = 2.2 beats F_0 = 2 mu_s n1 = 1.2: n1 slips first
+        (2.0, 2.5, 0),  # F_0 = 2 mu_s n1 = 2.4 beats F_1 = 0.8 + 1.5 = 2.3: n2 is subcritical
+    ],
+)
+def test_two_elements_of_the_paper(n1, n2, pre_sliding):
+    mu_s, mu_d = 0.6, 0.4
+    p = np.array([[0.0, n1], [n2, 0.0]])
+    o = ap.onset(p, pixel_area=1.0, mu_s=mu_s, mu_d=mu_d)
+    f_s = max(2 * mu_s * n1, mu_d * n1 + mu_s * n2)
+    assert o.static_force == pytest.approx(f_s, rel=1e-15)
+    assert o.friction_drop == pytest.approx(f_s / (mu_d * (n1 + n2)), rel=1e-15)
+    assert o.friction_drop < mu_s / mu_d
+    assert o.pre_sliding.count == pre_sliding
+    assert o.subcritical.count == 1 - pre_sliding
+    assert o.critical.count == 1
+    expected = [[0, 1], [2, 0]] if pre_sliding else [[0, 2], [3, 0]]
+    if not pre_sliding:
+        assert o.stress_ratio()[1, 0] == pytest.approx(mu_s * n1 / n2, rel=1e-15)
+    assert o.classes.tolist() == expected
+    c = o.curve()
+    assert c["force"][c["peak"]] == pytest.approx(f_s, rel=1e-15)
+    assert c["coefficient"][c["peak"]] == pytest.approx(o.static_coefficient, rel=1e-15)
+
+
+# --- numpy in and out, against the command line -------------------------------------------------
+
+
+def test_arrays_are_float64_ny_by_nx_row_y():
+    h = np.arange(12, dtype=np.float64).reshape(3, 4) * 1e-9  # 3 rows (y), 4 columns (x)
+    t = ap.Topography(h, physical_size=(4e-6, 3e-6))
+    assert t.shape == (3, 4) and t.pixel_size == (1e-6, 1e-6)
+    assert t.heights.dtype == np.float64 and np.array_equal(t.heights, h)
+    assert not t.heights.flags.writeable and t.heights.base is not None  # a view, no copy
+    ints = ap.Topography([[1, 2], [3, 4]], physical_size=1e-6)  # any array-like
+    assert ints.heights.dtype == np.float64 and ints.heights[1, 0] == 3.0
+    cropped = t.crop(columns=(1, 3), rows=(0, 2))
+    assert np.array_equal(cropped.heights, h[0:2, 1:3])
+    physical = t.crop(x=(1e-6, 3e-6), y=(0, 2e-6))
+    assert np.array_equal(physical.heights, h[0:2, 1:3])
+
+
+def test_a_npy_round_trip_keeps_orientation(tmp_path):
+    h = np.random.default_rng(3).normal(size=(6, 9)) * 1e-9
+    np.save(tmp_path / "h.npy", h)
+    t = ap.read_topography(tmp_path / "h.npy", size=(9e-6, 6e-6))
+    assert np.array_equal(t.heights, h) and t.physical_size == (9e-6, 6e-6)
+    assert t.channels == [t.channel] and t.file == tmp_path / "h.npy"
+
+
+def test_generate_matches_the_command_line_bit_for_bit(tmp_path):
+    out = tmp_path / "ball.npy"
+    run_cli("topo", "generate", "--size", "31.13e-6", "--grid", "96,64", "--hurst", "0.8", "--rms", "22e-9",
+            "--rolloff", "5e-6", "--sphere-radius", "1.5e-3", "--seed", "7", out)
+    t = ap.generate(size=31.13e-6, grid=(96, 64), hurst=0.8, rms=22e-9, rolloff=5e-6, sphere_radius=1.5e-3, seed=7)
+    h = np.load(out)
+    assert h.dtype == np.float64 and h.shape == t.shape == (64, 96)
+    assert np.array_equal(t.heights, h)
+    text = run_cli("topo", "psd", out, "--size", "31.13e-6,20.752e-6")
+    assert text.startswith("q_rad_per_m,psd_m4")
+
+
+def test_contact_matches_the_command_line_bit_for_bit(tmp_path):
+    t = rough_ball(grid=(96, 80))
+    np.save(tmp_path / "h.npy", np.asarray(t.heights))
+    lx, ly = t.physical_size
+    loads = [3e-3, 1e-4, 1e-3]  # given out of order: solved in increasing order, returned as given
+    run_cli("contact", tmp_path / "h.npy", "--size", f"{lx!r},{ly!r}", *(f"--load={l!r}" for l in loads),
+            "--fields", "--out", tmp_path / "out")
+    record = json.loads((tmp_path / "out" / "contact.json").read_text())
+    sols = ap.contact(t, loads=loads)
+    for k, (s, entry) in enumerate(zip(sols, record["loads"])):
+        p = np.load(tmp_path / "out" / f"pressure-{k:03}.npy")
+        assert p.dtype == s.pressure.dtype == np.float64 and p.shape == s.pressure.shape == (80, 96)
+        assert np.array_equal(p, s.pressure), f"load {loads[k]}"
+        assert np.array_equal(np.load(tmp_path / "out" / f"gap-{k:03}.npy"), s.gap)
+        assert s.load == entry["load_n"] == loads[k]
+        assert (s.contact_points, s.patches, s.iterations) == (
+            entry["contact_points"], entry["patches"], entry["iterations"])
+        assert s.contact_fraction == entry["contact_fraction"] and s.residual == entry["residual"]
+    o = ap.onset(sols[2], mu_s=0.6, mu_d=0.4)
+    cli_onset = json.loads(run_cli("onset", tmp_path / "out", "--load-index", 2, "--mu-s", 0.6, "--mu-d", 0.4, "--json"))
+    assert o.static_coefficient == cli_onset["static_coefficient"]
+    assert o.friction_drop == cli_onset["friction_drop"]
+    assert o.critical.count == cli_onset["critical"]["count"]
+    assert o.subcritical.friction_fraction == cli_onset["subcritical"]["friction_fraction"]
+    assert o.static_force == cli_onset["static_force_n"]
+
+
+def test_topography_preparation_and_psd():
+    t = rough_ball(grid=128)
+    tilted = ap.Topography(t.heights + 1e-3 * np.arange(128)[None, :] * t.pixel_size[0], t.physical_size)
+    levelled = tilted.detrend("plane")
+    assert abs(levelled.heights.mean()) < 1e-15
+    half = t.crop(x=(0, 15e-6), y=(0, 15e-6)).resample(pixel_size=0.5e-6)
+    assert half.physical_size[0] == pytest.approx(half.shape[1] * 0.5e-6, rel=0.1)
+    q, c = ap.psd(ap.generate(size=10e-6, grid=256, hurst=0.8, rms=1e-9, seed=2))
+    assert q.dtype == c.dtype == np.float64 and q.shape == c.shape
+    # C(q) ∝ q^(−2(1+H)) = q^−3.6 between the long and the short cut-off.
+    band = (q > 5 * q[0]) & (q < q[-1] / 5)
+    slope = np.polyfit(np.log(q[band]), np.log(c[band]), 1)[0]
+    assert slope == pytest.approx(-3.6, abs=0.15)
+    ball = rough_ball(grid=64)
+    wafer = ap.generate(size=31.13e-6, grid=64, hurst=0.8, rms=0.2e-9, seed=9)
+    h = ap.compound(ball, wafer)
+    assert np.allclose(h.heights, ball.heights - wafer.heights, rtol=0, atol=1e-15)
+
+
+# --- errors -----------------------------------------------------------------------------------
+
+
+def raises(call, *fragments):
+    with pytest.raises(ap.Error) as e:
+        call()
+    message = str(e.value)
+    assert "\n" not in message and len(message) < 400, message
+    for f in fragments:
+        assert f in message, message
+    assert isinstance(e.value, ValueError)
+    return message
+
+
+def test_every_bad_input_raises_asperity_error(tmp_path):
+    t = rough_ball(grid=32)
+    (tmp_path / "bad.spm").write_bytes(b"\\*File list\r\nnot really")
+    raises(lambda: ap.read_topography(tmp_path / "missing.gwy"), "missing.gwy")
+    raises(lambda: ap.read_topography(tmp_path / "bad.spm"), "bad.spm")
+    np.save(tmp_path / "h.npy", np.zeros((4, 4)))
+    raises(lambda: ap.contact(ap.read_topography(tmp_path / "h.npy"), loads=1e-3), "h.npy", "physical size")
+    raises(lambda: ap.Topography(np.zeros(5), physical_size=1e-6), "heights", "2-D")
+    raises(lambda: ap.Topography([["a"]], physical_size=1e-6), "heights")
+    raises(lambda: ap.Topography(np.zeros((2, 2)), physical_size=-1.0), "physical_size")
+    raises(lambda: t.detrend("cubic"), "cubic")
+    raises(lambda: t.crop(columns=(10, 5)))
+    raises(lambda: t.crop(x=(0, 1e-6), columns=(0, 2)), "not both")
+    raises(lambda: t.resample(-1.0))
+    raises(lambda: ap.generate(size=1e-6, grid=8, seed=0), "nothing to generate")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, seed=0), "rms")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=1.5, rms=1e-9, seed=0))
+    raises(lambda: ap.psd(t, window="kaiser"), "kaiser")
+    raises(lambda: ap.contact(t, loads=[1e-3, -1.0]), "--load", "-1")
+    raises(lambda: ap.contact(t, loads=[]), "--load")
+    raises(lambda: ap.contact(t, loads=1e-3, youngs=0.0), "Young")
+    raises(lambda: ap.contact(t, loads=1e-3, poisson=0.5), "Poisson")
+    raises(lambda: ap.contact(t, loads=1e-3, youngs2=1e9), "--youngs2/--poisson2")
+    raises(lambda: ap.contact(t, loads=1e-3, boundary="open"), "open")
+    raises(lambda: ap.contact(t, loads=1e-3, tolerance=0.0), "--tolerance")
+    raises(lambda: ap.contact(t, loads=1e-3, tolerance=1e-14, max_iter=2), "did not converge")
+    nan = np.array(t.heights)
+    nan[3, 4] = np.nan
+    raises(lambda: ap.contact(ap.Topography(nan, t.physical_size), loads=1e-3), "1 heights are missing")
+    raises(lambda: ap.onset(np.zeros((3, 3)), mu_s=0.6, mu_d=0.4), "no contact")
+    raises(lambda: ap.onset(np.array([[1.0, -2.0]]), mu_s=0.6, mu_d=0.4), "row 0, column 1")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.4, mu_d=0.6), "mu")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6), "--mu-d")
+    raises(lambda: ap.onset(np.ones((2, 2))), "local friction law")
+    raises(lambda: ap.onset(np.ones((2, 2)), law="hold 1 year"), "hold 1 year")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4, pixel_area=0.0), "--pixel-area")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4).stress_ratio(2.0), "(0, 1]")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4).curve("sideways"), "sideways")
+    raises(lambda: ap.analyse_shs([0, 1, 1], [0, 0, 0], [1, 1, 1]), "time")
+    raises(lambda: ap.analyse_shs(np.arange(100.0), np.ones(100), np.ones(100)), "trace")
+    raises(lambda: ap.analyse_shs([0, 1], [0, 0], [1, 1], speed=-1), "--speed")
+    raises(lambda: ap.run_study({"loads": {"min": "1 mN"}}, out=tmp_path / "s"), "study dict")
+    raises(lambda: ap.run_study(tmp_path / "none.toml", out=tmp_path / "s"), "none.toml")
+    (tmp_path / "full").mkdir()
+    (tmp_path / "full" / "mine.txt").write_text("a user's file")
+    raises(lambda: ap.run_study(quick=True, out=tmp_path / "full"), "not empty")
+    assert (tmp_path / "full" / "mine.txt").read_text() == "a user's file"
+
+
+# --- slide-hold-slide and studies -------------------------------------------------------------
+
+
+def test_slide_hold_slide_restarts():
+    # 0.3 µm/s sliding at F_D = 0.4 N under N = 1 N, holds of 10 s and 30 s, peaks 0.5 and 0.55 N.
+    dt, v = 0.05, 0.3e-6
+    t, f = [], []
+    clock = 0.0
+
+    def slide(duration, peak):
+        nonlocal clock
+        for i in range(int(duration / dt)):
+            x = i * dt * v
+            f.append(0.4 + (peak - 0.4) * math.exp(-x / 0.02e-6) if peak else 0.4)
+            t.append(clock)
+            clock += dt
+
+    def hold(duration):
+        nonlocal clock
+        for _ in range(int(duration / dt)):
+            f.append(0.0)
+            t.append(clock)
+            clock += dt
+
+    slide(20, None)
+    hold(10)
+    slide(20, 0.5)
+    hold(30)
+    slide(20, 0.55)
+    cycles = ap.analyse_shs(np.array(t), np.array(f), np.ones(len(t)))
+    assert [round(c["hold_s"]) for c in cycles] == [10, 30]
+    assert cycles[0]["static_force_n"] == pytest.approx(0.5, rel=1e-9)
+    assert cycles[1]["friction_drop"] == pytest.approx(0.55 / cycles[1]["dynamic_force_n"], rel=1e-12)
+    assert cycles[1]["dynamic_coefficient"] == pytest.approx(0.4, rel=0.02)
+
+
+SMALL_STUDY = {
+    "topography": [
+        {"name": "ball", "synthetic": {"size_m": [10e-6, 10e-6], "grid": [48, 48], "seed": 3,
+                                       "roughness": {"hurst": 0.8, "rms_height_m": 5e-9},
+                                       "cap": {"radius_m": 1e-3, "shape": "sphere"}}},
+    ],
+    "loads": {"values": ["0.1 mN", "1 mN"]},
+    "law": [{"name": "a", "mu_s": 0.6, "mu_d": 0.4}],
+    "output": {"figures": []},
+}
+
+
+def test_a_study_from_a_dict_runs_and_resumes(tmp_path):
+    events = []
+    rows = ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=events.append)
+    assert [r["load_n"] for r in rows] == [1e-4, 1e-3]
+    assert events[0] == {"event": "start", "total": 2, "done": 0}
+    assert [e["event"] for e in events[1:]] == ["solved", "solved"]
+    # The rows are the direct calls' numbers (the default study's tolerance is 1e-8).
+    t = ap.generate(size=10e-6, grid=48, hurst=0.8, rms=5e-9, sphere_radius=1e-3, seed=3)
+    sols = ap.contact(t, loads=[1e-4, 1e-3], tolerance=1e-8)
+    for r, s in zip(rows, sols):
+        o = ap.onset(s, mu_s=0.6, mu_d=0.4)
+        assert (r["contact_points"], r["patches"], r["iterations"]) == (s.contact_points, s.patches, s.iterations)
+        assert (r["friction_drop"], r["static_coefficient"]) == (o.friction_drop, o.static_coefficient)
+    on_file = json.loads((tmp_path / "r" / "results.json").read_text())
+    assert on_file == rows
+    again = ap.run_study(SMALL_STUDY, out=tmp_path / "r")
+    assert [{k: v for k, v in r.items() if k != "seconds"} for r in again] == \
+        [{k: v for k, v in r.items() if k != "seconds"} for r in rows]
+
+
+def test_a_study_stops_when_its_progress_callback_raises(tmp_path):
+    class Stop(Exception):
+        pass
+
+    def stop(event):
+        if event["event"] == "solved":
+            raise Stop()
+
+    with pytest.raises(Stop):
+        ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=stop)
+    # What was solved is kept; the run resumes to the full results.
+    events = []
+    rows = ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=events.append)
+    assert events[0]["event"] == "start" and events[0]["done"] >= 1
+    assert len(rows) == 2 and not (tmp_path / "r" / "solves" / "ball" / "warm-01.npy").exists()
+
+
+# --- the GIL and Ctrl-C -----------------------------------------------------------------------
+
+
+def test_solves_release_the_gil():
+    """Two solves in two threads overlap in time; with the GIL held they would run one after
+    the other. The overlap is measured on the solves' own intervals, not against a clock."""
+    t = rough_ball(grid=256)
+    spans = {}
+
+    def solve(name):
+        start = time.perf_counter()
+        ap.contact(t, loads=[1e-3, 3e-3, 1e-2])
+        spans[name] = (start, time.perf_counter())
+
+    threads = [threading.Thread(target=solve, args=(k,)) for k in range(2)]
+    for th in threads:
+        th.start()
+    # The main thread keeps running Python meanwhile: it could not with the GIL held.
+    ticks = 0
+    while any(th.is_alive() for th in threads):
+        ticks += 1
+        time.sleep(0.001)
+    for th in threads:
+        th.join()
+    (a0, a1), (b0, b1) = spans[0], spans[1]
+    overlap = min(a1, b1) - max(a0, b0)
+    shorter = min(a1 - a0, b1 - b0)
+    assert overlap > 0.5 * shorter, (spans, overlap)
+    assert ticks > 10
+
+
+def test_ctrl_c_stops_a_long_solve():
+    # A solve that cannot converge (tolerance 1e-300) would run 20000 iterations (minutes).
+    script = textwrap.dedent("""
+        import sys, time
+        import asperity as ap
+        t = ap.generate(size=31.13e-6, grid=512, hurst=0.8, rms=22e-9, rolloff=5e-6,
+                        sphere_radius=1.5e-3, seed=1)
+        print("solving", flush=True)
+        start = time.perf_counter()
+        try:
+            ap.contact(t, loads=1e-2, tolerance=1e-300)
+        except KeyboardInterrupt:
+            print(f"interrupted after {time.perf_counter() - start:.2f} s", flush=True)
+            sys.exit(0)
+        sys.exit("the solve was not interrupted")
+    """)
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "solving"
+    time.sleep(1.0)
+    sent = time.perf_counter()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=120)
+    assert child.returncode == 0, out
+    assert "interrupted after" in out
+    # Stopped within a few iterations of the signal, not at the end of 20000 iterations.
+    assert time.perf_counter() - sent < 30
