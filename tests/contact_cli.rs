@@ -112,3 +112,30 @@ fn full_contact_is_a_result() {
     let json = contact(&["--load", "50"], &out);
     assert_eq!(json["loads"][0]["contact_fraction"].as_f64(), Some(1.0));
 }
+
+/// `--plastic` caps the pressure at `--hardness` (here below the elastic peak of 7.4 GPa) and
+/// says so in contact.json; without
+/// `--hardness`, or with a hardness the window cannot carry the load at, it is refused.
+#[test]
+fn plastic_caps_the_pressure_at_the_hardness() {
+    let dir = tempfile::tempdir().unwrap();
+    let elastic = contact(&["--load", "2e-3"], &dir.path().join("elastic"));
+    let out = dir.path().join("plastic");
+    let json = contact(&["--load", "2e-3", "--hardness", "3GPa", "--plastic"], &out);
+    assert_eq!(json["plastic"], true);
+    assert_eq!(json["hardness_pa"].as_f64(), Some(3e9));
+    assert_eq!(elastic["plastic"], false);
+    let p: Array2<f64> = read_npy(out.join("pressure-000.npy")).unwrap();
+    let saturated = p.iter().filter(|v| **v == 3e9).count();
+    assert!(p.iter().all(|v| *v <= 3e9) && saturated > 0, "{saturated} points at the hardness");
+    assert!((p.sum() * 8e-6 * 6e-6 / (96.0 * 128.0) / 2e-3 - 1.0).abs() < 1e-10);
+    // More points carry the load than in the elastic solve.
+    assert!(json["loads"][0]["contact_points"].as_u64() > elastic["loads"][0]["contact_points"].as_u64());
+
+    let f = fixture();
+    let good = f.to_str().unwrap();
+    let size = ["--size", "8e-6,6e-6"];
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--plastic"], "--hardness");
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--hardness", "-1e9"], "--hardness");
+    refused(&[good, size[0], size[1], "--load", "1", "--hardness", "12GPa", "--plastic"], "--hardness");
+}

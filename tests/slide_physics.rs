@@ -26,7 +26,13 @@ fn periodic_cerruti_on_sinusoids() {
     let k = 2.0 * PI * 4.0 / l;
     for along_x in [true, false] {
         let q: Vec<f64> = (0..ny * nx)
-            .map(|i| if along_x { (k * (i % nx) as f64 * l / nx as f64).cos() } else { (k * (i / nx) as f64 * l / nx as f64).cos() })
+            .map(|i| {
+                if along_x {
+                    (k * (i % nx) as f64 * l / nx as f64).cos()
+                } else {
+                    (k * (i / nx) as f64 * l / nx as f64).cos()
+                }
+            })
             .collect();
         let zero = vec![0.0; ny * nx];
         let (mut ux, mut uy) = (vec![0.0; ny * nx], vec![0.0; ny * nx]);
@@ -109,15 +115,9 @@ fn cattaneo_mindlin_partial_slip() {
     let nu = SI.poisson;
     let dx = h.l / h.n as f64;
     let options = TangentialOptions { tolerance: 1e-9, ..Default::default() };
-    let mut solver = TangentialSolver::new(
-        &h.pressure,
-        (h.n, h.n),
-        (h.l, h.l),
-        ShearCompliance::of(&[SI]),
-        Boundary::Free,
-        options,
-    )
-    .unwrap();
+    let mut solver =
+        TangentialSolver::new(&h.pressure, (h.n, h.n), (h.l, h.l), ShearCompliance::of(&[SI]), Boundary::Free, options)
+            .unwrap();
     for ratio in [0.25, 0.5, 0.75] {
         let q = ratio * mu * h.load;
         let (state, _) = ramp_force(&mut solver, mu, q).unwrap();
@@ -134,7 +134,8 @@ fn cattaneo_mindlin_partial_slip() {
         let mut worst: f64 = 0.0;
         let mut at = 0.0;
         for (k, &i) in solver.points().iter().enumerate() {
-            let (x, y) = (((i % h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx, ((i / h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx);
+            let (x, y) =
+                (((i % h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx, ((i / h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx);
             let r2 = x * x + y * y;
             let want = mu * h.p0 / h.a * ((h.a * h.a - r2).max(0.0).sqrt() - (c * c - r2).max(0.0).sqrt());
             if (state.traction[k][0] - want).abs() > worst {
@@ -241,8 +242,8 @@ fn rough_contact_stiffness_ratio() {
     let p = rough_pressure(n, l, 2e-3);
     let c = ShearCompliance::of(&[SI]);
     let stiffness = |c: ShearCompliance| {
-        let mut s = TangentialSolver::new(&p, (n, n), (l, l), c, Boundary::Periodic, TangentialOptions::default())
-            .unwrap();
+        let mut s =
+            TangentialSolver::new(&p, (n, n), (l, l), c, Boundary::Periodic, TangentialOptions::default()).unwrap();
         let m = s.points().len();
         s.solve(&vec![[1e-9, 0.0]; m], &vec![f64::INFINITY; m]).unwrap();
         s.force()[0] / 1e-9

@@ -77,6 +77,7 @@ fn direct_rows() -> Vec<Row> {
             let report = solver.solve(load, |_, _| ()).unwrap();
             let summary = contact::summarize(solver.pressure(), (64, 64), size, Boundary::Periodic);
             let facts = asperity::study::SolveFacts {
+                plastic: false,
                 contact_points: summary.contact_points,
                 patches: summary.patch_sizes.len(),
                 contact_fraction: summary.contact_fraction,
@@ -268,4 +269,41 @@ fn a_warm_start_from_a_saved_pressure_continues_the_sweep_exactly() {
     let mut negative = saved.clone();
     negative[7] = -1.0;
     assert!(resumed.warm_start(&negative).is_err());
+}
+
+/// `plastic = [false, true]`: each topography swept elastic and capped at the hardness, told
+/// apart by the `plastic` column; the plastic maps stay below the hardness, spread the load on
+/// more points, and change the drop.
+#[test]
+fn a_study_compares_elastic_and_plastic_solves() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let text = SMALL
+        .replace("poisson = 0.26\n", "poisson = 0.26\nhardness = \"1 GPa\"\n")
+        .replace("max_iterations = 20000\n", "max_iterations = 20000\nplastic = [false, true]\n")
+        .replace("[[topography]]\nname = \"ball-2\"", "[[unused]]\nname = \"ball-2\"");
+    let text = text[..text.find("[[unused]]").unwrap()].to_string() + &text[text.find("[material]").unwrap()..];
+    let outcome = study(&text).run(&out, false, &|_| ()).unwrap();
+    assert_eq!((outcome.solved, outcome.rows.len()), (8, 16));
+    let (elastic, plastic): (Vec<&Row>, Vec<&Row>) = outcome.rows.iter().partition(|r| !r.plastic);
+    assert_eq!((elastic.len(), plastic.len()), (8, 8));
+    let mut differ = 0;
+    for (e, p) in elastic.iter().zip(&plastic) {
+        assert_eq!(
+            (e.topography.as_str(), e.law.as_str(), e.load_n),
+            (p.topography.as_str(), p.law.as_str(), p.load_n)
+        );
+        assert!(p.contact_points >= e.contact_points, "{e:?} {p:?}");
+        differ += (p.friction_drop != e.friction_drop) as usize;
+    }
+    assert!(differ > 0, "the cap changed no drop");
+    for k in 0..4 {
+        let map: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/plastic/{k:02}.npy"))).unwrap();
+        assert!(map.iter().all(|p| *p <= 1e9));
+        let elastic: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/{k:02}.npy"))).unwrap();
+        assert!(k < 2 || elastic.iter().any(|p| *p > 1e9), "load {k}: the elastic peak stays below 1 GPa");
+    }
+    // Without a hardness, a plastic solve is refused before anything runs.
+    let e = StudyConfig::parse(&text.replace("hardness = \"1 GPa\"\n", ""), "s.toml").unwrap_err().to_string();
+    assert!(e.contains("contact.plastic") && e.contains("hardness"), "{e}");
 }

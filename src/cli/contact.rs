@@ -8,7 +8,7 @@ use serde::Serialize;
 use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
 use asperity::output::{self, StagedDir};
 use asperity::topography::io;
-use asperity::Result;
+use asperity::{Error, Result};
 
 use super::ReadArgs;
 
@@ -39,6 +39,13 @@ pub struct ContactArgs {
     /// Poisson's ratio of the second elastic body.
     #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
     poisson2: Option<f64>,
+    /// Hardness of the elastic body [Pa, or with a unit: 12GPa] (silicon: about 12 GPa).
+    #[arg(long, value_name = "H", allow_negative_numbers = true, value_parser = super::pressure)]
+    hardness: Option<f64>,
+    /// Elastic–perfectly-plastic contact: cap the pressure at --hardness (0 ≤ p ≤ H); where it
+    /// is reached the surface yields (penetrates) instead of loading further.
+    #[arg(long)]
+    plastic: bool,
     /// Free (non-periodic) boundary: the window is an isolated patch of an infinite half-space,
     /// as for a sphere on a flat. Default: periodic.
     #[arg(long)]
@@ -69,6 +76,10 @@ struct ContactFile {
     physical_size_m: [f64; 2],
     effective_modulus_pa: f64,
     boundary: &'static str,
+    /// Whether the pressure was capped at the hardness (elastic–perfectly-plastic).
+    plastic: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hardness_pa: Option<f64>,
     tolerance: f64,
     loads: Vec<LoadEntry>,
 }
@@ -104,12 +115,28 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let path = &args.read.file;
     let surface = io::read(path, &args.read.options())?;
     let size = contact::contact_size(&surface)?;
+    if args.plastic && args.hardness.is_none() {
+        return Err(Error::invalid("--plastic", "needs --hardness H, the cap on the pressure"));
+    }
+    if let Some(h) = args.hardness {
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(Error::invalid("--hardness", format!("must be positive and finite, got {h} Pa")));
+        }
+        let heaviest = args.load.iter().copied().fold(0.0, f64::max);
+        if args.plastic && heaviest / (size.0 * size.1) >= h {
+            return Err(Error::invalid(
+                "--hardness",
+                format!("{h:e} Pa cannot carry {heaviest:e} N on the {:e} m² window", size.0 * size.1),
+            ));
+        }
+    }
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
     let mut solver =
         ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)?;
+    solver.set_hardness(args.hardness.filter(|_| args.plastic))?;
 
     let out = StagedDir::new(&args.out, "contact")?;
     let mut order: Vec<usize> = (0..args.load.len()).collect();
@@ -162,6 +189,8 @@ pub fn run(args: ContactArgs) -> Result<()> {
         physical_size_m: [size.0, size.1],
         effective_modulus_pa: e_star,
         boundary: boundary.name(),
+        plastic: args.plastic,
+        hardness_pa: args.hardness,
         tolerance: args.tolerance,
         loads: entries.into_iter().map(|e| e.expect("every load solved")).collect(),
     };

@@ -38,6 +38,8 @@ use super::influence::{Boundary, Influence};
 use crate::error::{Error, Result};
 use crate::fft::{large_buffer, split_rows, split_rows_mut};
 
+mod saturated;
+
 /// Iterations without a new best residual after which the conjugate gradient restarts.
 const STALL: usize = 50;
 
@@ -118,6 +120,8 @@ pub struct SolveReport {
     pub operator_applications: f64,
     /// Wall-clock time of the solve [s].
     pub seconds: f64,
+    /// The cap on the pressure the solve ran with (elastic–perfectly-plastic) [Pa], if any.
+    pub hardness: Option<f64>,
 }
 
 /// The contact set in compressed rows: the points with p > 0, in raster order.
@@ -252,6 +256,8 @@ pub struct ContactSolver {
     /// Dense pressure of the last solve [Pa].
     pressure_field: Vec<f64>,
     warm: bool,
+    /// The cap on the pressure (elastic–perfectly-plastic contact) [Pa], if any.
+    hardness: Option<f64>,
 }
 
 impl ContactSolver {
@@ -340,6 +346,7 @@ impl ContactSolver {
             spectrum_sums: vec![[0.0; 2]; nxh],
             pressure_field: large_buffer(n, 0.0),
             warm: false,
+            hardness: None,
         })
     }
 
@@ -368,17 +375,27 @@ impl ContactSolver {
         &self.pressure_field
     }
 
-    /// Gap of the last solve [m]: zero on the contact set, positive elsewhere.
+    /// Gap of the last solve [m]: zero where 0 < p < H (the hardness, if set), positive where
+    /// p = 0, and where p = H the penetration of the rigid surface as a negative gap (the
+    /// plastic indentation).
     pub fn gap(&self) -> Vec<f64> {
-        let mean =
-            self.contact.index.iter().map(|&i| self.displacement[i as usize] - self.heights[i as usize]).sum::<f64>()
-                / self.contact.len().max(1) as f64;
+        let cap = self.hardness.unwrap_or(f64::INFINITY);
+        let (sum, count) = self
+            .pressure_field
+            .iter()
+            .zip(self.displacement.iter().zip(&self.heights))
+            .filter(|(p, _)| **p > 0.0 && **p < cap)
+            .fold((0.0, 0usize), |(s, c), (_, (u, h))| (s + (u - h), c + 1));
+        let mean = sum / count.max(1) as f64;
         (0..self.heights.len())
             .map(|i| {
-                if self.pressure_field[i] > 0.0 {
-                    0.0
+                let (p, g) = (self.pressure_field[i], self.displacement[i] - self.heights[i] - mean);
+                if p == 0.0 {
+                    g.max(0.0)
+                } else if p == cap {
+                    g.min(0.0)
                 } else {
-                    (self.displacement[i] - self.heights[i] - mean).max(0.0)
+                    0.0
                 }
             })
             .collect()
@@ -406,6 +423,27 @@ impl ContactSolver {
         if let Some(i) = pressure.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
             return Err(Error::invalid("warm start", format!("pressure {} Pa at point {i}", pressure[i])));
         }
+        self.pressure_field.copy_from_slice(pressure);
+        self.adopt_pressure_field();
+        self.warm = true;
+        Ok(())
+    }
+
+    /// Cap the pressure at the hardness H [Pa] in the solves that follow (elastic–perfectly-
+    /// plastic contact, 0 ≤ p ≤ H; two FFT pairs per iteration), or lift the cap with `None`.
+    pub fn set_hardness(&mut self, hardness: Option<f64>) -> Result<()> {
+        if let Some(h) = hardness {
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(Error::invalid("--hardness", format!("must be positive and finite, got {h} Pa")));
+            }
+        }
+        self.hardness = hardness;
+        Ok(())
+    }
+
+    /// The contact set of the dense pressure field: its points with p > 0.
+    fn adopt_pressure_field(&mut self) {
+        let (ny, nx, pressure) = (self.ny, self.nx, &self.pressure_field);
         let c = &mut self.contact;
         (c.index, c.pressure) =
             pressure.iter().enumerate().filter(|(_, p)| **p > 0.0).map(|(i, p)| (i as u32, *p)).unzip();
@@ -413,9 +451,6 @@ impl ContactSolver {
         c.direction = vec![0.0; c.index.len()];
         c.gap = vec![0.0; c.index.len()];
         c.displacement = vec![0.0; c.index.len()];
-        self.pressure_field.copy_from_slice(pressure);
-        self.warm = true;
-        Ok(())
     }
 
     /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
@@ -425,6 +460,9 @@ impl ContactSolver {
     pub fn solve<R: Proceed>(&mut self, load: f64, mut progress: impl FnMut(usize, f64) -> R) -> Result<SolveReport> {
         if !(load > 0.0 && load.is_finite()) {
             return Err(Error::invalid("--load", format!("must be positive and finite, got {load} N")));
+        }
+        if let Some(hardness) = self.hardness {
+            return self.solve_saturated(hardness, load, &mut |it, residual| progress(it, residual).proceed());
         }
         let start = Instant::now();
         let n = self.ny * self.nx;
@@ -526,6 +564,7 @@ impl ContactSolver {
             residual,
             operator_applications: applications,
             seconds: start.elapsed().as_secs_f64(),
+            hardness: None,
         })
     }
 

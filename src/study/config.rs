@@ -13,12 +13,12 @@
 //! #     pixel_size
 //! wafer = { file = "wafer.spm" }  # optional counter-surface: h = h_ball − h_wafer
 //!
-//! [material]                      # youngs [Pa], poisson; counter_youngs, counter_poisson
-//! youngs = "130 GPa"
+//! [material]                      # youngs [Pa], poisson; counter_youngs, counter_poisson;
+//! youngs = "130 GPa"              # hardness [Pa]
 //! poisson = 0.26
 //!
-//! [contact]                       # boundary "periodic" | "free", tolerance, max_iterations, grid
-//! boundary = "periodic"
+//! [contact]                       # boundary "periodic" | "free", tolerance, max_iterations, grid;
+//! boundary = "periodic"           # plastic = true | [false, true] (needs material.hardness)
 //!
 //! [loads]                         # values = [...], or min, max, count (log-spaced) [N]
 //! min = "0.1 mN"
@@ -162,6 +162,9 @@ pub struct MaterialSpec {
     pub counter_youngs: Option<Stress>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub counter_poisson: Option<f64>,
+    /// Hardness H [Pa]: the cap on the pressure of a plastic solve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hardness: Option<Stress>,
 }
 
 /// Contact solver settings.
@@ -175,6 +178,38 @@ pub struct ContactSpec {
     /// Solve every topography on this grid (nx, ny) over the same physical window.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grid: Option<(usize, usize)>,
+    /// Elastic (false), elastic–perfectly-plastic with p ≤ `material.hardness` (true), or a
+    /// list of both: each its own load sweep, told apart by the results' `plastic` column.
+    #[serde(default, skip_serializing_if = "Plastic::is_elastic")]
+    pub plastic: Plastic,
+}
+
+/// `plastic = false | true | [false, true]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Plastic {
+    One(bool),
+    Each(Vec<bool>),
+}
+
+impl Default for Plastic {
+    fn default() -> Self {
+        Plastic::One(false)
+    }
+}
+
+impl Plastic {
+    fn is_elastic(&self) -> bool {
+        *self == Plastic::One(false)
+    }
+
+    /// The solves to run, in the order given: plastic or not.
+    pub fn modes(&self) -> Vec<bool> {
+        match self {
+            Plastic::One(p) => vec![*p],
+            Plastic::Each(list) => list.clone(),
+        }
+    }
 }
 
 /// The normal loads: a list, or `count` log-spaced from `min` to `max`.
@@ -436,6 +471,20 @@ impl StudyConfig {
             if nx < 2 || ny < 2 {
                 return at(&[key("contact"), key("grid")], format!("{nx}×{ny} is too small: at least 2×2 points"));
             }
+        }
+        let modes = c.plastic.modes();
+        let plastic = [key("contact"), key("plastic")];
+        if modes.is_empty() || (1..modes.len()).any(|i| modes[..i].contains(&modes[i])) {
+            return at(&plastic, "give true, false, or a list of both, each once".into());
+        }
+        match m.hardness {
+            Some(h) if !(h.0 > 0.0 && h.0.is_finite()) => {
+                return at(&[key("material"), key("hardness")], format!("must be positive, got {} Pa", h.0));
+            }
+            None if modes.contains(&true) => {
+                return at(&plastic, "a plastic solve needs `hardness` in [material]".into());
+            }
+            _ => {}
         }
 
         let l = &self.loads;

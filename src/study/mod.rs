@@ -28,6 +28,8 @@ pub struct Row {
     pub topography: String,
     /// Friction law name.
     pub law: String,
+    /// Whether the solve capped the pressure at the hardness (elastic–perfectly-plastic).
+    pub plastic: bool,
     /// Local static and dynamic friction coefficients of the law.
     pub mu_s: f64,
     pub mu_d: f64,
@@ -69,6 +71,7 @@ impl Row {
             load_n,
             topography: topography.to_string(),
             law: law_name(&onset.law),
+            plastic: solve.plastic,
             mu_s: onset.law.mu_s,
             mu_d: onset.law.mu_d,
             contact_points: solve.contact_points,
@@ -100,6 +103,9 @@ pub fn law_name(law: &FrictionLaw) -> String {
 /// What a row needs to know of the contact solve behind it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SolveFacts {
+    /// Whether the solve capped the pressure at the hardness.
+    #[serde(default)]
+    pub plastic: bool,
     pub contact_points: usize,
     pub patches: usize,
     pub contact_fraction: f64,
@@ -111,6 +117,7 @@ impl SolveFacts {
     /// The facts of a solve from its contact statistics and the solver's report.
     pub fn new(summary: &ContactSummary, report: &SolveReport) -> SolveFacts {
         SolveFacts {
+            plastic: report.hardness.is_some(),
             contact_points: summary.contact_points,
             patches: summary.patch_sizes.len(),
             contact_fraction: summary.contact_fraction,

@@ -8,10 +8,12 @@
 //! start). It writes into DIR:
 //!
 //! - `study.toml`: the study as run (paths absolute, loads and laws explicit);
-//! - `results.csv`, `results.json`: one [`Row`] per topography × law × load, in that order;
+//! - `results.csv`, `results.json`: one [`Row`] per topography × solve (elastic, plastic, as
+//!   `contact.plastic` lists them) × law × load, in that order;
 //! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
 //!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order);
-//! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for;
+//! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for (a plastic
+//!   sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
 //! - `figures/`, `index.html`: the figures and their report;
 //! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, and below
 //!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
@@ -199,16 +201,20 @@ impl Study {
     ) -> Result<Outcome> {
         let _claim = self.claim(dir, fresh)?;
 
-        let total = self.topographies.len() * self.loads.len();
-        let finished: Vec<usize> = (0..self.topographies.len()).map(|t| self.finished(dir, t)).collect();
+        let sweeps: Vec<(usize, bool)> = (0..self.topographies.len())
+            .flat_map(|t| self.config.contact.plastic.modes().into_iter().map(move |plastic| (t, plastic)))
+            .collect();
+        let total = sweeps.len() * self.loads.len();
+        let finished: Vec<usize> = sweeps.iter().map(|&(t, plastic)| self.finished(dir, t, plastic)).collect();
         let resumed: usize = finished.iter().sum();
         if !progress(Progress::Start { total, done: resumed }).proceed() {
             return Err(self.interrupted());
         }
         let solved = AtomicUsize::new(0);
-        (0..self.topographies.len())
-            .into_par_iter()
-            .try_for_each(|t| self.sweep(dir, t, finished[t], progress, &solved))?;
+        (0..sweeps.len()).into_par_iter().try_for_each(|k| {
+            let (t, plastic) = sweeps[k];
+            self.sweep(dir, t, plastic, finished[k], progress, &solved)
+        })?;
 
         let _results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
         output::remove_stale_temporaries(dir)?;
@@ -231,8 +237,11 @@ impl Study {
             .collect::<Result<Vec<_>>>()?;
         let names: Vec<String> = self.topographies.iter().map(|(n, _)| n.clone()).collect();
         let parameters = serde_json::to_value(&self.config).map_err(|e| Error::invalid("study", e.to_string()))?;
+        // The figures show the first kind of solve listed; the table has them all.
+        let first = self.config.contact.plastic.modes()[0];
+        let shown: Vec<Row> = rows.iter().filter(|r| r.plastic == first).cloned().collect();
         let input = FigureInput {
-            rows: &rows,
+            rows: &shown,
             topographies: &names,
             laws: &self.laws,
             maps: &maps,
@@ -295,13 +304,16 @@ impl Study {
         let last = self.loads.len() - 1;
         let units = (0..self.topographies.len())
             .map(|t| {
-                let unit = self.solves_dir(dir, t);
+                // One lock per topography covers its elastic and plastic sweeps.
+                let unit = self.solves_dir(dir, t, false);
                 std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
                 let what = format!("topography \"{}\"", self.topographies[t].0);
                 let lock = self.lock(&unit.join(format!("loads-00-{last:02}.lock")), Access::Exclusive, dir, &what)?;
                 // This unit's own folders, now that no one else writes there.
-                output::remove_stale_temporaries(&unit)?;
-                output::remove_stale_temporaries(&dir.join("pressure").join(&self.topographies[t].0))?;
+                let pressure = dir.join("pressure").join(&self.topographies[t].0);
+                for folder in [plastic_dir(unit.clone(), true), unit, plastic_dir(pressure.clone(), true), pressure] {
+                    output::remove_stale_temporaries(&folder)?;
+                }
                 if t == 0 {
                     output::remove_stale_temporaries(&dir.join("snapshots"))?;
                 }
@@ -388,22 +400,23 @@ impl Study {
         })
     }
 
-    /// The folder of topography `t`'s solve records.
-    fn solves_dir(&self, dir: &Path, t: usize) -> PathBuf {
-        dir.join(SOLVES).join(TOPOGRAPHIES).join(&self.topographies[t].0)
+    /// The folder of topography `t`'s solve records, elastic or plastic.
+    fn solves_dir(&self, dir: &Path, t: usize, plastic: bool) -> PathBuf {
+        plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(&self.topographies[t].0), plastic)
     }
 
     /// How many of topography `t`'s loads have their record: the sweep resumes after them.
-    fn finished(&self, dir: &Path, t: usize) -> usize {
-        let solves = self.solves_dir(dir, t);
+    fn finished(&self, dir: &Path, t: usize, plastic: bool) -> usize {
+        let solves = self.solves_dir(dir, t, plastic);
         (0..self.loads.len()).take_while(|k| solves.join(format!("{k:02}.json")).is_file()).count()
     }
 
-    /// Sweep topography `t` over the loads from index `first` on.
+    /// Sweep topography `t` over the loads from index `first` on, elastic or plastic.
     fn sweep<R: Proceed>(
         &self,
         dir: &Path,
         t: usize,
+        plastic: bool,
         first: usize,
         progress: &(dyn Fn(Progress) -> R + Sync),
         solved: &AtomicUsize,
@@ -413,7 +426,7 @@ impl Study {
             return Ok(());
         }
         let (name, topo) = &self.topographies[t];
-        let solves = self.solves_dir(dir, t);
+        let solves = self.solves_dir(dir, t, plastic);
         std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
         let warm = |k: usize| solves.join(format!("warm-{k:02}.npy"));
         let shape = topo.heights.dim();
@@ -430,17 +443,19 @@ impl Study {
             c.boundary,
             options,
         )?;
+        solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
         if first > 0 {
             let path = warm(first - 1);
             let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
             let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(&path, r))?;
             solver.warm_start(pressure.as_slice().ok_or_else(|| Error::file(&path, "not a row-major array"))?)?;
         }
-        let maps = dir.join("pressure").join(name);
+        let maps = plastic_dir(dir.join("pressure").join(name), plastic);
         if self.config.output.pressure_maps {
             std::fs::create_dir_all(&maps).map_err(|e| Error::io(&maps, e))?;
         }
-        let snapshots = if t == 0 { self.snapshot_indices() } else { Vec::new() };
+        let shown = t == 0 && plastic == self.config.contact.plastic.modes()[0];
+        let snapshots = if shown { self.snapshot_indices() } else { Vec::new() };
         for (k, &load) in self.loads.iter().enumerate().skip(first) {
             let context = |e: Error| Error::invalid(format!("topography \"{name}\" at {load} N"), e.to_string());
             let report = solver.solve(load, |_, _| ()).map_err(context)?;
@@ -493,8 +508,10 @@ impl Study {
     /// Every row from the solve records: topography × law × load.
     fn rows(&self, dir: &Path) -> Result<Vec<Row>> {
         let mut rows = Vec::with_capacity(self.topographies.len() * self.laws.len() * self.loads.len());
-        for t in 0..self.topographies.len() {
-            let solves = self.solves_dir(dir, t);
+        for (t, plastic) in (0..self.topographies.len())
+            .flat_map(|t| self.config.contact.plastic.modes().into_iter().map(move |plastic| (t, plastic)))
+        {
+            let solves = self.solves_dir(dir, t, plastic);
             let records = (0..self.loads.len())
                 .map(|k| {
                     let path = solves.join(format!("{k:02}.json"));
@@ -552,19 +569,25 @@ fn discard(dir: &Path) -> Result<()> {
     remove_matching(dir, |n| RESULT_FILES.contains(&n))?;
     remove_matching(&dir.join("figures"), figure)?;
     remove_matching(&dir.join("snapshots"), |n| stem_indexed(n, ".npy") || stem_indexed(n, ".json"))?;
-    for folder in subfolders(&dir.join("pressure"))? {
-        remove_matching(&folder, |n| indexed(n, ".npy"))?;
+    // Each topography's folder, and the `plastic` one inside it for its plastic sweep.
+    let with_plastic = |folders: Vec<PathBuf>| -> Vec<PathBuf> {
+        folders.into_iter().flat_map(|f| [plastic_dir(f.clone(), true), f]).collect()
+    };
+    let pressure = with_plastic(subfolders(&dir.join("pressure"))?);
+    for folder in &pressure {
+        remove_matching(folder, |n| indexed(n, ".npy"))?;
     }
-    let units = dir.join(SOLVES).join(TOPOGRAPHIES);
-    for folder in subfolders(&units)? {
-        remove_matching(&folder, |n| {
+    let units = with_plastic(subfolders(&dir.join(SOLVES).join(TOPOGRAPHIES))?);
+    for folder in &units {
+        remove_matching(folder, |n| {
             indexed(n, ".json")
                 || n.strip_prefix("warm-").is_some_and(|n| indexed(n, ".npy"))
                 || (n.starts_with("loads-") && n.ends_with(".lock"))
         })?;
     }
-    // Emptied folders go; one still holding a file of its owner's stays.
-    for folder in [subfolders(&dir.join("pressure"))?, subfolders(&units)?].concat() {
+    // Emptied folders go (a plastic one before its topography's); one still holding a file of
+    // its owner's stays.
+    for folder in pressure.iter().chain(&units) {
         let _ = std::fs::remove_dir(folder);
     }
     for folder in ["figures", "snapshots", "pressure", "solves/topographies"] {
@@ -606,6 +629,15 @@ fn subfolders(dir: &Path) -> Result<Vec<PathBuf>> {
         }
     }
     Ok(folders)
+}
+
+/// `path`, or its `plastic` subfolder for a plastic sweep.
+fn plastic_dir(path: PathBuf, plastic: bool) -> PathBuf {
+    if plastic {
+        path.join("plastic")
+    } else {
+        path
+    }
 }
 
 /// A topography as the study solves it: read or generated, prepared, compounded with its
