@@ -96,7 +96,7 @@ fn float_map<'py>(value: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyA
     if ndim != 2 {
         return Err(invalid(name, format!("a 2-D array of shape (ny, nx) is needed, got {ndim} dimension(s)")));
     }
-    Ok(converted.extract::<PyReadonlyArray2<f64>>()?)
+    converted.extract::<PyReadonlyArray2<f64>>()
 }
 
 /// `(lx, ly)` from a length or a pair of lengths [m], each positive and finite.
@@ -374,16 +374,15 @@ fn generate(
     Ok(Topography::wrap(inner))
 }
 
+/// A 1-D float64 array.
+type Spectrum<'py> = Bound<'py, PyArray1<f64>>;
+
 /// The isotropic power spectral density of a topography (mean removed): ``(q, c)``, the
 /// wavevector |q| [rad/m] and C(q) [m⁴], as ``asperity topo psd``. ``window``: "auto" (Hann
 /// for non-periodic maps, none for periodic ones), "hann" or "none".
 #[pyfunction]
 #[pyo3(signature = (topography, window = "auto"))]
-fn psd<'py>(
-    py: Python<'py>,
-    topography: &Topography,
-    window: &str,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+fn psd<'py>(py: Python<'py>, topography: &Topography, window: &str) -> PyResult<(Spectrum<'py>, Spectrum<'py>)> {
     let window = match window {
         "auto" => Window::default_for(&topography.inner),
         "hann" => Window::Hann,
