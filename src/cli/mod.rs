@@ -30,7 +30,8 @@ pub fn handle_signals() -> std::io::Result<()> {
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])?;
     std::thread::Builder::new().name("signals".into()).spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            asperity::output::remove_temporaries();
+            // Held to the end: no writer gets to report a removed temporary and exit first.
+            let _held = asperity::output::remove_temporaries();
             std::process::exit(128 + signal);
         }
     })?;

@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 
 pub use lock::{Access, Lock};
 pub use staged::{StagedDir, MANIFEST};
-pub use temp::{is_temporary, remove_temporaries};
+pub use temp::{is_temporary, remove_temporaries, Interrupted};
 
 /// Write a file atomically: `fill` writes into a temporary file beside `path`, which is then
 /// renamed over `path`. A failure or a panic in `fill`, or a failed rename, leaves `path`
@@ -151,7 +151,7 @@ mod tests {
         let staged = StagedDir::new(&dir.path().join("out"), "test").unwrap();
         let file = temp::TempFile::new_in(dir.path()).unwrap();
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
-        remove_temporaries();
+        drop(remove_temporaries());
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
         assert!(write_json(&dir.path().join("late.json"), &1).is_err());
         drop((file, staged));

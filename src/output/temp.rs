@@ -50,14 +50,22 @@ impl Drop for Entry {
     }
 }
 
+/// The registry, held by an interrupted process until it exits.
+pub struct Interrupted {
+    _registry: MutexGuard<'static, Registry>,
+}
+
 /// Remove every temporary in flight and refuse new ones: the process is being interrupted.
-pub fn remove_temporaries() {
+/// Hold the result until the process exits: a writer that meets a removed temporary then
+/// blocks instead of reporting it as an error and ending the process first.
+pub fn remove_temporaries() -> Interrupted {
     let mut registry = registry();
     registry.closed = true;
     for (_, path) in registry.paths.drain(..) {
         // The file may be gone already: renamed into place, or never finished.
         let _ = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
     }
+    Interrupted { _registry: registry }
 }
 
 fn builder<'a>() -> tempfile::Builder<'a, 'a> {
