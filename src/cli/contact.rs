@@ -48,7 +48,7 @@ pub struct ContactArgs {
     #[arg(long, value_name = "T", default_value = "1e-10")]
     tolerance: f64,
     /// Iteration limit per load; a solve that has not converged by then is an error.
-    #[arg(long, value_name = "K", default_value_t = SolverOptions::default().max_iterations)]
+    #[arg(long, value_name = "K", default_value_t = SolverOptions::default().max_iterations, value_parser = super::count::<usize>)]
     max_iter: usize,
     /// Also write gap-NNN.npy and displacement-NNN.npy [m] for each load.
     #[arg(long)]
@@ -107,6 +107,9 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let path = &args.read.file;
     let surface = io::read(path, &args.read.options())?;
     let size = ready_for_contact(&surface, path)?;
+    for &load in &args.load {
+        contact::check_load(load, size, e_star)?;
+    }
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     let shape = (surface.ny(), surface.nx());

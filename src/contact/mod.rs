@@ -11,7 +11,7 @@ pub mod patches;
 pub mod solver;
 
 pub use influence::{Boundary, Influence};
-pub use solver::{ContactSolver, SolveReport, SolverOptions};
+pub use solver::{check_load, ContactSolver, SolveReport, SolverOptions};
 
 use crate::error::{Error, Result};
 
