@@ -4,7 +4,7 @@ mod cli;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// Static friction of rough interfaces from their measured topography: elastic contact by the
 /// boundary integral method, then the stick-slip transition model of Peng, Roch, Bonn & Weber
@@ -35,7 +35,8 @@ fn main() -> ExitCode {
         eprintln!("error: {e}");
         return ExitCode::FAILURE;
     }
-    let cli = match Cli::try_parse() {
+    let command = cli::negative_values_reach_their_option(Cli::command());
+    let cli = match command.try_get_matches().and_then(|m| Cli::from_arg_matches(&m)) {
         Ok(cli) => cli,
         Err(e) => return cli::exit_on_usage_error(e),
     };
@@ -49,7 +50,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", cli::one_short_line(&format!("error: {e}")));
             ExitCode::FAILURE
         }
     }

@@ -1,5 +1,6 @@
 //! Physical quantities written by people: a number in SI units, or a number with its unit
-//! ("0.1 mN", "31.13 µm", "130 GPa"). One parser serves the study file and the command line.
+//! ("0.1 mN", "31.13 µm", "130 GPa"). One parser serves the study file and the command line;
+//! [`human`] prints numbers back the way people write them.
 
 use crate::topography::units;
 
@@ -23,6 +24,54 @@ pub const FORCE: Dimension = Dimension { name: "force", si: "N", units: "N, mN, 
 /// A pressure, stress or modulus [Pa].
 pub const PRESSURE: Dimension =
     Dimension { name: "pressure", si: "Pa", units: "Pa, kPa, MPa, GPa", per_unit: pascals_per };
+/// An area [m²].
+pub const AREA: Dimension =
+    Dimension { name: "area", si: "m²", units: "m², µm² (um^2), nm² (nm2)…", per_unit: square_metres_per };
+/// A duration [s].
+pub const TIME: Dimension =
+    Dimension { name: "time", si: "s", units: "s, ms, µs (us), min, h", per_unit: seconds_per };
+/// A speed [m/s].
+pub const SPEED: Dimension =
+    Dimension { name: "speed", si: "m/s", units: "m/s, mm/s, µm/s (um/s), nm/s…", per_unit: metres_per_second_per };
+/// A stiffness [N/m].
+pub const STIFFNESS: Dimension =
+    Dimension { name: "stiffness", si: "N/m", units: "N/m, mN/µm, N/nm…", per_unit: newtons_per_metre_per };
+
+/// Every dimension, to name the one a misplaced unit belongs to.
+const DIMENSIONS: [&Dimension; 7] = [&LENGTH, &FORCE, &PRESSURE, &AREA, &TIME, &SPEED, &STIFFNESS];
+
+/// Seconds per `unit` ("h", "min", "s", "ms", "µs"/"us"), `None` for anything else.
+pub fn seconds_per(unit: &str) -> Option<f64> {
+    Some(match unit.trim() {
+        "h" => 3600.0,
+        "min" => 60.0,
+        "s" => 1.0,
+        "ms" => 1e-3,
+        "us" | "µs" | "μs" => 1e-6,
+        _ => return None,
+    })
+}
+
+/// Square metres per `unit`: a length unit squared ("µm²", "um^2", "nm2").
+fn square_metres_per(unit: &str) -> Option<f64> {
+    let u = unit.trim();
+    let base = u.strip_suffix('²').or_else(|| u.strip_suffix("^2")).or_else(|| u.strip_suffix('2'))?;
+    units::metres_per(base).map(|m| m * m)
+}
+
+/// `numerator` per `denominator` units of a ratio written "a/b".
+fn ratio(unit: &str, numerator: fn(&str) -> Option<f64>, denominator: fn(&str) -> Option<f64>) -> Option<f64> {
+    let (a, b) = unit.split_once('/')?;
+    Some(numerator(a)? / denominator(b)?)
+}
+
+fn metres_per_second_per(unit: &str) -> Option<f64> {
+    ratio(unit, units::metres_per, seconds_per)
+}
+
+fn newtons_per_metre_per(unit: &str) -> Option<f64> {
+    ratio(unit, newtons_per, units::metres_per)
+}
 
 /// Newtons per `unit` ("kN", "N", "mN", "µN"/"uN", "nN"), `None` for anything else.
 pub fn newtons_per(unit: &str) -> Option<f64> {
@@ -117,14 +166,15 @@ pub fn parse(text: &str, dim: &Dimension, bare_is_si: bool) -> Result<f64, Strin
             dim.units
         ));
     }
-    let factor = (dim.per_unit)(unit).ok_or_else(|| {
-        match [&LENGTH, &FORCE, &PRESSURE].into_iter().find(|d| (d.per_unit)(unit).is_some()) {
-            Some(other) => format!("{} is a {}, not a {} (units: {})", quoted(text), other.name, dim.name, dim.units),
+    let factor =
+        (dim.per_unit)(unit).ok_or_else(|| match DIMENSIONS.into_iter().find(|d| (d.per_unit)(unit).is_some()) {
+            Some(other) => {
+                format!("{} is {}, not {} (units: {})", quoted(text), article(other.name), article(dim.name), dim.units)
+            }
             None => {
                 format!("{}: unknown unit {} for a {} (units: {})", quoted(text), quoted(unit), dim.name, dim.units)
             }
-        }
-    })?;
+        })?;
     // A power-of-ten unit shifts the decimal exponent, so "0.1 mN" is exactly what 1e-4 is.
     let exponent = factor.log10().round() as i32;
     let value = if 10f64.powi(exponent) == factor { shifted(&t[..split], exponent) } else { None };
@@ -149,9 +199,56 @@ pub fn finite(v: f64, text: &str) -> Result<f64, String> {
     }
 }
 
+/// "a length", "an area".
+fn article(name: &str) -> String {
+    if name.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        format!("an {name}")
+    } else {
+        format!("a {name}")
+    }
+}
+
+/// `x` as people write it: rounded to 12 significant digits, which hides the last bits of
+/// binary arithmetic (`0.6`, not `0.6000000000000001`; `1e-5`, not `9.999999999999999e-6`),
+/// in plain notation from 0.001 to a million and with an exponent outside.
+pub fn human(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let rounded: f64 = format!("{x:.11e}").parse().expect("a formatted float parses");
+    if (1e-3..1e6).contains(&rounded.abs()) {
+        rounded.to_string()
+    } else {
+        format!("{rounded:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_print_as_people_write_them() {
+        assert_eq!(human(0.6000000000000001), "0.6");
+        assert_eq!(human(9.999999999999999e-6), "1e-5");
+        assert_eq!(human(31.13e-6), "3.113e-5");
+        assert_eq!(human(130e9), "1.3e11");
+        assert_eq!(human(-2.5), "-2.5");
+        assert_eq!(human(0.0), "0");
+        assert_eq!(human(f64::INFINITY), "inf");
+        assert_eq!(human(123456.0), "123456");
+    }
+
+    #[test]
+    fn derived_units() {
+        assert_eq!(parse("4 µm²", &AREA, true), Ok(4e-12));
+        assert_eq!(parse("4um^2", &AREA, true), Ok(4e-12));
+        assert_eq!(parse("0.3 um/s", &SPEED, true), Ok(0.3e-6));
+        assert_eq!(parse("2 ms", &TIME, true), Ok(2e-3));
+        assert_eq!(parse("1 min", &TIME, true), Ok(60.0));
+        assert_eq!(parse("5 mN/um", &STIFFNESS, true), Ok(5e3));
+        assert!(parse("3 um", &AREA, true).unwrap_err().contains("is a length, not an area"));
+    }
 
     #[test]
     fn quantities() {

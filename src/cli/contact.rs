@@ -55,7 +55,7 @@ pub struct ContactArgs {
     #[arg(long, value_name = "T", default_value = "1e-10")]
     tolerance: f64,
     /// Iteration limit per load; a solve that has not converged by then is an error.
-    #[arg(long, value_name = "K", default_value_t = SolverOptions::default().max_iterations)]
+    #[arg(long, value_name = "K", default_value_t = SolverOptions::default().max_iterations, value_parser = super::count::<usize>)]
     max_iter: usize,
     /// Also write gap-NNN.npy and displacement-NNN.npy [m] for each load.
     #[arg(long)]
@@ -129,6 +129,9 @@ pub fn run(args: ContactArgs) -> Result<()> {
                 format!("{h:e} Pa cannot carry {heaviest:e} N on the {:e} m² window", size.0 * size.1),
             ));
         }
+    }
+    for &load in &args.load {
+        contact::check_load(load, size, e_star)?;
     }
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };

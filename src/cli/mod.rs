@@ -38,7 +38,8 @@ pub fn handle_signals() -> std::io::Result<()> {
     Ok(())
 }
 
-/// Print a usage error as one line (help and version requests print in full) and exit 2.
+/// Print a usage error as one short line naming the option (help and version requests print
+/// in full) and exit 2.
 pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     match e.kind() {
@@ -51,11 +52,74 @@ pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
             }
         }
         _ => {
-            let text = e.render().to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("error: invalid usage"));
+            eprintln!("{}", usage_line(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// The longest error line printed [characters].
+const USAGE_LINE_CHARS: usize = 300;
+
+/// `error: --option: reason` for a bad value, else clap's first line; never longer than
+/// [`USAGE_LINE_CHARS`] (clap quotes a bad token whole).
+fn usage_line(e: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let text = |kind| match e.get(kind) {
+        Some(ContextValue::String(s)) => Some(s.as_str()),
+        _ => None,
+    };
+    // "--load <N>" → "--load".
+    let option = text(ContextKind::InvalidArg).and_then(|a| a.split([' ', '=']).next());
+    let value = text(ContextKind::InvalidValue).unwrap_or("");
+    let line = match (e.kind(), option) {
+        (ErrorKind::ValueValidation, Some(o)) => match std::error::Error::source(e) {
+            Some(reason) => format!("error: {o}: {reason}"),
+            None => format!("error: {o}: invalid value {}", quantity::quoted(value)),
+        },
+        (ErrorKind::InvalidValue, Some(o)) => {
+            let valid = match e.get(ContextKind::ValidValue) {
+                Some(ContextValue::Strings(v)) => format!(" (one of {})", v.join(", ")),
+                _ => String::new(),
+            };
+            format!("error: {o}: {} is not a valid value{valid}", quantity::quoted(value))
+        }
+        _ => e.render().to_string().lines().next().unwrap_or("error: invalid usage").to_string(),
+    };
+    one_short_line(&line)
+}
+
+/// An error message as printed: its first line, cut at [`USAGE_LINE_CHARS`] characters (a
+/// message may echo a value of any length).
+pub fn one_short_line(message: &str) -> String {
+    let line = message.lines().next().unwrap_or_default();
+    if line.chars().count() <= USAGE_LINE_CHARS {
+        line.to_string()
+    } else {
+        line.chars().take(USAGE_LINE_CHARS).chain(['…']).collect()
+    }
+}
+
+/// Let every option whose value is a number or a quantity take a value starting with '-'
+/// (`--tolerance -1`, `--load -inf`, `--crop -5:5,…`), so that the option's own check refuses
+/// it by name instead of clap taking it for an unknown flag. Paths and names are left as
+/// clap parses them: a forgotten value there should not swallow the next option.
+pub fn negative_values_reach_their_option(cmd: clap::Command) -> clap::Command {
+    use clap::builder::ValueParser;
+    let textual = [ValueParser::path_buf().type_id(), ValueParser::string().type_id()];
+    cmd.mut_args(|a| {
+        if a.get_action().takes_values() && !a.is_positional() && !textual.contains(&a.get_value_parser().type_id()) {
+            a.allow_hyphen_values(true)
+        } else {
+            a
+        }
+    })
+    .mut_subcommands(negative_values_reach_their_option)
+}
+
+/// A count or an integer seed: a whole number ≥ 0 (a clap value parser).
+pub fn count<T: std::str::FromStr>(s: &str) -> std::result::Result<T, String> {
+    s.trim().parse::<T>().map_err(|_| format!("{} is not a whole number ≥ 0", quantity::quoted(s)))
 }
 
 /// How to read a topography file: the options every command that reads one takes.
@@ -155,6 +219,26 @@ pub fn force(s: &str) -> std::result::Result<f64, String> {
 /// A pressure or modulus [Pa].
 pub fn pressure(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::PRESSURE, true)
+}
+
+/// An area [m²].
+pub fn area(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::AREA, true)
+}
+
+/// A duration [s].
+pub fn time(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::TIME, true)
+}
+
+/// A speed [m/s].
+pub fn speed(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::SPEED, true)
+}
+
+/// A stiffness [N/m].
+pub fn stiffness(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::STIFFNESS, true)
 }
 
 /// A progress bar on stderr for long work, hidden when stderr is not a terminal.

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use asperity::friction::{write_curves_csv, ClassShare, Curve, ElementLoads, FrictionLaw, Loading, Onset};
 use asperity::limits::Limits;
 use asperity::output::{write_json, write_npy, StagedDir};
+use asperity::quantity::human;
 use asperity::{Error, Result};
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};
@@ -45,27 +46,28 @@ pub struct Args {
     /// folder, or an earlier output of `asperity onset`, replaced as a whole.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Area of one pixel of a bare PRESSURE.npy [m²] (only forces in newtons need it).
-    #[arg(long, conflicts_with = "size", allow_negative_numbers = true)]
+    /// Area of one pixel of a bare PRESSURE.npy [m², or with a unit: 400nm^2] (only forces in
+    /// newtons need it).
+    #[arg(long, conflicts_with = "size", value_name = "A", value_parser = super::area)]
     pub pixel_area: Option<f64>,
-    /// Physical size LX[,LY] of a bare PRESSURE.npy [m] (LY defaults to LX), for forces in
-    /// newtons.
-    #[arg(long, value_delimiter = ',', value_name = "LX[,LY]", allow_hyphen_values = true)]
+    /// Physical size LX[,LY] of a bare PRESSURE.npy [m, or with a unit: 31.13um] (LY defaults
+    /// to LX), for forces in newtons.
+    #[arg(long, value_delimiter = ',', value_name = "LX[,LY]", value_parser = super::length)]
     pub size: Option<Vec<f64>>,
     /// Which load of a contact directory: 0-based index into contact.json "loads" (needed
     /// when it holds more than one).
-    #[arg(long)]
+    #[arg(long, value_name = "K", value_parser = super::count::<usize>)]
     pub load_index: Option<usize>,
     /// Displacements δ/δ_peak (dimensionless, in (0, 1]) of the stress-ratio snapshots
     /// written with --out.
     #[arg(long, value_delimiter = ',', default_value = "0.25,0.5,0.75,1", allow_hyphen_values = true)]
     pub snapshots: Vec<f64>,
-    /// Shear stiffness k_t of one element [N/m]: curve.csv then states δ = s / k_t in metres
-    /// (its delta_m column); without it that column is empty.
-    #[arg(long, allow_negative_numbers = true)]
+    /// Shear stiffness k_t of one element [N/m, or with a unit: 5mN/um]: curve.csv then
+    /// states δ = s / k_t in metres (its delta_m column); without it that column is empty.
+    #[arg(long, value_name = "K_T", value_parser = super::stiffness)]
     pub shear_stiffness: Option<f64>,
     /// Most rows per loading mode in curve.csv (the peak is always kept exactly).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, value_name = "ROWS", default_value_t = 2000, value_parser = super::count::<usize>)]
     pub curve_rows: usize,
     #[command(flatten)]
     pub limits: super::LimitArgs,
@@ -306,8 +308,8 @@ fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> R
 
 fn print_summary(r: &Report) {
     let law = match r.law.name {
-        Some(name) => format!("\"{name}\": mu_s {}, mu_d {}", r.law.mu_s, r.law.mu_d),
-        None => format!("mu_s {}, mu_d {}", r.law.mu_s, r.law.mu_d),
+        Some(name) => format!("\"{name}\": mu_s {}, mu_d {}", human(r.law.mu_s), human(r.law.mu_d)),
+        None => format!("mu_s {}, mu_d {}", human(r.law.mu_s), human(r.law.mu_d)),
     };
     println!("{}  ({law})", r.input);
     println!("elements            {}", r.elements);

@@ -27,17 +27,21 @@ pub struct Args {
     /// Draw the trace with the detected holds, peaks and windows as PNG (and SVG beside it)
     #[arg(long, value_name = "TRACE.png")]
     plot: Option<PathBuf>,
-    /// Sliding displacement after the peak over which F_D and N are averaged [m]
-    #[arg(long, value_name = "M", default_value = "1e-6")]
+    /// Sliding displacement after the peak over which F_D and N are averaged [m, or with a
+    /// unit: 1um]
+    #[arg(long, value_name = "M", default_value = "1e-6", value_parser = super::length)]
     window: f64,
-    /// Sliding speed [m/s]; used to derive displacement from time when the trace has none
-    #[arg(long, value_name = "M_PER_S", default_value = "3e-7")]
+    /// Sliding speed [m/s, or with a unit: 0.3um/s]; used to derive displacement from time
+    /// when the trace has none
+    #[arg(long, value_name = "M_PER_S", default_value = "3e-7", value_parser = super::speed)]
     speed: f64,
-    /// Sliding displacement after the restart within which the static peak is sought [m]
-    #[arg(long, value_name = "M", default_value = "2e-6")]
+    /// Sliding displacement after the restart within which the static peak is sought [m, or
+    /// with a unit: 2um]
+    #[arg(long, value_name = "M", default_value = "2e-6", value_parser = super::length)]
     peak_within: f64,
-    /// Shortest hold, and shortest slide, that count [s]; briefer dips or bursts are noise
-    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    /// Shortest hold, and shortest slide, that count [s, or with a unit: 500ms]; briefer dips
+    /// or bursts are noise
+    #[arg(long, value_name = "S", default_value = "1", value_parser = super::time)]
     min_duration: f64,
     /// Friction below this fraction of the sliding level counts as a hold [dimensionless]
     #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
@@ -134,7 +138,7 @@ fn table(name: &str, a: &Analysis, window: f64) -> String {
         "{name}: {} restarts after holds, {} hold-time groups; F_D and N over {} µm after each peak\n\n",
         a.cycles.len(),
         a.groups.len(),
-        window * 1e6
+        asperity::quantity::human(window * 1e6)
     );
     let f = format!("F_S [{unit}]");
     let d = format!("F_D [{unit}]");

@@ -7,13 +7,14 @@ use std::path::{Path, PathBuf};
 use clap::{ArgGroup, Args};
 
 use asperity::output::write_npy;
+use asperity::quantity::{self, human};
 use asperity::topography::detrend::{Detrend, SphereFit};
 use asperity::topography::io::{read, write_gsf};
 use asperity::topography::missing::{fill_missing, refuse_missing};
 use asperity::topography::resample::{crop, resample, CropWindow};
 use asperity::topography::stats::{height_stats, psd, rms_slope, Window};
 use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
-use asperity::topography::{units, Topography};
+use asperity::topography::Topography;
 use asperity::{Error, Result};
 
 use super::{parse_size, ReadArgs};
@@ -47,9 +48,9 @@ pub struct ConvertArgs {
     pub out: PathBuf,
     #[command(flatten)]
     pub prepare: PrepareArgs,
-    /// Resample (cubic convolution) to this pixel size [m], keeping the physical size: the
-    /// pixel becomes size / round(size / P)
-    #[arg(long, value_name = "P")]
+    /// Resample (cubic convolution) to this pixel size [m, or with a unit: 20nm], keeping the
+    /// physical size: the pixel becomes size / round(size / P)
+    #[arg(long, value_name = "P", value_parser = super::length)]
     pub pixel_size: Option<f64>,
 }
 
@@ -57,7 +58,7 @@ pub struct ConvertArgs {
 #[derive(Args)]
 #[command(group(ArgGroup::new("amplitude").required(true).args(["rms", "rms_slope"])))]
 pub struct GenerateArgs {
-    /// Physical size LX[,LY] [m] (LY defaults to LX)
+    /// Physical size LX[,LY] [m, or with a unit: 31.13um] (LY defaults to LX)
     #[arg(long, value_name = "LX[,LY]", value_parser = parse_size)]
     pub size: (f64, f64),
     /// Grid NX[,NY] [points] (NY defaults to NX)
@@ -66,29 +67,33 @@ pub struct GenerateArgs {
     /// Hurst exponent H, 0 < H ≤ 1: C(q) ∝ q^(−2(1+H)) [1]
     #[arg(long)]
     pub hurst: f64,
-    /// RMS height of the roughness [m]
-    #[arg(long)]
+    /// RMS height of the roughness [m, or with a unit: 22nm]
+    #[arg(long, value_name = "R", value_parser = super::length)]
     pub rms: Option<f64>,
     /// RMS slope of the roughness, forward differences [1]
     #[arg(long)]
     pub rms_slope: Option<f64>,
-    /// Roll-off wavelength [m]: the spectrum is flat above it [default: none]
-    #[arg(long, value_name = "LAMBDA")]
+    /// Roll-off wavelength [m, or with a unit: 5um]: the spectrum is flat above it [default:
+    /// none]
+    #[arg(long, value_name = "LAMBDA", value_parser = super::length)]
     pub rolloff: Option<f64>,
-    /// Short cut-off wavelength [m]: no roughness below it [default: down to the pixel]
-    #[arg(long, value_name = "LAMBDA")]
+    /// Short cut-off wavelength [m, or with a unit]: no roughness below it [default: down to
+    /// the pixel]
+    #[arg(long, value_name = "LAMBDA", value_parser = super::length)]
     pub cutoff: Option<f64>,
-    /// Long cut-off wavelength, the largest present [m] [default: the window size]
-    #[arg(long, value_name = "LAMBDA")]
+    /// Long cut-off wavelength, the largest present [m, or with a unit] [default: the window
+    /// size]
+    #[arg(long, value_name = "LAMBDA", value_parser = super::length)]
     pub long_cutoff: Option<f64>,
-    /// Add a sphere cap of this radius [m], apex (highest point) at the window's centre
-    #[arg(long, value_name = "R")]
+    /// Add a sphere cap of this radius [m, or with a unit: 1.5mm], apex (highest point) at the
+    /// window's centre
+    #[arg(long, value_name = "R", value_parser = super::length)]
     pub sphere_radius: Option<f64>,
     /// Make the cap the paraboloid −ρ²/(2R) instead of the exact sphere
     #[arg(long, requires = "sphere_radius")]
     pub paraboloid: bool,
     /// Seed of the random phases: the same seed gives the same surface [integer]
-    #[arg(long)]
+    #[arg(long, value_name = "S", value_parser = super::count::<u64>)]
     pub seed: u64,
     /// Output file: heights [m] as a float64 .npy array of shape (ny, nx), or as .gsf (float32,
     /// with the physical size)
@@ -127,8 +132,12 @@ fn prepare(read_args: &ReadArgs, prep: &PrepareArgs) -> Result<(Topography, Opti
 
 fn describe_fit(fit: &SphereFit) -> String {
     format!(
-        "sphere fit: radius {:e} m, apex at ({:e}, {:e}) m, height {:e} m; residual {:e} m RMS",
-        fit.radius, fit.apex.0, fit.apex.1, fit.apex_height, fit.rms_residual
+        "sphere fit: radius {} m, apex at ({}, {}) m, height {} m; residual {} m RMS",
+        human(fit.radius),
+        human(fit.apex.0),
+        human(fit.apex.1),
+        human(fit.apex_height),
+        human(fit.rms_residual)
     )
 }
 
@@ -158,7 +167,10 @@ impl OutFormat {
 
 fn describe(out: &Path, topo: &Topography) -> String {
     let size = match topo.physical_size {
-        Some((lx, ly)) => format!("physical size {lx:e} × {ly:e} m (--size {lx:e},{ly:e})"),
+        Some((lx, ly)) => {
+            let (lx, ly) = (human(lx), human(ly));
+            format!("physical size {lx} × {ly} m (--size {lx},{ly})")
+        }
         None => "physical size unknown (give it with --size when reading it)".to_string(),
     };
     format!("wrote {}: {} × {} points (nx × ny), {size}", out.display(), topo.nx(), topo.ny())
@@ -205,7 +217,12 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     let topo = surface.generate()?;
     format.write(&args.out, &topo)?;
     let stats = height_stats(&topo)?;
-    println!("{}; rms height {:e} m, rms slope {:e}", describe(&args.out, &topo), stats.rms_height, rms_slope(&topo)?);
+    println!(
+        "{}; rms height {} m, rms slope {}",
+        describe(&args.out, &topo),
+        human(stats.rms_height),
+        human(rms_slope(&topo)?)
+    );
     Ok(())
 }
 
@@ -260,19 +277,19 @@ fn parse_bound(s: &str) -> std::result::Result<Bound, String> {
     if let Ok(i) = s.parse::<usize>() {
         return Ok(Bound::Pixel(i));
     }
-    // The longest numeric prefix followed by a length unit.
-    (1..s.len())
-        .rev()
-        .filter(|&k| s.is_char_boundary(k))
-        .find_map(|k| Some(s[..k].parse::<f64>().ok()? * units::metres_per(&s[k..])?))
-        .filter(|v| v.is_finite())
-        .map(Bound::Length)
-        .ok_or_else(|| format!("'{s}' is neither a pixel index nor a length with a unit (e.g. 10um)"))
+    match quantity::parse(s, &quantity::LENGTH, false) {
+        Ok(v) if v >= 0.0 => Ok(Bound::Length(v)),
+        Ok(_) => Err(format!("{} is negative: bounds are measured from the map's origin", quantity::quoted(s))),
+        Err(_) if s.starts_with('-') => {
+            Err(format!("{} is negative: bounds are pixel indices ≥ 0 or lengths ≥ 0", quantity::quoted(s)))
+        }
+        Err(_) => Err(format!("{} is neither a pixel index nor a length with a unit (e.g. 10um)", quantity::quoted(s))),
+    }
 }
 
 /// `X0:X1,Y0:Y1`, all four pixel indices or all four lengths with units.
 fn parse_crop(s: &str) -> std::result::Result<CropWindow, String> {
-    let bad = || format!("'{s}' is not X0:X1,Y0:Y1");
+    let bad = || format!("{} is not X0:X1,Y0:Y1", quantity::quoted(s));
     let (x, y) = s.split_once(',').ok_or_else(bad)?;
     let range = |r: &str| -> std::result::Result<(Bound, Bound), String> {
         let (a, b) = r.split_once(':').ok_or_else(bad)?;
@@ -285,6 +302,6 @@ fn parse_crop(s: &str) -> std::result::Result<CropWindow, String> {
         ((Bound::Length(x0), Bound::Length(x1)), (Bound::Length(y0), Bound::Length(y1))) => {
             Ok(CropWindow::Physical { x: (x0, x1), y: (y0, y1) })
         }
-        _ => Err(format!("'{s}' mixes pixel indices and lengths")),
+        _ => Err(format!("{} mixes pixel indices and lengths", quantity::quoted(s))),
     }
 }

@@ -217,6 +217,35 @@ struct Shifts {
     direction_mean: f64,
 }
 
+/// The smallest mean pressure solved, relative to E* (a representable range, not physics).
+const MIN_STRAIN: f64 = 1e-100;
+
+/// Whether a normal `load` [N] on a window of `size` [m] can be solved with effective modulus
+/// `e_star` [Pa]: its mean pressure must lie between 1e-100 E* (below, the solver's products
+/// leave the range of floats) and E* (a strain of order one, far outside linear elasticity).
+pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
+    use crate::quantity::human;
+    if !(load > 0.0 && load.is_finite()) {
+        return Err(Error::invalid("--load", format!("must be positive and finite, got {} N", human(load))));
+    }
+    let p_mean = load / (size.0 * size.1);
+    let strain = p_mean / e_star;
+    if !(strain > MIN_STRAIN && strain < 1.0) {
+        return Err(Error::invalid(
+            "--load",
+            format!(
+                "{} N on {} × {} m is a mean pressure of {p_mean:.3e} Pa, {strain:.1e} times the effective \
+                 modulus E* = {e_star:.3e} Pa: outside linear elasticity (the mean pressure must lie between \
+                 {MIN_STRAIN:e} E* and E*)",
+                human(load),
+                human(size.0),
+                human(size.1)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// A contact problem on one surface, solved for one load after another. The pressure of the
 /// last solve is the starting point of the next (warm start).
 pub struct ContactSolver {
@@ -458,9 +487,7 @@ impl ContactSolver {
     /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
     /// cold).
     pub fn solve<R: Proceed>(&mut self, load: f64, mut progress: impl FnMut(usize, f64) -> R) -> Result<SolveReport> {
-        if !(load > 0.0 && load.is_finite()) {
-            return Err(Error::invalid("--load", format!("must be positive and finite, got {load} N")));
-        }
+        check_load(load, self.size, self.e_star)?;
         if let Some(hardness) = self.hardness {
             return self.solve_saturated(hardness, load, &mut |it, residual| progress(it, residual).proceed());
         }

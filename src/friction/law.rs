@@ -45,6 +45,16 @@ impl FrictionLaw {
                 format!("the static friction coefficient {mu_s} is below the dynamic one {mu_d} (a local law needs mu_s ≥ mu_d)"),
             ));
         }
+        if !(mu_s / mu_d).is_finite() {
+            return Err(Error::invalid(
+                "--mu-s",
+                format!(
+                    "mu_s / mu_d = {} / {} is past the largest float: the friction drop is not representable",
+                    crate::quantity::human(mu_s),
+                    crate::quantity::human(mu_d)
+                ),
+            ));
+        }
         Ok(FrictionLaw { name: None, mu_s, mu_d })
     }
 

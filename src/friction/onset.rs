@@ -36,6 +36,13 @@ impl ElementLoads {
                 return Err(bad_pressure(pressure));
             }
         }
+        if let Some(i) = loads.iter().position(|n| !(*n > 0.0 && n.is_finite())) {
+            let p = pressure.iter().filter(|p| **p > 0.0).nth(i).expect("one load per contact pixel");
+            return Err(Error::invalid(
+                "pressure map",
+                format!("a pressure of {p} Pa on a pixel of {pixel_area} m² is a force no float represents"),
+            ));
+        }
         Self::from_unsorted(loads, "pressure map", "no contact: every pressure is zero")
     }
 
@@ -63,7 +70,10 @@ impl ElementLoads {
         }
         let total: f64 = sorted.iter().sum();
         if !(total.is_finite() && total > 0.0) {
-            return Err(Error::invalid(what, format!("the total normal force {total} N is not positive and finite")));
+            return Err(Error::invalid(
+                what,
+                format!("the total normal force {total} N is not positive and finite (not representable)"),
+            ));
         }
         Ok(ElementLoads { sorted, total })
     }
@@ -191,8 +201,10 @@ pub struct Onset {
     pub elements: usize,
     /// The normal load N [N].
     pub normal_force: f64,
-    /// The static friction force F_S [N].
+    /// The static friction force F_S [N] (infinite when mu_s · N is past the largest float).
     pub static_force: f64,
+    /// The static friction coefficient F_S / N, computed on scaled forces: always finite.
+    pub static_coefficient: f64,
     /// k*: the sorted index of the first critical element (= number of pre-sliding ones).
     pub critical_index: usize,
     /// n_(k*): the normal force of the critical elements [N].
@@ -205,39 +217,61 @@ pub struct Onset {
     pub subcritical: ClassShare,
 }
 
+/// `x` · 2^`k`, exactly unless the result leaves the range of floats.
+fn times_power_of_two(x: f64, k: i32) -> f64 {
+    // 2^k itself may not be a float (k < −1022 or k > 1023): multiply in steps.
+    let (mut x, mut k) = (x, k);
+    while k != 0 {
+        let step = k.clamp(-1000, 1000);
+        x *= 2f64.powi(step);
+        k -= step;
+    }
+    x
+}
+
 impl Onset {
     /// The onset for elements `loads` with local law `law`: O(M) on the sorted forces.
+    ///
+    /// The forces are scaled by a power of two (exact) that brings N into [1/2, 1) before any
+    /// product is formed: subnormal forces keep their digits, and mu_s · n · (M − k) ≤ mu_s · N
+    /// cannot overflow. So mu_d ≤ F_S / N ≤ mu_s holds for any representable input.
     pub fn new(loads: &ElementLoads, law: &FrictionLaw) -> Onset {
         let sorted = loads.sorted();
         let m = sorted.len();
+        let n_total = loads.total();
+        let shift = -(n_total.log2().floor() as i32) - 1;
+        let scaled = |x: f64| times_power_of_two(x, shift);
+        let total = scaled(n_total);
         let mut best: Option<(f64, Group)> = None;
         for g in groups(sorted) {
-            let f = slip_force(law, g.prefix, g.n, m - g.start);
+            let f = slip_force(law, scaled(g.prefix), scaled(g.n), m - g.start);
             if best.is_none_or(|(fs, _)| f > fs) {
                 best = Some((f, g));
             }
         }
         let (fs, g) = best.expect("ElementLoads is never empty");
-        let n_total = loads.total();
         let subcritical_count = m - g.start - g.count;
         let subcritical_normal = sorted[g.start + g.count..].iter().fold(0.0, |sum, &x| sum + x);
-        let stuck_shear = law.mu_s * g.n;
+        let stuck_shear = law.mu_s * scaled(g.n);
+        // Rounding may put the last bit outside [mu_d, mu_s], where the exact value never is.
+        let static_coefficient = (fs / total).clamp(law.mu_d, law.mu_s);
         Onset {
             law: law.clone(),
             elements: m,
             normal_force: n_total,
-            static_force: fs,
+            static_force: times_power_of_two(fs, -shift),
+            static_coefficient,
             critical_index: g.start,
             critical_normal_force: g.n,
             critical: ClassShare {
                 count: g.count,
-                normal_fraction: g.n * g.count as f64 / n_total,
+                normal_fraction: scaled(g.n) * g.count as f64 / total,
                 friction_fraction: stuck_shear * g.count as f64 / fs,
             },
             pre_sliding: ClassShare {
                 count: g.start,
                 normal_fraction: g.prefix / n_total,
-                friction_fraction: law.mu_d * g.prefix / fs,
+                friction_fraction: law.mu_d * scaled(g.prefix) / fs,
             },
             subcritical: ClassShare {
                 count: subcritical_count,
@@ -247,9 +281,9 @@ impl Onset {
         }
     }
 
-    /// The static friction coefficient F_S / N.
+    /// The static friction coefficient F_S / N, between mu_d and mu_s.
     pub fn static_coefficient(&self) -> f64 {
-        self.static_force / self.normal_force
+        self.static_coefficient
     }
 
     /// The dynamic friction coefficient of the interface: mu_d (all elements sliding).
@@ -259,7 +293,7 @@ impl Onset {
 
     /// The friction drop F_S / (mu_d · N), between 1 and mu_s / mu_d.
     pub fn friction_drop(&self) -> f64 {
-        self.static_force / (self.law.mu_d * self.normal_force)
+        self.static_coefficient / self.law.mu_d
     }
 
     /// s* = mu_s · n_(k*) [N]: the shear of every stuck element at the critical state, so
@@ -442,6 +476,65 @@ mod tests {
         let e = ElementLoads::from_pressure(&array![[1.0]], 0.0).unwrap_err().to_string();
         assert!(e.starts_with("--pixel-area:"), "{e}");
         assert!(ElementLoads::from_forces(&[1.0, 0.0]).unwrap_err().to_string().contains("element 1"));
+    }
+
+    #[test]
+    fn subnormal_and_huge_forces_keep_the_coefficient_between_mu_d_and_mu_s() {
+        // Every element alike: a single-element interface's drop, mu_s / mu_d, at any scale.
+        for n in [5e-324, 1e-310, 1e-300, 1.0, 1e300, 1.5e307] {
+            let o = onset(&[n; 3], &law(0.6, 0.4));
+            assert_eq!(o.static_coefficient(), 0.6, "n = {n}");
+            assert!(close(o.friction_drop(), 1.5), "n = {n}: {}", o.friction_drop());
+        }
+        let p = Array2::from_elem((4, 4), 5e-324);
+        let o = Onset::new(&ElementLoads::from_pressure(&p, 1.0).unwrap(), &law(0.6, 0.4));
+        assert!(o.static_coefficient() == 0.6 && close(o.friction_drop(), 1.5));
+        // Underflow to a zero force is refused, not counted.
+        let e = ElementLoads::from_pressure(&p, 1e-16).unwrap_err().to_string();
+        assert!(e.contains("no float represents"), "{e}");
+        // Extreme laws: the coefficient stays finite and between the two.
+        let o = onset(&[1.0, 2.0, 3.0], &law(1e300, 1e-7));
+        assert!(o.static_coefficient() <= 1e300 && o.static_coefficient() >= 1e-7 && o.friction_drop().is_finite());
+        assert!(FrictionLaw::new(1e308, 1e-308).unwrap_err().to_string().contains("not representable"));
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+        /// mu_d ≤ F_S / N ≤ mu_s for forces and laws over the whole range of floats.
+        #[test]
+        fn the_coefficient_lies_between_mu_d_and_mu_s(
+            mantissas in proptest::collection::vec(1.0f64..2.0, 1..40),
+            exponents in proptest::collection::vec(-1074i32..1000, 40),
+            base in -1074i32..1000,
+            spread in 0i32..60,
+            mu_d_exp in -300i32..300,
+            ratio in 1.0f64..1e6,
+        ) {
+            // Forces of one magnitude with a few decades of spread, or anywhere in the range.
+            let forces: Vec<f64> = mantissas
+                .iter()
+                .zip(&exponents)
+                .enumerate()
+                .map(|(i, (m, e))| {
+                    let e = if i % 2 == 0 { (base + e.rem_euclid(spread + 1)).min(1000) } else { *e };
+                    times_power_of_two(*m, e)
+                })
+                .filter(|n| *n > 0.0)
+                .collect();
+            proptest::prop_assume!(!forces.is_empty() && forces.iter().sum::<f64>().is_finite());
+            let mu_d = 10f64.powi(mu_d_exp);
+            let law = law(mu_d * ratio, mu_d);
+            let o = onset(&forces, &law);
+            let c = o.static_coefficient();
+            proptest::prop_assert!(c >= law.mu_d && c <= law.mu_s, "{} not in [{}, {}]", c, law.mu_d, law.mu_s);
+            let drop = o.friction_drop();
+            proptest::prop_assert!(drop >= 1.0 && drop <= ratio * (1.0 + 1e-12), "drop {}", drop);
+            let shares = o.critical.normal_fraction + o.pre_sliding.normal_fraction + o.subcritical.normal_fraction;
+            proptest::prop_assert!((shares - 1.0).abs() < 1e-9, "normal fractions sum to {}", shares);
+            let shares = o.critical.friction_fraction + o.pre_sliding.friction_fraction + o.subcritical.friction_fraction;
+            proptest::prop_assert!(shares <= 1.0 + 1e-9, "friction fractions sum to {}", shares);
+        }
     }
 
     #[test]

@@ -20,9 +20,10 @@ mod figure;
 mod points;
 mod trace;
 
+pub use crate::quantity::seconds_per;
 pub use figure::trace_figure;
 pub use points::{read_points, write_points, ShsPoint};
-pub use trace::{read_trace, seconds_per, Trace, TraceFormat, DISPLACEMENT_COLUMN};
+pub use trace::{read_trace, Trace, TraceFormat, DISPLACEMENT_COLUMN};
 
 use serde::Serialize;
 

@@ -43,18 +43,6 @@ impl Default for TraceFormat {
 /// The default name of the optional displacement column.
 pub const DISPLACEMENT_COLUMN: &str = "displacement_m";
 
-/// Seconds per `unit` (`"s"`, `"ms"`, `"min"`, `"h"`).
-pub fn seconds_per(unit: &str) -> Option<f64> {
-    Some(match unit.trim() {
-        "h" => 3600.0,
-        "min" => 60.0,
-        "s" => 1.0,
-        "ms" => 1e-3,
-        "us" | "µs" | "μs" => 1e-6,
-        _ => return None,
-    })
-}
-
 /// A slide-hold-slide trace in SI units: time [s] strictly increasing, friction and normal
 /// force [N], and displacement [m] when the instrument recorded it.
 #[derive(Clone, Debug)]

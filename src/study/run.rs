@@ -155,6 +155,13 @@ impl Study {
             None => Vec::new(),
         };
         let loads = config.load_values();
+        for (name, topo) in &topographies {
+            let size = topo.physical_size.expect("a built topography has a size");
+            for &load in [loads[0], loads[loads.len() - 1]].iter() {
+                contact::check_load(load, size, config.effective_modulus())
+                    .map_err(|e| at(&format!("topography \"{name}\": loads"), e))?;
+            }
+        }
         let mut config = config;
         config.loads =
             LoadsSpec { values: Some(loads.iter().map(|&l| Force(l)).collect()), min: None, max: None, count: None };
