@@ -45,24 +45,30 @@ fn invalid(name: &str, reason: impl Into<String>) -> PyErr {
     error(asperity::Error::invalid(name, reason))
 }
 
-/// How often long work looks for signals while the GIL is released.
-const SIGNAL_INTERVAL: Duration = Duration::from_millis(20);
+/// How often long work looks for signals while the GIL is released: often enough for Ctrl-C
+/// to feel immediate, seldom enough that waiting for the GIL (held by another Python thread for
+/// up to its 5 ms switch interval) costs little.
+const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 
-/// Ctrl-C while the GIL is released: looks for signals (in the main thread, where Python runs
-/// its handlers) at most every [`SIGNAL_INTERVAL`], and keeps the exception a handler raised.
+/// Ctrl-C while the GIL is released: looks for signals at most every [`SIGNAL_INTERVAL`], and
+/// keeps the exception a handler raised. Python runs signal handlers in its main thread only,
+/// so work started from another thread never takes the GIL for them.
 struct Signals {
+    main_thread: bool,
     last: Instant,
     raised: Option<PyErr>,
 }
 
 impl Signals {
-    fn new() -> Self {
-        Signals { last: Instant::now(), raised: None }
+    fn new(py: Python<'_>) -> PyResult<Self> {
+        let threading = py.import("threading")?;
+        let main_thread = threading.call_method0("current_thread")?.is(&threading.call_method0("main_thread")?);
+        Ok(Signals { main_thread, last: Instant::now(), raised: None })
     }
 
     /// `Break` once a signal handler has raised.
     fn check(&mut self) -> ControlFlow<()> {
-        if self.raised.is_none() && self.last.elapsed() >= SIGNAL_INTERVAL {
+        if self.main_thread && self.raised.is_none() && self.last.elapsed() >= SIGNAL_INTERVAL {
             self.last = Instant::now();
             self.raised = Python::attach(|py| py.check_signals()).err();
         }
@@ -497,7 +503,7 @@ fn contact(
     let size = core_contact::contact_size(surface).map_err(error)?;
     let shape = surface.heights.dim();
     let options = SolverOptions { tolerance, max_iterations: max_iter };
-    let mut signals = Signals::new();
+    let mut signals = Signals::new(py)?;
     let solved = py.detach(|| -> asperity::Result<Vec<Solved>> {
         let heights = surface.heights.as_standard_layout();
         let mut solver =
