@@ -75,14 +75,9 @@ fn direct_rows() -> Vec<Row> {
         let mut per_load = Vec::new();
         for load in [1e-4, 1e-3, 1e-2, 1e-1] {
             let report = solver.solve(load, |_, _| ()).unwrap();
-            let summary = contact::summarize(solver.pressure(), (64, 64), size, Boundary::Periodic);
-            let facts = asperity::study::SolveFacts {
-                contact_points: summary.contact_points,
-                patches: summary.patch_sizes.len(),
-                contact_fraction: summary.contact_fraction,
-                iterations: report.iterations,
-                seconds: 0.0,
-            };
+            let summary = contact::summarize(solver.pressure(), (64, 64), size, Boundary::Periodic, None);
+            let facts =
+                asperity::study::SolveFacts { seconds: 0.0, ..asperity::study::SolveFacts::new(&summary, &report) };
             let p = Array2::from_shape_vec((64, 64), solver.pressure().to_vec()).unwrap();
             let elements = ElementLoads::from_pressure(&p, (size.0 / 64.0) * (size.1 / 64.0)).unwrap();
             per_load

@@ -7,9 +7,12 @@ use serde::Serialize;
 
 use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
 use asperity::output::{self, StagedDir};
-use asperity::topography::{io, Topography};
+use asperity::topography::io::{self, ReadOptions};
+use asperity::topography::prepare::{compound_with, Preparation};
+use asperity::topography::synth::{Cap, CapShape};
 use asperity::{Error, Result};
 
+use super::topo_tools::PrepareArgs;
 use super::ReadArgs;
 
 /// Press a rigid rough surface on an elastic half-space (boundary integral method,
@@ -17,11 +20,33 @@ use super::ReadArgs;
 ///
 /// Writes DIR/contact.json and one DIR/pressure-NNN.npy (float64, Pa, shape ny×nx) per load,
 /// numbered in the order the loads are given. Loads are solved in increasing order, each
-/// starting from the previous solution.
+/// starting from the previous solution. The surface is prepared as the study prepares a file
+/// (crop, missing points, detrend, resample, cap, wafer), but as read unless told otherwise.
+/// Every load reports the share of it carried within 2 % of the window's edges
+/// (edge_load_fraction; above 0.01 a warning) and the largest pressure.
 #[derive(Args)]
 pub struct ContactArgs {
     #[command(flatten)]
     read: ReadArgs,
+    #[command(flatten)]
+    prepare: PrepareArgs,
+    /// Resample (cubic convolution) to this pixel size [m, or with a unit: 20nm], keeping the
+    /// physical size.
+    #[arg(long, value_name = "P", value_parser = super::length)]
+    pixel_size: Option<f64>,
+    /// Add a spherical cap of radius R [m, or with a unit: 1.5mm] to the levelled scan, apex at
+    /// the window's centre: a ball scanned after its curvature was levelled away.
+    #[arg(long, value_name = "R", value_parser = super::length)]
+    cap_radius: Option<f64>,
+    /// Counter-surface scan (a wafer) in any readable format: levelled with the same --detrend,
+    /// interpolated onto the surface's grid and compounded, h = h_surface − h_wafer.
+    #[arg(long, value_name = "FILE")]
+    wafer: Option<PathBuf>,
+    /// Hardness of the softer body [Pa, or with a unit: 12GPa] (silicon ≈ 12 GPa; none by
+    /// default): reports the share of each load carried at p ≥ H and warns when it is not zero.
+    /// The solve stays elastic.
+    #[arg(long, value_name = "H", value_parser = super::pressure)]
+    hardness: Option<f64>,
     /// Normal load [N, or with a unit: 1mN]; repeat for a sweep (--load 1e-4 --load 1e-3 …) or
     /// give a list (0.1mN,1mN).
     #[arg(long, value_name = "N", required = true, value_delimiter = ',', allow_negative_numbers = true, value_parser = super::force)]
@@ -64,12 +89,18 @@ pub struct ContactArgs {
 struct ContactFile {
     surface: PathBuf,
     channel: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    wafer: Option<PathBuf>,
     grid: [usize; 2],
     physical_size_m: [f64; 2],
     effective_modulus_pa: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hardness_pa: Option<f64>,
     boundary: &'static str,
     tolerance: f64,
     loads: Vec<LoadEntry>,
+    /// Plausibility warnings, one line each, as printed on stderr.
+    warnings: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -81,6 +112,10 @@ struct LoadEntry {
     contact_points: usize,
     patches: usize,
     largest_patch_points: usize,
+    max_pressure_pa: f64,
+    edge_load_fraction: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    load_above_hardness_fraction: Option<f64>,
     iterations: usize,
     operator_applications: f64,
     residual: f64,
@@ -104,9 +139,14 @@ pub fn run(args: ContactArgs) -> Result<()> {
         (Some(e2), Some(nu2)) => contact::combined_modulus(&body, &Material::new(e2, nu2, "--youngs2/--poisson2")?),
         _ => body.plane_strain_modulus(),
     };
+    if let Some(h) = args.hardness {
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(Error::invalid("--hardness", format!("must be positive and finite, got {h} Pa")));
+        }
+    }
     let path = &args.read.file;
-    let surface = io::read(path, &args.read.options())?;
-    let size = ready_for_contact(&surface, path)?;
+    let surface = prepare(&args)?;
+    let size = surface.physical_size.expect("prepared surfaces have a size");
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     let shape = (surface.ny(), surface.nx());
@@ -119,6 +159,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     order.sort_by(|&a, &b| args.load[a].total_cmp(&args.load[b]));
     let bar = super::progress_bar(args.load.len() as u64, "solving");
     let mut entries: Vec<Option<LoadEntry>> = (0..args.load.len()).map(|_| None).collect();
+    let mut warnings = Vec::new();
     for index in order {
         let load = args.load[index];
         bar.set_message(format!("{load:.3e} N"));
@@ -127,7 +168,11 @@ pub fn run(args: ContactArgs) -> Result<()> {
                 bar.set_message(format!("{load:.3e} N, iteration {it}, residual {residual:.1e}"));
             }
         })?;
-        let summary = contact::summarize(solver.pressure(), shape, size, boundary);
+        let summary = contact::summarize(solver.pressure(), shape, size, boundary, args.hardness);
+        for w in summary.warnings() {
+            bar.suspend(|| eprintln!("warning: at {load:e} N: {w}"));
+            warnings.push(format!("at {load:e} N: {w}"));
+        }
         let to_field = |v: Vec<f64>| ndarray::Array2::from_shape_vec(shape, v).expect("field has the grid's shape");
         let pressure_file = format!("pressure-{index:03}.npy");
         output::write_npy(&out.path(&pressure_file), &to_field(solver.pressure().to_vec()))?;
@@ -147,6 +192,9 @@ pub fn run(args: ContactArgs) -> Result<()> {
             contact_points: summary.contact_points,
             patches: summary.patch_sizes.len(),
             largest_patch_points: summary.patch_sizes.first().copied().unwrap_or(0),
+            max_pressure_pa: summary.max_pressure,
+            edge_load_fraction: summary.edge_load_fraction,
+            load_above_hardness_fraction: summary.load_above_hardness_fraction,
             iterations: report.iterations,
             operator_applications: report.operator_applications,
             residual: report.residual,
@@ -161,12 +209,15 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let file = ContactFile {
         surface: path.clone(),
         channel: surface.channel.clone(),
+        wafer: args.wafer.clone(),
         grid: [shape.0, shape.1],
         physical_size_m: [size.0, size.1],
         effective_modulus_pa: e_star,
+        hardness_pa: args.hardness,
         boundary: boundary.name(),
         tolerance: args.tolerance,
         loads: entries.into_iter().map(|e| e.expect("every load solved")).collect(),
+        warnings,
     };
     output::write_json(&out.path("contact.json"), &file)?;
     let dir = out.commit()?;
@@ -174,23 +225,25 @@ pub fn run(args: ContactArgs) -> Result<()> {
     Ok(())
 }
 
-/// The physical size of a surface that the contact solver can take, or a one-line reason
-/// naming the file.
-fn ready_for_contact(surface: &Topography, path: &std::path::Path) -> Result<(f64, f64)> {
-    let bad = surface.heights.iter().filter(|h| !h.is_finite()).count();
-    if bad > 0 {
-        return Err(Error::file(
-            path,
-            format!("{bad} heights are missing, NaN or infinite: fill them (asperity topo convert --fill-missing) or crop them away"),
-        ));
-    }
-    if surface.nx() < 2 || surface.ny() < 2 {
-        return Err(Error::file(
-            path,
-            format!("a {}×{} grid is too small for contact: at least 2×2 points", surface.ny(), surface.nx()),
-        ));
-    }
-    surface
-        .physical_size
-        .ok_or_else(|| Error::file(path, "the file states no physical size: give it with --size LX[,LY] (metres)"))
+/// The surface as the solver takes it: read, prepared ([`Preparation`]) and compounded with
+/// the wafer, if any; errors name the file or the option.
+fn prepare(args: &ContactArgs) -> Result<asperity::topography::Topography> {
+    let mut prep = args.prepare.preparation();
+    prep.pixel_size = args.pixel_size;
+    prep.cap = args.cap_radius.map(|radius| Cap { radius, shape: CapShape::Sphere });
+    // The cap's checks name the option of `topo generate`; here it is --cap-radius.
+    let renamed = |e: Error| match e {
+        Error::Invalid { option, reason } if option == "--sphere-radius" => Error::invalid("--cap-radius", reason),
+        other => other,
+    };
+    let surface = prep.apply(io::read(&args.read.file, &args.read.options())?).map_err(renamed)?;
+    let wafer = match &args.wafer {
+        Some(file) => {
+            let level =
+                Preparation { fill_missing: prep.fill_missing, detrend: prep.detrend, ..Preparation::default() };
+            Some(level.apply(io::read(file, &ReadOptions::default())?)?)
+        }
+        None => None,
+    };
+    compound_with(surface, wafer)
 }
