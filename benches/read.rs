@@ -1,4 +1,4 @@
-//! Reading every instrument sample of `../shared/afm-samples` through the registry
+//! Reading every instrument sample of `tests/data` (the test data, in the repository) through the registry
 //! (`topography::io::read`, default channel): each must take at most 50 ms.
 
 use std::hint::black_box;
@@ -9,7 +9,7 @@ use asperity::topography::io::{read, ReadOptions};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn samples(c: &mut Criterion) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).expect("manifest.json")).expect("manifest");
     let mut group = c.benchmark_group("read");

@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use asperity::topography::io::{read, ReadOptions};
 
 fn read_samples(c: &mut Criterion) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let mut group = c.benchmark_group("read");
     for name in ["matrix-3.txt", "wafer-roughness.gsf", "sdf-1.sdf", "xyz-2.txt", "gwyddion-export-english.txt"] {
         let path = dir.join(name);

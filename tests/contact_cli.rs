@@ -1,5 +1,7 @@
 //! `asperity contact` as users run it: the output contract and one-line errors on bad input.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -99,8 +101,7 @@ fn bad_input_is_refused_in_one_line() {
     refused(&[good, "--load", "1e-3"], "--size");
     refused(&[good, size[0], "abc", "--load", "1e-3"], "--size");
     refused(&[good, "--size", "8e-6,-6e-6", "--load", "1e-3"], "--size");
-    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples");
-    let gsf = samples.join("wafer-roughness.gsf");
+    let gsf = common::sample("wafer-roughness.gsf");
     refused(&[gsf.to_str().unwrap(), "--size", "1e-6,1e-6", "--load", "1e-3"], "does not match");
     refused(&[dir.path().join("absent.npy").to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "absent.npy");
 }

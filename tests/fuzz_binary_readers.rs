@@ -5,10 +5,12 @@
 //! latter is measured: a tracking allocator records the largest single allocation made while
 //! a file is read, which must stay within a small multiple of the file's own size.
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::io::{Cursor, Read, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use asperity::topography::io::read_channels;
@@ -77,10 +79,6 @@ const NASTY_NUMBERS: &[&str] = &[
 ];
 const NASTY_WORDS: &[u32] = &[0, 1, 2, 0x7f, 0xff, 0xffff, 0x7fff_ffff, 0x8000_0000, 0xffff_ffff, 0x0010_0000];
 
-fn samples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples")
-}
-
 /// Read `bytes` as `format` from a file ending in `ext`; check the outcome.
 fn check(dir: &Path, format: &str, ext: &str, bytes: &[u8]) -> Result<(), TestCaseError> {
     let path = dir.join(format!("case.{ext}"));
@@ -130,12 +128,12 @@ fn run(name: &str, strategy: impl Strategy<Value = Vec<u8>>, dir: &Path, format:
 }
 
 fn fuzz(file: &str, format: &str, header: Header) {
-    let original = Arc::new(std::fs::read(samples().join(file)).unwrap());
+    let original = Arc::new(std::fs::read(common::sample(file)).unwrap());
     let ext = Path::new(file).extension().unwrap().to_str().unwrap().to_string();
     let dir = tempfile::tempdir().unwrap();
     let len = original.len();
     // The unmutated file reads.
-    assert!(read_channels(&samples().join(file), Some(format)).is_ok(), "{file} must read");
+    assert!(read_channels(&common::sample(file), Some(format)).is_ok(), "{file} must read");
 
     let o = original.clone();
     let flips = prop::collection::vec((0..len, 1u8..=255), 1..16).prop_map(move |flips| {
@@ -265,7 +263,7 @@ fn fix_ibw_checksum(b: &mut [u8]) {
 }
 
 fn position(file: &str, marker: &[u8]) -> usize {
-    let b = std::fs::read(samples().join(file)).unwrap();
+    let b = std::fs::read(common::sample(file)).unwrap();
     b.windows(marker.len()).position(|w| w == marker).unwrap() + marker.len()
 }
 

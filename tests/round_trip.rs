@@ -2,7 +2,7 @@
 //! every height comes back as exactly its float32 rounding, a relative error ≤ 2^-24), `.npy`
 //! bit for bit.
 
-use std::path::Path;
+mod common;
 
 use ndarray::Array2;
 use proptest::prelude::*;
@@ -26,6 +26,7 @@ fn topography(heights: Array2<f64>, size: (f64, f64)) -> Topography {
         heights,
         physical_size: Some(size),
         periodic: false,
+        height_unit_known: true,
         channel: "Height".into(),
         provenance: Provenance::default(),
     }
@@ -70,7 +71,7 @@ proptest! {
 
 #[test]
 fn gsf_written_from_a_sample_reads_back() {
-    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples/matrix-3.txt");
+    let sample = common::sample("matrix-3.txt");
     let topo = read(&sample, &ReadOptions::default()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("matrix-3.gsf");

@@ -198,3 +198,32 @@ fn print_default_is_the_default_study_and_explains_it() {
     let help = String::from_utf8(o.stdout).unwrap();
     assert!(help.contains("PLACEHOLDERS") && help.contains("--print-default") && help.contains("--quick"), "{help}");
 }
+
+/// A measured scan takes a cap (with units) and the material a hardness; a synthetic surface
+/// has its cap in `synthetic`, and a file with no height unit is refused before any solve.
+#[test]
+fn file_caps_hardness_and_unknown_units() {
+    let study = GOOD
+        .replace(
+            r#"synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [32, 32], seed = 1, roughness = { hurst = 0.8, rms_height_m = "22 nm" }, cap = { radius_m = "1.5 mm" } }"#,
+            "file = \"scan.txt\"\nsize = \"10 µm\"\ndetrend = \"plane\"\ncap = { radius_m = \"1.5 mm\" }",
+        )
+        .replace("[contact]", "[material]\nyoungs = \"130 GPa\"\npoisson = 0.26\nhardness = \"12 GPa\"\n\n[contact]");
+    let config = StudyConfig::parse(&study, "study.toml").unwrap();
+    assert_eq!(config.topographies[0].cap.map(|c| c.radius), Some(1.5e-3));
+    assert_eq!(config.hardness(), Some(12e9));
+
+    let synthetic_cap = GOOD.replace("\n\n[contact]", "\ncap = { radius_m = 1e-3 }\n\n[contact]");
+    let e = refused(&synthetic_cap);
+    assert!(e.contains("cap: applies to a `file` only"), "{e}");
+
+    // A 4 × 4 matrix without a height unit: refused, naming the topography and the key.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scan.txt"), "1 2 3 4\n5 6 7 8\n9 1 2 3\n4 5 6 7\n").unwrap();
+    std::fs::write(dir.path().join("study.toml"), &study).unwrap();
+    let o = asperity(&["run", "study.toml", "--out", "out"], dir.path());
+    let stderr = String::from_utf8(o.stderr).unwrap();
+    assert!(!o.status.success() && stderr.trim_end().lines().count() == 1, "{stderr}");
+    assert!(stderr.contains("topography \"ball\"") && stderr.contains("height_unit"), "{stderr}");
+    assert!(!dir.path().join("out").exists());
+}

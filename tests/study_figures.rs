@@ -46,7 +46,7 @@ fn study() -> &'static Study {
             for load in LOADS_N {
                 let report = solver.solve(load, |_, _| {}).unwrap();
                 let pressure = Array2::from_shape_vec((ny, nx), solver.pressure().to_vec()).unwrap();
-                let summary = summarize(solver.pressure(), (ny, nx), surface.size, Boundary::Free);
+                let summary = summarize(solver.pressure(), (ny, nx), surface.size, Boundary::Free, None);
                 let facts = SolveFacts::new(&summary, &report);
                 let loads = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).unwrap();
                 for law in &laws {

@@ -75,12 +75,15 @@ fn direct_rows() -> Vec<Row> {
         let mut per_load = Vec::new();
         for load in [1e-4, 1e-3, 1e-2, 1e-1] {
             let report = solver.solve(load, |_, _| ()).unwrap();
-            let summary = contact::summarize(solver.pressure(), (64, 64), size, Boundary::Periodic);
+            let summary = contact::summarize(solver.pressure(), (64, 64), size, Boundary::Periodic, None);
             let facts = asperity::study::SolveFacts {
                 plastic: false,
                 contact_points: summary.contact_points,
                 patches: summary.patch_sizes.len(),
                 contact_fraction: summary.contact_fraction,
+                max_pressure_pa: solver.pressure().iter().copied().fold(0.0, f64::max),
+                edge_load_fraction: summary.edge_load_fraction,
+                load_above_hardness_fraction: None,
                 iterations: report.iterations,
                 seconds: 0.0,
             };

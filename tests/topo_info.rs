@@ -4,14 +4,12 @@
 //!
 //! Every entry is checked and every failure reported together.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::{Command, Output};
 
 use serde_json::Value;
-
-fn samples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples")
-}
 
 fn topo_info(file: &Path, extra: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_asperity"))
@@ -56,7 +54,7 @@ fn check_read(file: &Path, extra: &[&str], errors: &mut Vec<String>) -> Option<V
 fn check_entry(entry: &Value) -> Vec<String> {
     let mut errors = Vec::new();
     let name = entry["file"].as_str().expect("entries name their file");
-    let file = samples().join(name);
+    let file = common::sample(name);
 
     if entry["expect"] == "error" {
         let out = topo_info(&file, &[]);
@@ -104,8 +102,16 @@ fn check_entry(entry: &Value) -> Vec<String> {
     compare_equal("height_unit", &got["height_unit"], &entry["height_unit_in_file"], &mut errors);
     let missing = got["missing_points"].as_u64().is_some_and(|n| n > 0);
     compare_equal("has missing points", &Value::from(missing), &entry["has_missing_points"], &mut errors);
+    // A file that states no height unit is never read as metres: its statistics are the
+    // values as stored, without the `_m`.
+    let known = !entry["height_unit_in_file"].is_null();
+    compare_equal("height_unit_known", &got["height_unit_known"], &Value::from(known), &mut errors);
     for key in ["mean_m", "rms_m", "min_m", "max_m"] {
-        compare_number(key, &got[key], &entry[key], 1e-4, &mut errors);
+        let got_key = if known { key } else { key.trim_end_matches("_m") };
+        compare_number(got_key, &got[got_key], &entry[key], 1e-4, &mut errors);
+        if !known && !got[key].is_null() {
+            errors.push(format!("{key} given although the height unit is unknown"));
+        }
     }
     errors
 }
@@ -113,7 +119,7 @@ fn check_entry(entry: &Value) -> Vec<String> {
 #[test]
 fn every_manifest_entry_is_reproduced() {
     let manifest: Value =
-        serde_json::from_slice(&std::fs::read(samples().join("manifest.json")).expect("manifest.json is readable"))
+        serde_json::from_slice(&std::fs::read(common::sample("manifest.json")).expect("manifest.json is readable"))
             .expect("manifest.json is JSON");
     let entries = manifest["files"].as_array().expect("the manifest lists files");
     assert!(entries.len() >= 20, "the manifest lists {} files", entries.len());
@@ -130,7 +136,7 @@ fn every_manifest_entry_is_reproduced() {
 #[test]
 fn options_act_as_documented() {
     let run = |file: &str, extra: &[&str]| {
-        let out = topo_info(&samples().join(file), extra);
+        let out = topo_info(&common::sample(file), extra);
         let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
         (out.status.success(), serde_json::from_slice::<Value>(&out.stdout).unwrap_or(Value::Null), stderr)
     };
@@ -157,7 +163,7 @@ fn options_act_as_documented() {
 fn summary_states_units() {
     let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
         .args(["topo", "info"])
-        .arg(samples().join("matrix-3.txt"))
+        .arg(common::sample("matrix-3.txt"))
         .output()
         .unwrap();
     let text = String::from_utf8(out.stdout).unwrap();

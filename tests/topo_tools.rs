@@ -1,5 +1,7 @@
 //! `asperity topo convert | generate | psd`, run as the user runs them.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -219,8 +221,8 @@ fn convert_crops_by_length_and_resamples() {
 
 #[test]
 fn convert_reads_a_real_bare_array() {
-    // The shared sample: a 2 × 2 float64 array with mean 3.025, here in nm.
-    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples/example-2d.npy");
+    // The sample: a 2 × 2 float64 array with mean 3.025, here in nm.
+    let sample = common::sample("example-2d.npy");
     let raw = read_npy(&sample, (1.0, 1.0));
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.npy");

@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 
 use asperity::contact::{self as core_contact, Boundary, ContactSolver, Material, SolverOptions};
 use asperity::friction::{ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading, Onset as CoreOnset};
+use asperity::limits::Limits;
 use asperity::shs::{self, ShsOptions, Trace};
 use asperity::study::config::StudyConfig;
 use asperity::study::run::{Progress, Study};
@@ -167,6 +168,7 @@ impl Topography {
             heights,
             physical_size: Some(size),
             periodic,
+            height_unit_known: true,
             channel: "heights".into(),
             provenance: Provenance { file: None, format: "array".into(), height_unit: Some("m".into()) },
         }))
@@ -272,7 +274,7 @@ impl Topography {
     /// Resampled (cubic convolution) to the pixel size nearest to ``pixel_size`` [m] that
     /// divides the physical size, which is kept.
     fn resample(&self, py: Python<'_>, pixel_size: f64) -> PyResult<Topography> {
-        let topo = py.detach(|| resample::resample(&self.inner, pixel_size)).map_err(error)?;
+        let topo = py.detach(|| resample::resample(&self.inner, pixel_size, &Limits::default())).map_err(error)?;
         Ok(Topography { inner: topo, channels: self.channels.clone() })
     }
 
@@ -315,6 +317,7 @@ fn read_topography(
         channel: channel.map(|c| c.str().map(|s| s.to_string())).transpose()?,
         physical_size: size.map(|s| lengths(s, "--size")).transpose()?,
         height_unit,
+        limits: Limits::default(),
     };
     let (inner, channels) = py.detach(|| io::read_listing(&path, &options)).map_err(error)?;
     Ok(Topography { inner, channels })
@@ -513,7 +516,7 @@ fn contact(
         let mut solved = Vec::with_capacity(loads.len());
         for index in order {
             let report = solver.solve(loads[index], |_, _| signals.check())?;
-            let summary = core_contact::summarize(solver.pressure(), shape, size, boundary);
+            let summary = core_contact::summarize(solver.pressure(), shape, size, boundary, None);
             let field = |v: Vec<f64>| Array2::from_shape_vec(shape, v).expect("a field has the grid's shape");
             solved.push(Solved {
                 index,

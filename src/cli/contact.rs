@@ -7,9 +7,12 @@ use serde::Serialize;
 
 use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
 use asperity::output::{self, StagedDir};
-use asperity::topography::io;
+use asperity::topography::io::{self, ReadOptions};
+use asperity::topography::prepare::{compound_with, Preparation};
+use asperity::topography::synth::{Cap, CapShape};
 use asperity::{Error, Result};
 
+use super::topo_tools::PrepareArgs;
 use super::ReadArgs;
 
 /// Press a rigid rough surface on an elastic half-space (boundary integral method,
@@ -17,11 +20,33 @@ use super::ReadArgs;
 ///
 /// Writes DIR/contact.json and one DIR/pressure-NNN.npy (float64, Pa, shape ny×nx) per load,
 /// numbered in the order the loads are given. Loads are solved in increasing order, each
-/// starting from the previous solution.
+/// starting from the previous solution. The surface is prepared as the study prepares a file
+/// (crop, missing points, detrend, resample, cap, wafer), but as read unless told otherwise.
+/// Every load reports the share of it carried within 2 % of the window's edges
+/// (edge_load_fraction; above 0.01 a warning) and the largest pressure.
 #[derive(Args)]
 pub struct ContactArgs {
     #[command(flatten)]
     read: ReadArgs,
+    #[command(flatten)]
+    prepare: PrepareArgs,
+    /// Resample (cubic convolution) to this pixel size [m, or with a unit: 20nm], keeping the
+    /// physical size.
+    #[arg(long, value_name = "P", value_parser = super::length)]
+    pixel_size: Option<f64>,
+    /// Add a spherical cap of radius R [m, or with a unit: 1.5mm] to the levelled scan, apex at
+    /// the window's centre: a ball scanned after its curvature was levelled away.
+    #[arg(long, value_name = "R", value_parser = super::length)]
+    cap_radius: Option<f64>,
+    /// Counter-surface scan (a wafer) in any readable format: levelled with the same --detrend,
+    /// interpolated onto the surface's grid and compounded, h = h_surface − h_wafer.
+    #[arg(long, value_name = "FILE")]
+    wafer: Option<PathBuf>,
+    /// Hardness of the softer body [Pa, or with a unit: 12GPa] (silicon ≈ 12 GPa; none by
+    /// default): reports the share of each load carried at p ≥ H and warns when it is not zero.
+    /// The solve stays elastic unless --plastic caps the pressure at H.
+    #[arg(long, value_name = "H", allow_negative_numbers = true, value_parser = super::pressure)]
+    hardness: Option<f64>,
     /// Normal load [N, or with a unit: 1mN]; repeat for a sweep (--load 1e-4 --load 1e-3 …) or
     /// give a list (0.1mN,1mN).
     #[arg(long, value_name = "N", required = true, value_delimiter = ',', allow_negative_numbers = true, value_parser = super::force)]
@@ -39,9 +64,6 @@ pub struct ContactArgs {
     /// Poisson's ratio of the second elastic body.
     #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
     poisson2: Option<f64>,
-    /// Hardness of the elastic body [Pa, or with a unit: 12GPa] (silicon: about 12 GPa).
-    #[arg(long, value_name = "H", allow_negative_numbers = true, value_parser = super::pressure)]
-    hardness: Option<f64>,
     /// Elastic–perfectly-plastic contact: cap the pressure at --hardness (0 ≤ p ≤ H); where it
     /// is reached the surface yields (penetrates) instead of loading further.
     #[arg(long)]
@@ -72,16 +94,20 @@ pub struct ContactArgs {
 struct ContactFile {
     surface: PathBuf,
     channel: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    wafer: Option<PathBuf>,
     grid: [usize; 2],
     physical_size_m: [f64; 2],
     effective_modulus_pa: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hardness_pa: Option<f64>,
     boundary: &'static str,
     /// Whether the pressure was capped at the hardness (elastic–perfectly-plastic).
     plastic: bool,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    hardness_pa: Option<f64>,
     tolerance: f64,
     loads: Vec<LoadEntry>,
+    /// Plausibility warnings, one line each, as printed on stderr.
+    warnings: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -93,6 +119,10 @@ struct LoadEntry {
     contact_points: usize,
     patches: usize,
     largest_patch_points: usize,
+    max_pressure_pa: f64,
+    edge_load_fraction: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    load_above_hardness_fraction: Option<f64>,
     iterations: usize,
     operator_applications: f64,
     residual: f64,
@@ -113,7 +143,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         _ => body.plane_strain_modulus(),
     };
     let path = &args.read.file;
-    let surface = io::read(path, &args.read.options())?;
+    let surface = prepare(&args)?;
     let size = contact::contact_size(&surface)?;
     if args.plastic && args.hardness.is_none() {
         return Err(Error::invalid("--plastic", "needs --hardness H, the cap on the pressure"));
@@ -146,6 +176,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     order.sort_by(|&a, &b| args.load[a].total_cmp(&args.load[b]));
     let bar = super::progress_bar(args.load.len() as u64, "solving");
     let mut entries: Vec<Option<LoadEntry>> = (0..args.load.len()).map(|_| None).collect();
+    let mut warnings = Vec::new();
     for index in order {
         let load = args.load[index];
         bar.set_message(format!("{load:.3e} N"));
@@ -154,7 +185,11 @@ pub fn run(args: ContactArgs) -> Result<()> {
                 bar.set_message(format!("{load:.3e} N, iteration {it}, residual {residual:.1e}"));
             }
         })?;
-        let summary = contact::summarize(solver.pressure(), shape, size, boundary);
+        let summary = contact::summarize(solver.pressure(), shape, size, boundary, args.hardness);
+        for w in summary.warnings() {
+            bar.suspend(|| eprintln!("warning: at {load:e} N: {w}"));
+            warnings.push(format!("at {load:e} N: {w}"));
+        }
         let to_field = |v: Vec<f64>| ndarray::Array2::from_shape_vec(shape, v).expect("field has the grid's shape");
         let pressure_file = format!("pressure-{index:03}.npy");
         output::write_npy(&out.path(&pressure_file), &to_field(solver.pressure().to_vec()))?;
@@ -174,6 +209,9 @@ pub fn run(args: ContactArgs) -> Result<()> {
             contact_points: summary.contact_points,
             patches: summary.patch_sizes.len(),
             largest_patch_points: summary.patch_sizes.first().copied().unwrap_or(0),
+            max_pressure_pa: summary.max_pressure,
+            edge_load_fraction: summary.edge_load_fraction,
+            load_above_hardness_fraction: summary.load_above_hardness_fraction,
             iterations: report.iterations,
             operator_applications: report.operator_applications,
             residual: report.residual,
@@ -188,17 +226,46 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let file = ContactFile {
         surface: path.clone(),
         channel: surface.channel.clone(),
+        wafer: args.wafer.clone(),
         grid: [shape.0, shape.1],
         physical_size_m: [size.0, size.1],
         effective_modulus_pa: e_star,
+        hardness_pa: args.hardness,
         boundary: boundary.name(),
         plastic: args.plastic,
-        hardness_pa: args.hardness,
         tolerance: args.tolerance,
         loads: entries.into_iter().map(|e| e.expect("every load solved")).collect(),
+        warnings,
     };
     output::write_json(&out.path("contact.json"), &file)?;
     let dir = out.commit()?;
     eprintln!("wrote {}", dir.join("contact.json").display());
     Ok(())
+}
+
+/// The surface as the solver takes it: read, prepared ([`Preparation`]) and compounded with
+/// the wafer, if any; errors name the file or the option.
+fn prepare(args: &ContactArgs) -> Result<asperity::topography::Topography> {
+    let mut prep = args.prepare.preparation();
+    prep.pixel_size = args.pixel_size;
+    prep.cap = args.cap_radius.map(|radius| Cap { radius, shape: CapShape::Sphere });
+    // The cap's checks name the option of `topo generate`; here it is --cap-radius.
+    let renamed = |e: Error| match e {
+        Error::Invalid { option, reason } if option == "--sphere-radius" => Error::invalid("--cap-radius", reason),
+        other => other,
+    };
+    let surface = prep.apply(io::read(&args.read.file, &args.read.options())?).map_err(renamed)?;
+    let wafer =
+        match &args.wafer {
+            Some(file) => {
+                let level =
+                    Preparation { fill_missing: prep.fill_missing, detrend: prep.detrend, ..Preparation::default() };
+                Some(level.apply(io::read(
+                    file,
+                    &ReadOptions { limits: args.read.limits.limits(), ..ReadOptions::default() },
+                )?)?)
+            }
+            None => None,
+        };
+    compound_with(surface, wafer)
 }

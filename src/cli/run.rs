@@ -81,6 +81,9 @@ pub fn run(args: RunArgs) -> Result<()> {
         }
     })?;
     bar.finish_and_clear();
+    for w in &outcome.warnings {
+        eprintln!("warning: {w}");
+    }
 
     let dir = args.out.display();
     let grid = study.config().contact.grid.map_or(String::new(), |(nx, ny)| format!(" on {nx}×{ny}"));

@@ -45,7 +45,9 @@ struct InfoArgs {
     #[command(flatten)]
     read: ReadArgs,
     /// Print JSON: nx, ny, physical_size_m [m] (null when unknown), channels, channel,
-    /// height_unit, mean_m, rms_m, min_m, max_m [m], missing_points.
+    /// height_unit, height_unit_known, mean_m, rms_m, min_m, max_m [m], missing_points. When
+    /// the height unit is unknown (or not a length) the statistics are mean, rms, min, max in
+    /// the values as stored.
     #[arg(long)]
     json: bool,
 }
@@ -61,11 +63,30 @@ struct Info {
     channels: Vec<String>,
     channel: String,
     height_unit: Option<String>,
+    height_unit_known: bool,
+    #[serde(flatten)]
+    metres: Option<MetreStats>,
+    #[serde(flatten)]
+    as_stored: Option<StoredStats>,
+    missing_points: usize,
+}
+
+/// Height statistics in metres (`null` when no point is defined).
+#[derive(Serialize)]
+struct MetreStats {
     mean_m: Option<f64>,
     rms_m: Option<f64>,
     min_m: Option<f64>,
     max_m: Option<f64>,
-    missing_points: usize,
+}
+
+/// Statistics of values whose unit is unknown, as stored: never presented as metres.
+#[derive(Serialize)]
+struct StoredStats {
+    mean: Option<f64>,
+    rms: Option<f64>,
+    min: Option<f64>,
+    max: Option<f64>,
 }
 
 fn info(args: InfoArgs) -> Result<()> {
@@ -80,10 +101,19 @@ fn info(args: InfoArgs) -> Result<()> {
         channels,
         channel: topo.channel.clone(),
         height_unit: topo.provenance.height_unit.clone(),
-        mean_m: stats.as_ref().map(|s| s.mean),
-        rms_m: stats.as_ref().map(|s| s.rms),
-        min_m: stats.as_ref().map(|s| s.min),
-        max_m: stats.as_ref().map(|s| s.max),
+        height_unit_known: topo.height_unit_known,
+        metres: topo.height_unit_known.then(|| MetreStats {
+            mean_m: stats.as_ref().map(|s| s.mean),
+            rms_m: stats.as_ref().map(|s| s.rms),
+            min_m: stats.as_ref().map(|s| s.min),
+            max_m: stats.as_ref().map(|s| s.max),
+        }),
+        as_stored: (!topo.height_unit_known).then(|| StoredStats {
+            mean: stats.as_ref().map(|s| s.mean),
+            rms: stats.as_ref().map(|s| s.rms),
+            min: stats.as_ref().map(|s| s.min),
+            max: stats.as_ref().map(|s| s.max),
+        }),
         missing_points: topo.missing_points(),
     };
     if args.json {
@@ -131,23 +161,28 @@ fn summary(info: &Info) -> String {
     s += &match info.physical_size_m {
         Some([lx, ly]) => format!(
             "size         {} × {} (pixel {} × {})\n",
-            metres(lx),
-            metres(ly),
-            metres(lx / info.nx as f64),
-            metres(ly / info.ny as f64)
+            metres(&lx),
+            metres(&ly),
+            metres(&(lx / info.nx as f64)),
+            metres(&(ly / info.ny as f64))
         ),
         None => "size         not stated in the file (give it with --size LX[,LY], metres)\n".into(),
     };
-    s += &match &info.height_unit {
-        Some(u) => format!("height unit  {u}\n"),
-        None => "height unit  not stated in the file (values taken as metres; see --height-unit)\n".into(),
+    s += &match (&info.height_unit, info.height_unit_known) {
+        (Some(u), true) => format!("height unit  {u}\n"),
+        (Some(u), false) => format!("height unit  {u}: not a length, and the file gives no factor to metres\n"),
+        (None, _) => "height unit  unknown: the file states none (give it with --height-unit U)\n".into(),
     };
     let total = info.nx * info.ny;
-    match (info.mean_m, info.rms_m, info.min_m, info.max_m) {
-        (Some(mean), Some(rms), Some(min), Some(max)) => {
+    match (&info.metres, &info.as_stored) {
+        (Some(MetreStats { mean_m: Some(mean), rms_m: Some(rms), min_m: Some(min), max_m: Some(max) }), _) => {
             s += &format!("mean         {}\n", metres(mean));
             s += &format!("rms          {}\n", metres(rms));
             s += &format!("min, max     {}, {}\n", metres(min), metres(max));
+        }
+        (_, Some(StoredStats { mean: Some(mean), rms: Some(rms), min: Some(min), max: Some(max) })) => {
+            s += &format!("values       as stored, unit unknown: mean {mean:.4e}, rms {rms:.4e}\n");
+            s += &format!("min, max     {min:.4e}, {max:.4e} (as stored)\n");
         }
         _ => s += "heights      none defined\n",
     }
@@ -156,7 +191,8 @@ fn summary(info: &Info) -> String {
 }
 
 /// A length with an SI prefix and four significant digits: `-18.79 nm`, `10.00 µm`.
-fn metres(x: f64) -> String {
+fn metres(x: &f64) -> String {
+    let x = *x;
     const PREFIXES: [(&str, f64); 7] =
         [("km", 1e3), ("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12), ("fm", 1e-15)];
     if x == 0.0 || !x.is_finite() {
@@ -184,9 +220,9 @@ mod tests {
 
     #[test]
     fn lengths_read_well() {
-        assert_eq!(metres(10e-6), "10.00 µm");
-        assert_eq!(metres(-1.8790862671584778e-08), "-18.79 nm");
-        assert_eq!(metres(1.5), "1.500 m");
-        assert_eq!(metres(2e-16), "0.200 fm");
+        assert_eq!(metres(&10e-6), "10.00 µm");
+        assert_eq!(metres(&-1.8790862671584778e-08), "-18.79 nm");
+        assert_eq!(metres(&1.5), "1.500 m");
+        assert_eq!(metres(&2e-16), "0.200 fm");
     }
 }

@@ -11,6 +11,7 @@ use asperity::quantity::{self, human};
 use asperity::topography::detrend::{Detrend, SphereFit};
 use asperity::topography::io::{read, write_gsf};
 use asperity::topography::missing::{fill_missing, refuse_missing};
+use asperity::topography::prepare::Preparation;
 use asperity::topography::resample::{crop, resample, CropWindow};
 use asperity::topography::stats::{height_stats, psd, rms_slope, Window};
 use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
@@ -36,6 +37,18 @@ pub struct PrepareArgs {
     /// and subtracts a sphere, reporting its radius [m])
     #[arg(long, default_value = "none", value_parser = parse_detrend)]
     pub detrend: Detrend,
+}
+
+impl PrepareArgs {
+    /// The same preparation for the library: crop, missing points, detrend.
+    pub fn preparation(&self) -> Preparation {
+        Preparation {
+            crop: self.crop.clone(),
+            fill_missing: self.fill_missing && !self.refuse_missing,
+            detrend: self.detrend,
+            ..Preparation::default()
+        }
+    }
 }
 
 /// `asperity topo convert`.
@@ -118,6 +131,8 @@ pub struct PsdArgs {
 /// Read and prepare the topography; the fitted sphere when `--detrend sphere`.
 fn prepare(read_args: &ReadArgs, prep: &PrepareArgs) -> Result<(Topography, Option<SphereFit>)> {
     let mut topo = read(&read_args.file, &read_args.options())?;
+    // The outputs are heights in metres: a unit the file does not state is never guessed.
+    topo.require_metres()?;
     if let Some(window) = &prep.crop {
         topo = crop(&topo, window)?;
     }

@@ -70,9 +70,11 @@ pub fn check_loads(loads: &[f64]) -> Result<()> {
     }
 }
 
-/// The physical size (lx, ly) [m] of a surface the contact solver can take: no missing
-/// heights, at least 2×2 points and a known size; otherwise a one-line reason naming its file.
+/// The physical size (lx, ly) [m] of a surface the contact solver can take: heights known to
+/// be metres, no missing heights, at least 2×2 points and a known size; otherwise a one-line
+/// reason naming its file.
 pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
+    surface.require_metres()?;
     let bad = surface.heights.iter().filter(|h| !h.is_finite()).count();
     if bad > 0 {
         return Err(surface.error(format!(
@@ -91,6 +93,17 @@ pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
         .ok_or_else(|| surface.error("the file states no physical size: give it with --size LX[,LY] (metres)"))
 }
 
+/// The width of the band along a window's edges, as a fraction of its points along each axis
+/// (at least [`EDGE_BAND_MIN_POINTS`]): load carried there is cut by the window.
+pub const EDGE_BAND_FRACTION: f64 = 0.02;
+
+/// The narrowest edge band [points].
+pub const EDGE_BAND_MIN_POINTS: usize = 2;
+
+/// Above this fraction of the load in the edge band a solve is warned about: its contact is
+/// cut by the window (a periodic solve wraps it into the opposite edge).
+pub const EDGE_LOAD_LIMIT: f64 = 0.01;
+
 /// Summary of a contact state, from its pressure map.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ContactSummary {
@@ -100,19 +113,96 @@ pub struct ContactSummary {
     pub contact_fraction: f64,
     /// Real contact area [m²].
     pub contact_area: f64,
-    /// Sizes of the contact patches in pixels, largest first.
+    /// Sizes of the contact patches in pixels, largest first (wrapping across the edges only
+    /// when the boundary is periodic).
     pub patch_sizes: Vec<usize>,
+    /// Largest local pressure [Pa].
+    pub max_pressure: f64,
+    /// Fraction of the load carried by points in the edge band ([`edge_band`]).
+    pub edge_load_fraction: f64,
+    /// Fraction of the load carried by points where p ≥ the hardness, when one is given.
+    pub load_above_hardness_fraction: Option<f64>,
 }
 
-/// Contact points, area and patches of the pressure map `pressure` [Pa] (row-major, `shape`)
-/// on a window of physical size `size` [m].
-pub fn summarize(pressure: &[f64], shape: (usize, usize), size: (f64, f64), boundary: Boundary) -> ContactSummary {
+/// Width [points] of the edge band of an axis of `n` points: 2 % of them, at least 2.
+pub fn edge_band(n: usize) -> usize {
+    ((EDGE_BAND_FRACTION * n as f64).round() as usize).max(EDGE_BAND_MIN_POINTS)
+}
+
+/// Contact points, area, patches and the plausibility figures of the pressure map `pressure`
+/// [Pa] (row-major, `shape`) on a window of physical size `size` [m]; `hardness` [Pa] is the
+/// material's, if known (it states a limit, it does not change the elastic solution).
+pub fn summarize(
+    pressure: &[f64],
+    shape: (usize, usize),
+    size: (f64, f64),
+    boundary: Boundary,
+    hardness: Option<f64>,
+) -> ContactSummary {
     let mask: Vec<bool> = pressure.iter().map(|p| *p > 0.0).collect();
     let contact_points = mask.iter().filter(|m| **m).count();
     let (_, mut patch_sizes) = patches::label(&mask, shape, boundary == Boundary::Periodic);
     patch_sizes.sort_unstable_by(|a, b| b.cmp(a));
     let fraction = contact_points as f64 / pressure.len() as f64;
-    ContactSummary { contact_points, contact_fraction: fraction, contact_area: fraction * size.0 * size.1, patch_sizes }
+    let (ny, nx) = shape;
+    let (bx, by) = (edge_band(nx), edge_band(ny));
+    let (mut total, mut edge, mut above) = (0.0, 0.0, 0.0);
+    let mut max_pressure = 0.0f64;
+    for (k, &p) in pressure.iter().enumerate().filter(|(_, p)| **p > 0.0) {
+        let (j, i) = (k / nx, k % nx);
+        total += p;
+        max_pressure = max_pressure.max(p);
+        if i < bx || i + bx >= nx || j < by || j + by >= ny {
+            edge += p;
+        }
+        if hardness.is_some_and(|h| p >= h) {
+            above += p;
+        }
+    }
+    let share = |part: f64| if total > 0.0 { part / total } else { 0.0 };
+    ContactSummary {
+        contact_points,
+        contact_fraction: fraction,
+        contact_area: fraction * size.0 * size.1,
+        patch_sizes,
+        max_pressure,
+        edge_load_fraction: share(edge),
+        load_above_hardness_fraction: hardness.map(|_| share(above)),
+    }
+}
+
+impl ContactSummary {
+    /// What a physicist must be told about this solve, one line each: load cut by the window
+    /// (more than [`EDGE_LOAD_LIMIT`] of it in the edge band), or carried above the hardness.
+    pub fn warnings(&self) -> Vec<String> {
+        plausibility_warnings(self.edge_load_fraction, self.load_above_hardness_fraction, self.max_pressure)
+    }
+}
+
+/// The warnings of [`ContactSummary::warnings`] from its figures.
+pub fn plausibility_warnings(
+    edge_load_fraction: f64,
+    load_above_hardness_fraction: Option<f64>,
+    max_pressure: f64,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if edge_load_fraction > EDGE_LOAD_LIMIT {
+        warnings.push(format!(
+            "{:.1} % of the load sits within 2 % of the window's edges: the contact is cut by the window \
+             (periodic images or a missing part); try a free boundary (--free), a crop, a detrend or a cap \
+             (--cap-radius)",
+            100.0 * edge_load_fraction
+        ));
+    }
+    if let Some(f) = load_above_hardness_fraction.filter(|&f| f > 0.0) {
+        warnings.push(format!(
+            "{:.2} % of the load is carried at pressures at or above the material's hardness (largest \
+             {:.3e} Pa): outside the mainly elastic regime of the model",
+            100.0 * f,
+            max_pressure
+        ));
+    }
+    warnings
 }
 
 /// Probability density p(σ) of the local normal stress σ over the contact points: `bins`
@@ -144,6 +234,42 @@ mod tests {
         assert!((combined_modulus(&si, &si) - si.plane_strain_modulus() / 2.0).abs() < 1.0);
         assert!(Material::new(1e9, 0.5, "--poisson").is_err());
         assert!(Material::new(-1e9, 0.3, "--youngs").is_err());
+    }
+
+    #[test]
+    fn edge_load_and_hardness_shares() {
+        // 100 × 50 points: bands of 2 columns and 2 rows (2 % of 100 is 2; of 50, 1 → 2).
+        let (ny, nx) = (50, 100);
+        let mut p = vec![0.0; nx * ny];
+        p[25 * nx + 50] = 3.0; // centre
+        p[25 * nx + 1] = 1.0; // column 1: in the band
+        p[48 * nx + 50] = 4.0; // row 48: in the band (ny − 2)
+        p[47 * nx + 2] = 2.0; // row 47, column 2: outside both
+        let s = summarize(&p, (ny, nx), (1.0, 0.5), Boundary::Free, Some(3.0));
+        assert_eq!((edge_band(100), edge_band(50), edge_band(1000)), (2, 2, 20));
+        assert!((s.edge_load_fraction - 5.0 / 10.0).abs() < 1e-15);
+        assert_eq!(s.load_above_hardness_fraction, Some(7.0 / 10.0));
+        assert_eq!(s.max_pressure, 4.0);
+        let w = s.warnings();
+        assert_eq!(w.len(), 2);
+        assert!(w[0].starts_with("50.0 % of the load sits within 2 %") && w[0].contains("--free"), "{}", w[0]);
+        assert!(w[1].starts_with("70.00 % of the load is carried at pressures at or above"), "{}", w[1]);
+        assert_eq!(summarize(&p, (ny, nx), (1.0, 0.5), Boundary::Free, None).warnings().len(), 1);
+    }
+
+    #[test]
+    fn free_boundary_patches_never_wrap() {
+        // Two pixels on opposite edges of a row, and two on opposite edges of a column.
+        let (ny, nx) = (4, 5);
+        let mut p = vec![0.0; nx * ny];
+        p[nx] = 1.0;
+        p[2 * nx - 1] = 1.0;
+        p[2] = 1.0;
+        p[3 * nx + 2] = 1.0;
+        let free = summarize(&p, (ny, nx), (1.0, 1.0), Boundary::Free, None);
+        assert_eq!(free.patch_sizes, vec![1, 1, 1, 1]);
+        let periodic = summarize(&p, (ny, nx), (1.0, 1.0), Boundary::Periodic, None);
+        assert_eq!(periodic.patch_sizes, vec![2, 2]);
     }
 
     #[test]

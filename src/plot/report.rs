@@ -75,6 +75,16 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
         input.rows.len()
     );
 
+    // Plausibility first: a result a physicist knows is doubtful says so before any figure.
+    let warnings = crate::study::warnings(input.rows);
+    if !warnings.is_empty() {
+        let _ = writeln!(w, "<h2 id=\"warnings\">Warnings</h2>\n<ul class=\"warnings\">");
+        for warning in &warnings {
+            let _ = writeln!(w, "<li>{}</li>", escape(warning));
+        }
+        let _ = writeln!(w, "</ul>");
+    }
+
     // Contents: what was drawn and what was not.
     let _ = writeln!(w, "<h2>Figures</h2>\n<ul>");
     for d in drawn {

@@ -10,7 +10,7 @@
 //! synthetic = { size_m = [31.13e-6, 31.13e-6], grid = [1500, 1500], seed = 1,
 //!               roughness = { hurst = 0.8, rms_height_m = 22e-9 }, cap = { radius_m = 1.5e-3 } }
 //! # or: file = "ball.spm", format, channel, size, height_unit, crop, fill_missing, detrend,
-//! #     pixel_size
+//! #     pixel_size, cap = { radius_m = "1.5 mm" } (added after levelling)
 //! wafer = { file = "wafer.spm" }  # optional counter-surface: h = h_ball − h_wafer
 //!
 //! [material]                      # youngs [Pa], poisson; counter_youngs, counter_poisson;
@@ -59,7 +59,9 @@ use crate::friction::FrictionLaw;
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
 use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE};
 use crate::topography::detrend::Detrend;
-use crate::topography::synth::SyntheticSurface;
+use crate::topography::prepare::Preparation;
+use crate::topography::resample::CropWindow;
+use crate::topography::synth::{Cap, SyntheticSurface};
 
 /// The default study, as `asperity run --print-default` prints it: three synthetic silicon
 /// balls against synthetic wafers, silicon, 13 loads from 0.1 to 100 mN, two placeholder laws.
@@ -131,6 +133,10 @@ pub struct SurfaceSpec {
     /// Pixel size to resample to [m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pixel_size: Option<Length>,
+    /// A spherical cap added to a measured scan after levelling (`cap = { radius_m = "1.5 mm" }`),
+    /// for a ball scanned with its curvature levelled away. A synthetic surface has its own.
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "cap")]
+    pub cap: Option<Cap>,
     /// The counter-surface, compounded as h = h_ball − h_wafer.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wafer: Option<Box<SurfaceSpec>>,
@@ -162,7 +168,8 @@ pub struct MaterialSpec {
     pub counter_youngs: Option<Stress>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub counter_poisson: Option<f64>,
-    /// Hardness H [Pa]: the cap on the pressure of a plastic solve.
+    /// Hardness H [Pa] of the softer body (silicon ≈ 12 GPa): the load carried at p ≥ H is
+    /// reported and warned about; the cap on the pressure of plastic solves. None by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hardness: Option<Stress>,
 }
@@ -413,6 +420,11 @@ impl StudyConfig {
         self
     }
 
+    /// The material's hardness [Pa], if given.
+    pub fn hardness(&self) -> Option<f64> {
+        self.material.hardness.map(|h| h.0)
+    }
+
     /// The effective modulus E* [Pa].
     pub fn effective_modulus(&self) -> f64 {
         let m = &self.material;
@@ -574,6 +586,7 @@ impl SurfaceSpec {
                     ("fill_missing", self.fill_missing),
                     ("detrend", self.detrend.is_some()),
                     ("pixel_size", self.pixel_size.is_some()),
+                    ("cap", self.cap.is_some()),
                 ];
                 if let Some((k, _)) = file_only.iter().find(|(_, given)| *given) {
                     return at(k, "applies to a `file` only, not to a synthetic surface".into());
@@ -599,6 +612,11 @@ impl SurfaceSpec {
                 if let Some(c) = &self.crop {
                     c.check().or_else(|r| at("crop", r))?;
                 }
+                if let Some(cap) = &self.cap {
+                    if !(cap.radius > 0.0 && cap.radius.is_finite()) {
+                        return at("cap", format!("radius_m must be positive, got {} m", cap.radius));
+                    }
+                }
                 Ok(())
             }
             _ => Err((here.to_vec(), "give exactly one of `synthetic` and `file`".into())),
@@ -609,9 +627,31 @@ impl SurfaceSpec {
     pub fn detrend(&self) -> Detrend {
         self.detrend.as_deref().map_or(Detrend::Polynomial(1), |d| d.parse().expect("checked when parsed"))
     }
+
+    /// How a file is prepared for contact, on the study's `grid` if any, within `limits`.
+    pub fn preparation(&self, grid: Option<(usize, usize)>, limits: Limits) -> Preparation {
+        Preparation {
+            limits,
+            crop: self.crop.as_ref().map(CropSpec::window),
+            fill_missing: self.fill_missing,
+            detrend: self.detrend(),
+            pixel_size: self.pixel_size.map(|p| p.0),
+            grid,
+            cap: self.cap,
+        }
+    }
 }
 
 impl CropSpec {
+    /// The window to crop to.
+    pub fn window(&self) -> CropWindow {
+        match (self.x, self.y, self.columns, self.rows) {
+            (Some(x), Some(y), ..) => CropWindow::Physical { x: (x[0].0, x[1].0), y: (y[0].0, y[1].0) },
+            (_, _, Some(cols), Some(rows)) => CropWindow::Pixels { x: cols[0]..cols[1], y: rows[0]..rows[1] },
+            _ => unreachable!("checked: a crop is physical or in pixels"),
+        }
+    }
+
     fn check(&self) -> std::result::Result<(), String> {
         let ordered = |r: [Length; 2]| r[0].0 >= 0.0 && r[0].0 < r[1].0;
         match (self.x, self.y, self.columns, self.rows) {
@@ -836,6 +876,15 @@ impl<'de> Deserialize<'de> for Size {
 
 /// `synthetic = { … }`: [`SyntheticSurface`], with units allowed in its `_m` keys.
 fn synthetic<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SyntheticSurface>, D::Error> {
+    with_lengths(d)
+}
+
+fn cap<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Cap>, D::Error> {
+    with_lengths(d)
+}
+
+/// A table whose keys ending in `_m` are lengths that may carry units (`"1.5 mm"`), at any depth.
+fn with_lengths<'de, D: Deserializer<'de>, T: de::DeserializeOwned>(d: D) -> Result<Option<T>, D::Error> {
     fn lengths(table: &mut toml::Table) -> std::result::Result<(), String> {
         for (k, v) in table.iter_mut() {
             let convert = |v: &mut toml::Value| -> std::result::Result<(), String> {

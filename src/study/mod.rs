@@ -39,6 +39,12 @@ pub struct Row {
     pub patches: usize,
     /// Fraction of the window in contact.
     pub contact_fraction: f64,
+    /// Largest local pressure [Pa].
+    pub max_pressure_pa: f64,
+    /// Fraction of the load carried within 2 % of the window's edges (at least 2 pixels).
+    pub edge_load_fraction: f64,
+    /// Fraction of the load carried at p ≥ the material's hardness (empty when none is given).
+    pub load_above_hardness_fraction: Option<f64>,
     /// F_S / N.
     pub static_coefficient: f64,
     /// mu_d.
@@ -77,6 +83,9 @@ impl Row {
             contact_points: solve.contact_points,
             patches: solve.patches,
             contact_fraction: solve.contact_fraction,
+            max_pressure_pa: solve.max_pressure_pa,
+            edge_load_fraction: solve.edge_load_fraction,
+            load_above_hardness_fraction: solve.load_above_hardness_fraction,
             static_coefficient: onset.static_coefficient(),
             dynamic_coefficient: onset.dynamic_coefficient(),
             friction_drop: onset.friction_drop(),
@@ -95,6 +104,23 @@ impl Row {
     }
 }
 
+/// The plausibility warnings of a study's solves, one line each, naming the topography and the
+/// load ([`crate::contact::plausibility_warnings`]).
+pub fn warnings(rows: &[Row]) -> Vec<String> {
+    let mut seen = std::collections::HashSet::new();
+    let mut out = Vec::new();
+    // Every law of a solve repeats its contact figures: one warning per solve.
+    for r in rows.iter().filter(|r| seen.insert((r.topography.clone(), r.load_n.to_bits()))) {
+        let found = crate::contact::plausibility_warnings(
+            r.edge_load_fraction,
+            r.load_above_hardness_fraction,
+            r.max_pressure_pa,
+        );
+        out.extend(found.into_iter().map(|w| format!("topography \"{}\" at {:e} N: {w}", r.topography, r.load_n)));
+    }
+    out
+}
+
 /// The name of `law` in the rows: its label, or its two coefficients when it has none.
 pub fn law_name(law: &FrictionLaw) -> String {
     law.name.clone().unwrap_or_else(|| format!("mu_s={} mu_d={}", law.mu_s, law.mu_d))
@@ -109,6 +135,9 @@ pub struct SolveFacts {
     pub contact_points: usize,
     pub patches: usize,
     pub contact_fraction: f64,
+    pub max_pressure_pa: f64,
+    pub edge_load_fraction: f64,
+    pub load_above_hardness_fraction: Option<f64>,
     pub iterations: usize,
     pub seconds: f64,
 }
@@ -121,6 +150,9 @@ impl SolveFacts {
             contact_points: summary.contact_points,
             patches: summary.patch_sizes.len(),
             contact_fraction: summary.contact_fraction,
+            max_pressure_pa: summary.max_pressure,
+            edge_load_fraction: summary.edge_load_fraction,
+            load_above_hardness_fraction: summary.load_above_hardness_fraction,
             iterations: report.iterations,
             seconds: report.seconds,
         }

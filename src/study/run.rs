@@ -43,7 +43,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::config::{CropSpec, Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
+use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::{FigureInput, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
 use crate::contact::{self, ContactSolver, Proceed, SolverOptions};
 use crate::error::{Error, Result};
@@ -52,8 +52,7 @@ use crate::limits::Limits;
 use crate::output::{self, Access, Lock};
 use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
-use crate::topography::missing::{fill_missing, refuse_missing};
-use crate::topography::resample::{compound, crop, resample, CropWindow};
+use crate::topography::prepare::compound_with;
 use crate::topography::Topography;
 
 /// Pixels kept around the contact points in a [`MapSnapshot`].
@@ -108,6 +107,8 @@ pub struct Outcome {
     pub resumed: usize,
     /// Figures and report written.
     pub figures: Vec<PathBuf>,
+    /// Plausibility warnings ([`super::warnings`]), also in the report.
+    pub warnings: Vec<String>,
 }
 
 /// The record of one finished solve, `solves/<topography>/NN.json`.
@@ -258,7 +259,8 @@ impl Study {
             parameters: &parameters,
         };
         let figures = crate::plot::study::render(dir, &input)?;
-        Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures })
+        let warnings = super::warnings(&rows);
+        Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures, warnings })
     }
 
     /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
@@ -467,7 +469,7 @@ impl Study {
             let context = |e: Error| Error::invalid(format!("topography \"{name}\" at {load} N"), e.to_string());
             let report = solver.solve(load, |_, _| ()).map_err(context)?;
             let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
-            let summary = contact::summarize(solver.pressure(), shape, size, c.boundary);
+            let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
             let facts = SolveFacts::new(&summary, &report);
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
             let rows = self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law))).collect();
@@ -651,14 +653,13 @@ fn plastic_dir(path: PathBuf, plastic: bool) -> PathBuf {
 /// wafer, on the `grid` override if any.
 fn build_topography(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limits) -> Result<Topography> {
     let ball = build_surface(spec, grid, limits)?;
-    match &spec.wafer {
-        // A measured wafer is interpolated onto the ball's grid by `compound` as it is.
-        Some(w) => compound(&ball, &build_surface(w, grid.filter(|_| w.synthetic.is_some()), limits)?),
-        None => Ok(ball),
-    }
+    // A measured wafer is interpolated onto the ball's grid by the compounding as it is.
+    let wafer =
+        spec.wafer.as_ref().map(|w| build_surface(w, grid.filter(|_| w.synthetic.is_some()), limits)).transpose()?;
+    compound_with(ball, wafer)
 }
 
-/// One surface: generated, or read, cropped, filled, levelled and resampled, in that order.
+/// One surface: generated, or read and prepared ([`crate::topography::prepare::Preparation`]).
 fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limits) -> Result<Topography> {
     if let Some(s) = &spec.synthetic {
         let mut s = s.clone();
@@ -676,40 +677,7 @@ fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limi
         height_unit: spec.height_unit.clone(),
         limits: *limits,
     };
-    let mut topo = io::read(path, &options)?;
-    if topo.physical_size.is_none() {
-        return Err(Error::file(path, "the file states no physical size: give it with `size`"));
-    }
-    if let Some(c) = &spec.crop {
-        topo = crop(&topo, &crop_window(c))?;
-    }
-    if spec.fill_missing {
-        fill_missing(&mut topo)?;
-    } else {
-        refuse_missing(&topo)?;
-    }
-    spec.detrend().apply(&mut topo)?;
-    if let Some(p) = spec.pixel_size {
-        topo = resample(&topo, p.0, limits)?;
-    }
-    if let Some((nx, ny)) = grid {
-        if (topo.nx(), topo.ny()) != (nx, ny) {
-            let lx = topo.physical_size.expect("checked above").0;
-            topo = resample(&topo, lx / nx as f64, limits)?;
-        }
-    }
-    if topo.nx() < 2 || topo.ny() < 2 {
-        return Err(topo.error(format!("a {}×{} grid is too small for contact", topo.ny(), topo.nx())));
-    }
-    Ok(topo)
-}
-
-fn crop_window(c: &CropSpec) -> CropWindow {
-    match (c.x, c.y, c.columns, c.rows) {
-        (Some(x), Some(y), ..) => CropWindow::Physical { x: (x[0].0, x[1].0), y: (y[0].0, y[1].0) },
-        (_, _, Some(cols), Some(rows)) => CropWindow::Pixels { x: cols[0]..cols[1], y: rows[0]..rows[1] },
-        _ => unreachable!("checked: a crop is physical or in pixels"),
-    }
+    spec.preparation(grid, *limits).apply(io::read(path, &options)?)
 }
 
 /// The law a checked spec describes (without its name).

@@ -344,6 +344,7 @@ mod tests {
             heights: Array2::from_shape_fn((ny, nx), |(j, i)| f(i as f64 * lx / nx as f64, j as f64 * ly / ny as f64)),
             physical_size: Some(size),
             periodic: false,
+            height_unit_known: true,
             channel: "test".into(),
             provenance: Provenance { format: "test".into(), ..Default::default() },
         }

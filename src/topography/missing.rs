@@ -124,6 +124,7 @@ mod tests {
             heights,
             physical_size: Some((1e-6, 1e-6)),
             periodic,
+            height_unit_known: true,
             channel: "test".into(),
             provenance: Provenance { file: Some("scan.spm".into()), format: "test".into(), height_unit: None },
         }

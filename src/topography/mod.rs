@@ -1,12 +1,14 @@
 //! Topographies: measured or synthetic height maps in metres, ready for the contact solver.
 //!
 //! Reading instrument files lives in [`io`], one module per format behind one registry;
-//! preparing them in [`detrend`], [`missing`] and [`resample`] (crop, resample, compound);
+//! preparing them in [`detrend`], [`missing`] and [`resample`] (crop, resample, compound), in
+//! the one order [`prepare`] applies for contact;
 //! synthetic surfaces in [`synth`]; statistics and the power spectrum in [`stats`].
 
 pub mod detrend;
 pub mod io;
 pub mod missing;
+pub mod prepare;
 pub mod resample;
 pub mod stats;
 pub mod synth;
@@ -26,6 +28,10 @@ pub struct Topography {
     pub physical_size: Option<(f64, f64)>,
     /// Whether the map repeats across its edges (synthetic surfaces may; measurements do not).
     pub periodic: bool,
+    /// Whether the heights are known to be metres. False when the file states no height unit
+    /// (and the user gave none) or a unit that is not a length with no factor to metres: the
+    /// values are then as stored, and nothing may be solved on them ([`Topography::require_metres`]).
+    pub height_unit_known: bool,
     /// Name of the channel the heights come from.
     pub channel: String,
     /// Where the heights come from.
@@ -52,6 +58,24 @@ impl Topography {
     /// Number of points along y (rows).
     pub fn ny(&self) -> usize {
         self.heights.nrows()
+    }
+
+    /// An error naming the file unless the heights are known to be metres: a height unit the
+    /// file does not state is never guessed.
+    pub fn require_metres(&self) -> crate::error::Result<()> {
+        if self.height_unit_known {
+            return Ok(());
+        }
+        Err(self.error(match &self.provenance.height_unit {
+            Some(unit) => format!(
+                "channel '{}' holds values in {unit}, not a length, and the file gives no factor to metres: \
+                 choose a height channel (--channel, study: channel)",
+                self.channel
+            ),
+            None => "the file states no height unit: give it with --height-unit U (study: height_unit), \
+                     e.g. nm or µm"
+                .to_string(),
+        }))
     }
 
     /// Number of missing (`NaN`) points.

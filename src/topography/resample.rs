@@ -81,6 +81,7 @@ pub fn crop(topo: &Topography, window: &CropWindow) -> Result<Topography> {
         heights,
         physical_size,
         periodic: topo.periodic && whole,
+        height_unit_known: topo.height_unit_known,
         channel: topo.channel.clone(),
         provenance: topo.provenance.clone(),
     })
@@ -115,6 +116,7 @@ pub fn resample(topo: &Topography, pixel_size: f64, limits: &Limits) -> Result<T
         heights: interpolate_grid(topo, &xs, &ys)?,
         physical_size: topo.physical_size,
         periodic: topo.periodic,
+        height_unit_known: topo.height_unit_known,
         channel: topo.channel.clone(),
         provenance: topo.provenance.clone(),
     })
@@ -151,6 +153,7 @@ pub fn compound(ball: &Topography, wafer: &Topography) -> Result<Topography> {
         heights: &ball.heights - &wafer_on_ball,
         physical_size: ball.physical_size,
         periodic: ball.periodic && wafer.periodic && same_size,
+        height_unit_known: ball.height_unit_known && wafer.height_unit_known,
         channel: format!("{} − {}", ball.channel, wafer.channel),
         provenance: Provenance { file: None, format: "compound".into(), height_unit: Some("m".into()) },
     })
@@ -229,6 +232,7 @@ mod tests {
             heights: Array2::from_shape_fn((ny, nx), |(j, i)| f(i as f64 * lx / nx as f64, j as f64 * ly / ny as f64)),
             physical_size: Some(size),
             periodic,
+            height_unit_known: true,
             channel: "test".into(),
             provenance: Provenance { format: "test".into(), ..Default::default() },
         }

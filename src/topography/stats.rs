@@ -191,6 +191,7 @@ pub(crate) mod tests {
             heights,
             physical_size: Some(size),
             periodic,
+            height_unit_known: true,
             channel: "test".into(),
             provenance: Provenance { format: "test".into(), ..Default::default() },
         }

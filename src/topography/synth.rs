@@ -262,6 +262,7 @@ impl SelfAffine {
             heights: Array2::from_shape_vec((ny, nx), heights).expect("length is nx·ny"),
             physical_size: Some(size),
             periodic: true,
+            height_unit_known: true,
             channel: "self-affine".into(),
             provenance: synthetic(),
         })
@@ -428,6 +429,7 @@ impl SyntheticSurface {
                 heights: Array2::zeros((self.grid.1, self.grid.0)),
                 physical_size: Some(self.size),
                 periodic: false,
+                height_unit_known: true,
                 channel: "cap".into(),
                 provenance: synthetic(),
             },

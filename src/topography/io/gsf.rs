@@ -190,6 +190,7 @@ mod tests {
                 heights: Array2::from_elem((2, 3), 1e-9),
                 physical_size: None,
                 periodic: false,
+                height_unit_known: true,
                 channel: "h".repeat(name_len),
                 provenance: Provenance::default(),
             };
@@ -209,6 +210,7 @@ mod tests {
             heights: Array2::from_elem((2, 2), 1e39),
             physical_size: None,
             periodic: false,
+            height_unit_known: true,
             channel: "h".into(),
             provenance: Provenance::default(),
         };

@@ -2,18 +2,29 @@
 //! whitespace, `,` or `;`, `NaN` for a missing point.
 //!
 //! An optional header before the numbers, comment lines (`#`, `%`, `//`, `;`) or `key: value`
-//! / `key = value` lines, may state the size and units:
+//! / `key = value` lines, may state the grid, the size, the units and a factor to metres. The
+//! forms are those SurfaceTopography's text reader and Gwyddion's SPIP ASCII module know:
 //!
 //! ```text
-//! # Channel: Main
-//! # Width: 10 µm          (or x-length = 10 µm)
-//! # Height: 10 µm         (or y-length = 10 µm)
-//! # Value units: m        (or z-unit = nm)
+//! # Channel: Main                     (or Title, Kanal)
+//! # Width: 10 µm                      (or x-length, Breite; Height, y-length, Höhe for y)
+//! # Value units: m                    (or z-unit, data unit)
+//! h=650 w=650                         (rows and points per row; or y-pixels, x-pixels)
+//! pixel size=3.69862e-007 m           (the size is then the pixel times the points)
+//! data unit=rad
+//! height conversion factor (-> m)=6.30079e-008   (heights = values × factor, in m)
+//! # x-unit = nm                       (unit of a width or height written without one)
+//! # Bit2nm = 1.0                      (SPIP: heights = values × factor, in nm)
 //! ```
 //!
-//! Without it the matrix is bare: no physical size (the user gives `--size`) and no height unit.
-//! Other header lines are ignored. Gwyddion's own export, with its translated labels and
-//! several channels in one file, is [`super::gwyddion_txt`].
+//! A width written without a unit takes `x-unit`; in SPIP's export (`File Format = ASCII`) it
+//! is in nm, as Gwyddion reads it; otherwise it takes the height unit when that is a length
+//! (SurfaceTopography's rule), and is refused when nothing states its unit. A stated grid must
+//! match the numbers. Values in a unit that is not a length (rad, V, deg) without a factor to
+//! metres are not heights. Without any header the matrix is bare: no physical size (the user
+//! gives `--size`) and no height unit (`--height-unit`). Other header lines are ignored.
+//! Gwyddion's own export, with its translated labels and several channels in one file, is
+//! [`super::gwyddion_txt`].
 
 use super::gwyddion_txt::GwyddionTxt;
 use super::text::{self, Rows, Separators};
@@ -55,8 +66,10 @@ impl Format for Matrix {
                     if let Some(s) = Separators::detect(line) {
                         sep = Some(s);
                         rows.push(s, line_no, line)?;
-                    } else if let Some((key, value)) = text::key_value(line) {
-                        header.take(key, value, line_no)?;
+                    } else if let Some(pairs) = pairs(line) {
+                        for (key, value) in pairs {
+                            header.take(key, value, line_no)?;
+                        }
                     } else if text::comment_body(line).is_none() {
                         return Err(format!(
                             "no topography in it: line {line_no} ('{}') is neither a header line nor a row of numbers",
@@ -70,12 +83,14 @@ impl Format for Matrix {
             return Err("no topography in it: no row of numbers".into());
         }
         let mut data = rows.finish()?;
-        let physical_size = match (header.width, header.height) {
-            (Some(lx), Some(ly)) => Some((lx, ly)),
-            (None, None) => None,
-            _ => return Err("the header states only one of the width and the height".into()),
-        };
-        let scale = header.unit.as_deref().and_then(units::metres_per);
+        let (ny, nx) = data.dim();
+        for (stated, got, what) in [(header.columns, nx, "points per row"), (header.rows, ny, "rows")] {
+            if let Some(n) = stated.filter(|&n| n != got) {
+                return Err(format!("the header states {n} {what} but the file holds {got}"));
+            }
+        }
+        let physical_size = header.physical_size((nx, ny))?;
+        let (scale, unit) = header.heights()?;
         if let Some(s) = scale {
             data.mapv_inplace(|h| h * s);
         }
@@ -83,38 +98,130 @@ impl Format for Matrix {
             name: header.channel.unwrap_or_else(|| "default".into()),
             data,
             physical_size,
-            is_height: header.unit.is_none() || scale.is_some(),
-            unit: header.unit,
+            is_height: unit.is_none() || scale.is_some(),
+            unit,
         }])
     }
 }
+
+/// The `key = value` pairs of a header line, `None` if it is none: one pair a line
+/// (`pixel size=3.7e-7 m`, `# Width: 10 µm`), or several one-word pairs (`h=650 w=650`).
+fn pairs(line: &str) -> Option<Vec<(&str, &str)>> {
+    let body = text::comment_body(line).unwrap_or(line);
+    let words: Vec<&str> = body.split_whitespace().collect();
+    let one_word_pair = |w: &&str| w.matches('=').count() == 1 && !w.starts_with('=') && !w.ends_with('=');
+    if words.len() > 1 && words.iter().all(one_word_pair) {
+        return Some(words.iter().filter_map(|w| w.split_once('=')).collect());
+    }
+    text::key_value(line).map(|kv| vec![kv])
+}
+
+/// A number with an optional unit, `10 µm`, `2000`, `12,5 mm`.
+type Written = (f64, Option<String>);
 
 /// What a matrix header states.
 #[derive(Debug, Default)]
 struct Header {
     channel: Option<String>,
-    /// Physical width and height [m].
-    width: Option<f64>,
-    height: Option<f64>,
+    /// Points per row and rows.
+    columns: Option<usize>,
+    rows: Option<usize>,
+    /// Width and height as written.
+    width: Option<Written>,
+    height: Option<Written>,
+    /// Units of a width and height written without one.
+    x_unit: Option<String>,
+    y_unit: Option<String>,
+    /// Pixel size [m].
+    pixel: Option<f64>,
+    /// Unit of the values.
     unit: Option<String>,
+    /// Factor from the values to heights in the unit given with it.
+    factor: Option<(f64, String)>,
+    /// SPIP's ASCII export, whose lengths are in nm.
+    spip: bool,
 }
 
 impl Header {
     fn take(&mut self, key: &str, value: &str, line_no: usize) -> Result<(), String> {
-        let length = || {
-            text::length_in_metres(value)
-                .map(Some)
-                .ok_or_else(|| format!("line {line_no}: '{}' is not a positive length with its unit", value))
-        };
-        match key.to_ascii_lowercase().as_str() {
-            "channel" | "title" => self.channel = Some(value.to_string()),
-            "width" | "x-length" => self.width = length()?,
-            "height" | "y-length" => self.height = length()?,
-            "value units" | "z-unit" if !value.is_empty() => self.unit = Some(value.to_string()),
+        let bad = |what: &str| format!("line {line_no}: '{}' is not {what}", text::excerpt(value));
+        let count = || value.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(|| bad("a number of points"));
+        let written = || written(value).ok_or_else(|| bad("a positive length"));
+        let lower = key.to_lowercase();
+        match lower.as_str() {
+            "channel" | "title" | "kanal" => self.channel = Some(value.to_string()),
+            "w" | "x-pixels" => self.columns = Some(count()?),
+            "h" | "y-pixels" => self.rows = Some(count()?),
+            "width" | "x-length" | "breite" => self.width = Some(written()?),
+            "height" | "y-length" | "höhe" => self.height = Some(written()?),
+            "x-unit" if !value.is_empty() => self.x_unit = Some(value.to_string()),
+            "y-unit" if !value.is_empty() => self.y_unit = Some(value.to_string()),
+            "value units" | "z-unit" | "data unit" if !value.is_empty() => self.unit = Some(value.to_string()),
+            "pixel size" => {
+                self.pixel = Some(text::length_in_metres(value).ok_or_else(|| bad("a pixel size with its unit"))?)
+            }
+            "bit2nm" => self.factor = Some((text::number(value).ok_or_else(|| bad("a factor"))?, "nm".into())),
+            "file format" if value.eq_ignore_ascii_case("ascii") => self.spip = true,
+            _ if lower.starts_with("height conversion factor") => {
+                // `height conversion factor (-> m)`: the unit the factor converts to.
+                let unit = key.split_once("->").map(|(_, u)| u.trim_end_matches(')').trim()).unwrap_or("");
+                if units::metres_per(unit).is_none() {
+                    return Err(format!(
+                        "line {line_no}: the height conversion factor converts to '{unit}', not a length"
+                    ));
+                }
+                self.factor = Some((text::number(value).ok_or_else(|| bad("a factor"))?, unit.to_string()));
+            }
             _ => {}
         }
         Ok(())
     }
+
+    /// The physical size [m] of an `n` = (nx, ny) grid, if the header states it.
+    fn physical_size(&self, n: (usize, usize)) -> Result<Option<(f64, f64)>, String> {
+        match (&self.width, &self.height) {
+            (Some(w), Some(h)) => {
+                Ok(Some((self.metres(w, &self.x_unit, "width")?, self.metres(h, &self.y_unit, "height")?)))
+            }
+            (None, None) => Ok(self.pixel.map(|p| (p * n.0 as f64, p * n.1 as f64))),
+            _ => Err("the header states only one of the width and the height".into()),
+        }
+    }
+
+    /// A width or height in metres: its own unit, else `unit`, else SPIP's nm, else the
+    /// height unit when that is a length.
+    fn metres(&self, (value, own): &Written, unit: &Option<String>, what: &str) -> Result<f64, String> {
+        let nm = self.spip.then_some("nm");
+        let height_unit = self.unit.as_deref().filter(|u| units::metres_per(u).is_some());
+        let unit = own.as_deref().or(unit.as_deref()).or(nm).or(height_unit).ok_or_else(|| {
+            format!("the header states the {what} {value} without a unit, and no x-unit or height unit")
+        })?;
+        let metres = units::metres_per(unit).ok_or_else(|| format!("the {what}'s unit '{unit}' is not a length"))?;
+        Ok(value * metres)
+    }
+
+    /// The factor from the values to metres, if known, and the unit the heights are reported
+    /// in (the factor's, or the values' own).
+    fn heights(&self) -> Result<(Option<f64>, Option<String>), String> {
+        if let Some((factor, unit)) = &self.factor {
+            let scale = factor * units::metres_per(unit).expect("checked when read");
+            if !(scale.is_finite() && scale != 0.0) {
+                return Err(format!("the height conversion factor {factor} {unit} is not usable"));
+            }
+            return Ok((Some(scale), Some(unit.clone())));
+        }
+        Ok((self.unit.as_deref().and_then(units::metres_per), self.unit.clone()))
+    }
+}
+
+/// `10 µm`, `12,5 mm`, `2000`: a positive finite number and the rest of the text as its unit.
+fn written(text: &str) -> Option<Written> {
+    let text = text.trim();
+    let split = text.find(char::is_whitespace).unwrap_or(text.len());
+    let number = &text[..split];
+    let value = text::number(number).or_else(|| text::number(&number.replacen(',', ".", 1)))?;
+    let unit = text[split..].trim();
+    (value.is_finite() && value > 0.0).then(|| (value, (!unit.is_empty()).then(|| unit.to_string())))
 }
 
 #[cfg(test)]
@@ -149,6 +256,61 @@ mod tests {
         let ch = Matrix.read(b"# Value units: V\n1 2\n3 4\n").unwrap();
         assert!(!ch[0].is_height);
         assert_eq!(ch[0].data[(0, 1)], 2.0);
+    }
+
+    /// The header of SurfaceTopography's `matrix-2.txt` and `matrix-4.txt` (an interferometer's
+    /// phase export): grid, pixel size, a non-length data unit and its factor to metres.
+    #[test]
+    fn grid_pixel_size_and_conversion_factor() {
+        let file = "h=3 w=4\npixel size=3.69862e-007 m\ndata unit=rad\nheight conversion factor (-> m)=6.30079e-008\n\
+                    1 2 3 4\n5 6 7 8\n-1 -2 -3 -4\n";
+        assert!(Matrix.sniff(file.as_bytes()));
+        let ch = &Matrix.read(file.as_bytes()).unwrap()[0];
+        assert_eq!(ch.data.dim(), (3, 4));
+        assert_eq!(ch.physical_size, Some((4.0 * 3.69862e-7, 3.0 * 3.69862e-7)));
+        assert_eq!(ch.data[(1, 2)], 7.0 * 6.30079e-8);
+        assert_eq!((ch.unit.as_deref(), ch.is_height), (Some("m"), true));
+        // The factor may convert to another length unit.
+        let nm = file.replace("(-> m)=6.30079e-008", "(-> nm)=2");
+        assert_eq!(Matrix.read(nm.as_bytes()).unwrap()[0].data[(0, 0)], 2e-9);
+        // Without the factor the values are phases, not heights.
+        let rad = file.replace("height conversion factor (-> m)=6.30079e-008\n", "");
+        let ch = &Matrix.read(rad.as_bytes()).unwrap()[0];
+        assert_eq!((ch.unit.as_deref(), ch.is_height, ch.data[(0, 1)]), (Some("rad"), false, 2.0));
+        // A stated grid must be the file's.
+        let e = Matrix.read(file.replace("h=3", "h=4").as_bytes()).unwrap_err();
+        assert_eq!(e, "the header states 4 rows but the file holds 3");
+        let e = Matrix.read(file.replace("w=4", "w=5").as_bytes()).unwrap_err();
+        assert_eq!(e, "the header states 5 points per row but the file holds 4");
+        let e = Matrix.read(file.replace("(-> m)", "(-> V)").as_bytes()).unwrap_err();
+        assert!(e.contains("converts to 'V', not a length"), "{e}");
+    }
+
+    /// SPIP's ASCII export as Gwyddion writes it: lengths without a unit in nm, `Bit2nm`.
+    #[test]
+    fn spip_ascii_lengths_in_nm() {
+        let file = "# File Format = ASCII\n# Created by Gwyddion 2.60\n# x-pixels = 3\n# y-pixels = 2\n\
+                    # x-length = 3000\n# y-length = 2000\n# x-offset = 0\n# y-offset = 0\n# Bit2nm = 1.0\n\
+                    # Start of Data:\n1\t2\t3\n4\t5\t6\n";
+        let ch = &Matrix.read(file.as_bytes()).unwrap()[0];
+        assert_eq!(ch.physical_size, Some((3000.0 * 1e-9, 2000.0 * 1e-9)));
+        assert_eq!((ch.data[(1, 2)], ch.unit.as_deref()), (6.0 * 1e-9, Some("nm")));
+        let e = Matrix.read(file.replace("# x-pixels = 3", "# x-pixels = 2").as_bytes()).unwrap_err();
+        assert!(e.contains("states 2 points per row"), "{e}");
+    }
+
+    /// Lengths without a unit take `x-unit`/`y-unit`, else the height unit when it is a
+    /// length (SurfaceTopography's rule); with no unit at all they are refused.
+    #[test]
+    fn unitless_lengths_take_a_stated_unit_or_are_refused() {
+        let ch = &Matrix.read(b"# x-length = 2\n# y-length = 1\n# x-unit = um\n# y-unit = um\n1 2\n3 4\n").unwrap()[0];
+        assert_eq!((ch.physical_size, ch.unit.as_deref()), (Some((2e-6, 1e-6)), None));
+        let ch = &Matrix.read(b"x-length = 2000\ny-length = 2000\nz-unit = nm\n1 2\n3 4\n").unwrap()[0];
+        assert_eq!((ch.physical_size, ch.data[(1, 1)]), (Some((2000.0 * 1e-9, 2000.0 * 1e-9)), 4e-9));
+        let e = Matrix.read(b"x-length = 2\ny-length = 1\n1 2\n3 4\n").unwrap_err();
+        assert!(e.contains("width 2 without a unit"), "{e}");
+        let e = Matrix.read(b"# Width: 2 px\n# Height: 2 px\n1 2\n3 4\n").unwrap_err();
+        assert!(e.contains("unit 'px' is not a length"), "{e}");
     }
 
     #[test]

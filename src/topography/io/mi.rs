@@ -127,7 +127,7 @@ mod tests {
     /// each integer: the same image to within one 16-bit step.
     #[test]
     fn sixteen_bit_data_match_the_32_bit_original() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples/mi-1.mi");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mi-1.mi");
         let original = std::fs::read(path).unwrap();
         let marker = b"data          BINARY_32\n";
         let start = original.windows(marker.len()).position(|w| w == marker).unwrap();

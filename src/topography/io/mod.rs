@@ -194,10 +194,13 @@ pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<
         ch.data.mapv_inplace(|h| h * scale);
         ch.unit = Some(unit.to_string());
     }
+    // Readers convert a channel in a length unit to metres; any other is as stored.
+    let height_unit_known = ch.unit.as_deref().and_then(units::metres_per).is_some();
     let topo = Topography {
         heights: ch.data,
         physical_size,
         periodic: false,
+        height_unit_known,
         channel: ch.name,
         provenance: Provenance { file: Some(path.to_path_buf()), format: fmt.name().to_string(), height_unit: ch.unit },
     };
@@ -210,11 +213,30 @@ fn same_size(a: (f64, f64), b: (f64, f64)) -> bool {
     close(a.0, b.0) && close(a.1, b.1)
 }
 
-/// Index of the channel named (or numbered) by `wanted`, or of the first height channel.
+/// Index of the channel named (or numbered) by `wanted`, or else of the default channel.
+///
+/// SurfaceTopography and Gwyddion both default to the first channel in file order (of those in
+/// a length unit, for SurfaceTopography). A length unit alone does not make a topography (a
+/// NanoScope `AmplitudeError` is in nm), so the default ranks the channels, file order within
+/// a rank: the topography the feedback recorded (`Height`, `Topography`, Nanosurf `Z-Axis`),
+/// then a height sensor's (`ZSensor`, `Height Sensor`, `Z-AxisSensor`), then any other channel
+/// in a length unit, then the first channel.
 fn choose_channel(channels: &[Channel], wanted: Option<&str>) -> std::result::Result<usize, String> {
     let names = || channels.iter().map(|c| format!("'{}'", c.name)).collect::<Vec<_>>().join(", ");
+    let rank = |c: &Channel| {
+        let name = c.name.to_lowercase();
+        let topography = ["height", "topograph", "z-axis"].iter().any(|t| name.contains(t))
+            || name == "z"
+            || name.contains("zsensor");
+        match (c.is_height, topography, name.contains("sensor")) {
+            (true, true, false) => 0,
+            (true, true, true) => 1,
+            (true, false, _) => 2,
+            (false, ..) => 3,
+        }
+    };
     match wanted {
-        None => Ok(channels.iter().position(|c| c.is_height).unwrap_or(0)),
+        None => Ok((0..channels.len()).min_by_key(|&i| (rank(&channels[i]), i)).unwrap_or(0)),
         Some(w) => channels
             .iter()
             .position(|c| c.name == w)

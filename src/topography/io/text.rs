@@ -211,8 +211,9 @@ pub(super) mod testing {
 
     /// The bytes of a sample instrument file.
     pub fn sample(name: &str) -> Vec<u8> {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/afm-samples").join(name);
-        std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+        std::fs::read(&path)
+            .unwrap_or_else(|e| panic!("test data file {}: {e} (see tests/data/README.md)", path.display()))
     }
 
     /// One edit of a file: overwrite, insert or delete a byte, cut the tail, or repeat a span.
