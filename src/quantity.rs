@@ -24,6 +24,20 @@ pub const FORCE: Dimension = Dimension { name: "force", si: "N", units: "N, mN, 
 pub const PRESSURE: Dimension =
     Dimension { name: "pressure", si: "Pa", units: "Pa, kPa, MPa, GPa", per_unit: pascals_per };
 
+/// A time [s].
+pub const TIME: Dimension = Dimension { name: "time", si: "s", units: "s, ms, min, h", per_unit: seconds_per };
+
+/// Seconds per `unit` ("ms", "s", "min", "h"), `None` for anything else.
+pub fn seconds_per(unit: &str) -> Option<f64> {
+    Some(match unit.trim() {
+        "ms" => 1e-3,
+        "s" => 1.0,
+        "min" => 60.0,
+        "h" => 3600.0,
+        _ => return None,
+    })
+}
+
 /// Newtons per `unit` ("kN", "N", "mN", "µN"/"uN", "nN"), `None` for anything else.
 pub fn newtons_per(unit: &str) -> Option<f64> {
     Some(match unit.trim() {
@@ -118,7 +132,7 @@ pub fn parse(text: &str, dim: &Dimension, bare_is_si: bool) -> Result<f64, Strin
         ));
     }
     let factor = (dim.per_unit)(unit).ok_or_else(|| {
-        match [&LENGTH, &FORCE, &PRESSURE].into_iter().find(|d| (d.per_unit)(unit).is_some()) {
+        match [&LENGTH, &FORCE, &PRESSURE, &TIME].into_iter().find(|d| (d.per_unit)(unit).is_some()) {
             Some(other) => format!("{} is a {}, not a {} (units: {})", quoted(text), other.name, dim.name, dim.units),
             None => {
                 format!("{}: unknown unit {} for a {} (units: {})", quoted(text), quoted(unit), dim.name, dim.units)

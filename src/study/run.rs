@@ -7,8 +7,10 @@
 //! parallel, each sweeping its loads in increasing order from the previous solution (warm
 //! start). It writes into DIR:
 //!
-//! - `study.toml`: the study as run (paths absolute, loads and laws explicit);
+//! - `study.toml`: the study as run (paths absolute, loads explicit);
 //! - `results.csv`, `results.json`: one [`Row`] per topography × law × load, in that order;
+//! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
+//!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
 //! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
 //!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order);
 //! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for;
@@ -31,7 +33,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::config::{CropSpec, Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
-use super::{FigureInput, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
+use super::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, COARSENING, FIGURE_LOADS_N};
 use crate::contact::{self, ContactSolver, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
@@ -52,7 +54,11 @@ pub struct Study {
     /// The study as run.
     config: StudyConfig,
     topographies: Vec<(String, Topography)>,
+    /// (topography index, coarsening, the topography resampled) for the resolution figure.
+    coarse: Vec<(usize, usize, Topography)>,
     laws: Vec<FrictionLaw>,
+    /// The hold time [s] of each law, where known.
+    hold_times: Vec<Option<f64>>,
     /// Loads [N], ascending.
     loads: Vec<f64>,
     experiments: Vec<ShsPoint>,
@@ -109,10 +115,24 @@ impl Study {
             let topo = build_topography(spec, grid).map_err(|e| at(&format!("topography \"{name}\""), e))?;
             topographies.push((name, topo));
         }
-        let mut laws = Vec::with_capacity(config.laws.len());
+        let (mut laws, mut hold_times) = (Vec::new(), Vec::new());
         for spec in &config.laws {
             let name = spec.name();
-            laws.push(resolve_law(spec).map_err(|e| at(&format!("law \"{name}\""), e))?.named(name));
+            for (law, hold) in resolve_law(spec).map_err(|e| at(&format!("law \"{name}\""), e))? {
+                laws.push(law);
+                hold_times.push(hold);
+            }
+        }
+        let mut coarse = Vec::new();
+        if config.output.figures.contains(&FigureKind::Resolution) {
+            for (t, (name, topo)) in topographies.iter().enumerate() {
+                let (lx, _) = topo.physical_size.expect("built with a physical size");
+                for factor in COARSENING {
+                    let pixel = lx / topo.nx() as f64 * factor as f64;
+                    let coarser = resample(topo, pixel).map_err(|e| at(&format!("topography \"{name}\""), e))?;
+                    coarse.push((t, factor, coarser));
+                }
+            }
         }
         let experiments = match &config.output.experiments {
             Some(path) => read_points(path).map_err(|e| at("output.experiments", e))?,
@@ -122,14 +142,10 @@ impl Study {
         let mut config = config;
         config.loads =
             LoadsSpec { values: Some(loads.iter().map(|&l| Force(l)).collect()), min: None, max: None, count: None };
-        config.laws = laws
-            .iter()
-            .map(|l| LawSpec { name: l.name.clone(), mu_s: Some(l.mu_s), mu_d: Some(l.mu_d), ..LawSpec::default() })
-            .collect();
-        Ok(Study { origin: origin.to_string(), config, topographies, laws, loads, experiments })
+        Ok(Study { origin: origin.to_string(), config, topographies, coarse, laws, hold_times, loads, experiments })
     }
 
-    /// The study as it runs: paths absolute, loads and laws explicit.
+    /// The study as it runs: paths absolute, loads explicit.
     pub fn config(&self) -> &StudyConfig {
         &self.config
     }
@@ -144,26 +160,69 @@ impl Study {
         &self.topographies
     }
 
+    /// The friction laws, one per law of the study file or per hold time of an aging law.
+    pub fn laws(&self) -> &[FrictionLaw] {
+        &self.laws
+    }
+
+    /// How many sweeps the study runs: one per topography, and for the resolution figure one
+    /// per topography and coarsening.
+    fn units(&self) -> usize {
+        self.topographies.len() + self.coarse.len()
+    }
+
+    /// Sweep `u`'s name in progress reports, folder under `solves/`, topography, and the name
+    /// of its rows.
+    fn unit(&self, u: usize) -> (String, String, &Topography, &str) {
+        match u.checked_sub(self.topographies.len()) {
+            None => {
+                let (name, topo) = &self.topographies[u];
+                (name.clone(), name.clone(), topo, name)
+            }
+            Some(c) => {
+                let (t, factor, topo) = &self.coarse[c];
+                let name = &self.topographies[*t].0;
+                (format!("{name} ({factor}× coarser)"), format!("{name}@{factor}x"), topo, name)
+            }
+        }
+    }
+
     /// Run the study into `dir`, resuming the solves an earlier run of the same study left
     /// there; `fresh` discards them. A `dir` holding another study, or anything that is not a
     /// study's output, is refused before anything is solved.
     pub fn run(&self, dir: &Path, fresh: bool, progress: &(dyn Fn(Progress) + Sync)) -> Result<Outcome> {
         self.claim(dir, fresh)?;
-        output::write_atomic(&dir.join("study.toml"), |w| {
-            let text = toml::to_string(&self.config).map_err(std::io::Error::other)?;
-            w.write_all(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")).as_bytes())
-        })?;
+        let text = self.study_file()?;
+        output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
 
-        let total = self.topographies.len() * self.loads.len();
-        let finished: Vec<usize> = (0..self.topographies.len()).map(|t| self.finished(dir, t)).collect();
+        let total = self.units() * self.loads.len();
+        let finished: Vec<usize> = (0..self.units()).map(|u| self.finished(dir, u)).collect();
         let resumed: usize = finished.iter().sum();
         progress(Progress::Start { total, done: resumed });
         let solved = AtomicUsize::new(0);
-        (0..self.topographies.len())
-            .into_par_iter()
-            .try_for_each(|t| self.sweep(dir, t, finished[t], progress, &solved))?;
+        // Each worker takes the next sweep in order: the study's own first, the cheap coarse
+        // ones filling in at the end.
+        let next = AtomicUsize::new(0);
+        let workers = rayon::current_num_threads().min(self.units()).max(1);
+        (0..workers).into_par_iter().try_for_each(|_| loop {
+            let u = next.fetch_add(1, Ordering::Relaxed);
+            if u >= self.units() {
+                return Ok(());
+            }
+            self.sweep(dir, u, finished[u], progress, &solved)?;
+        })?;
 
-        let rows = self.rows(dir)?;
+        let rows = self.rows(dir, 0..self.topographies.len())?;
+        let resolution = self.resolution_rows(dir, &rows)?;
+        if !resolution.is_empty() {
+            output::write_atomic(&dir.join("resolution.csv"), |w| {
+                let mut csv = csv::Writer::from_writer(w);
+                for row in &resolution {
+                    csv.serialize(row).map_err(std::io::Error::other)?;
+                }
+                csv.flush()
+            })?;
+        }
         output::write_atomic(&dir.join("results.csv"), |w| {
             let mut csv = csv::Writer::from_writer(w);
             for row in &rows {
@@ -180,11 +239,17 @@ impl Study {
             .map(|k| MapSnapshot::load(&snapshots, &self.snapshot_stem(k)))
             .collect::<Result<Vec<_>>>()?;
         let names: Vec<String> = self.topographies.iter().map(|(n, _)| n.clone()).collect();
-        let parameters = serde_json::to_value(&self.config).map_err(|e| Error::invalid("study", e.to_string()))?;
+        let parameters = self.study_file()?;
+        let hold_time_loads: Vec<f64> = self.config.output.hold_time_loads.iter().map(|f| f.0).collect();
         let input = FigureInput {
             rows: &rows,
             topographies: &names,
             laws: &self.laws,
+            hold_times: &self.hold_times,
+            modulus_ratios: &self.modulus_ratios(),
+            resolution: &resolution,
+            hold_time_loads: &hold_time_loads,
+            log_density: self.config.output.log_density,
             maps: &maps,
             experiments: &self.experiments,
             figures: &self.config.output.figures,
@@ -193,6 +258,26 @@ impl Study {
         };
         let figures = crate::plot::study::render(dir, &input)?;
         Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures })
+    }
+
+    /// The study as run, as a study file.
+    fn study_file(&self) -> Result<String> {
+        let text = toml::to_string(&self.config).map_err(|e| Error::invalid("study", e.to_string()))?;
+        Ok(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")))
+    }
+
+    /// E*₀/E* for E − ΔE and E + ΔE of `material.youngs_uncertainty` (none without it).
+    fn modulus_ratios(&self) -> Vec<f64> {
+        let Some(delta) = self.config.material.youngs_uncertainty else { return Vec::new() };
+        let e0 = self.config.effective_modulus();
+        [-1.0, 1.0]
+            .iter()
+            .filter_map(|sign| {
+                let mut config = self.config.clone();
+                config.material.youngs.0 += sign * delta.0;
+                (config.material.youngs.0 > 0.0).then(|| e0 / config.effective_modulus())
+            })
+            .collect()
     }
 
     /// Make `dir` this study's: new, or holding this study's solves (kept, or discarded when
@@ -259,22 +344,22 @@ impl Study {
         })
     }
 
-    /// The folder of topography `t`'s solve records.
-    fn solves_dir(&self, dir: &Path, t: usize) -> PathBuf {
-        dir.join("solves").join(&self.topographies[t].0)
+    /// The folder of sweep `u`'s solve records.
+    fn solves_dir(&self, dir: &Path, u: usize) -> PathBuf {
+        dir.join("solves").join(self.unit(u).1)
     }
 
-    /// How many of topography `t`'s loads have their record: the sweep resumes after them.
-    fn finished(&self, dir: &Path, t: usize) -> usize {
-        let solves = self.solves_dir(dir, t);
+    /// How many of sweep `u`'s loads have their record: the sweep resumes after them.
+    fn finished(&self, dir: &Path, u: usize) -> usize {
+        let solves = self.solves_dir(dir, u);
         (0..self.loads.len()).take_while(|k| solves.join(format!("{k:02}.json")).is_file()).count()
     }
 
-    /// Sweep topography `t` over the loads from index `first` on.
+    /// Sweep `u` over the loads from index `first` on.
     fn sweep(
         &self,
         dir: &Path,
-        t: usize,
+        u: usize,
         first: usize,
         progress: &(dyn Fn(Progress) + Sync),
         solved: &AtomicUsize,
@@ -283,8 +368,9 @@ impl Study {
         if first == n {
             return Ok(());
         }
-        let (name, topo) = &self.topographies[t];
-        let solves = self.solves_dir(dir, t);
+        let (label, _, topo, name) = self.unit(u);
+        let main = u < self.topographies.len();
+        let solves = self.solves_dir(dir, u);
         std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
         let warm = |k: usize| solves.join(format!("warm-{k:02}.npy"));
         let shape = topo.heights.dim();
@@ -308,12 +394,13 @@ impl Study {
             solver.warm_start(pressure.as_slice().ok_or_else(|| Error::file(&path, "not a row-major array"))?)?;
         }
         let maps = dir.join("pressure").join(name);
-        if self.config.output.pressure_maps {
+        let keep_maps = self.config.output.pressure_maps && main;
+        if keep_maps {
             std::fs::create_dir_all(&maps).map_err(|e| Error::io(&maps, e))?;
         }
-        let snapshots = if t == 0 { self.snapshot_indices() } else { Vec::new() };
+        let snapshots = if u == 0 { self.snapshot_indices() } else { Vec::new() };
         for (k, &load) in self.loads.iter().enumerate().skip(first) {
-            let context = |e: Error| Error::invalid(format!("topography \"{name}\" at {load} N"), e.to_string());
+            let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
             let report = solver.solve(load, |_, _| ()).map_err(context)?;
             let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
             let summary = contact::summarize(solver.pressure(), shape, size, c.boundary);
@@ -322,7 +409,7 @@ impl Study {
             let rows = self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law))).collect();
 
             // Everything of this solve first, its record last: a record means the solve is done.
-            if self.config.output.pressure_maps {
+            if keep_maps {
                 output::write_npy(&maps.join(format!("{k:02}.npy")), &pressure)?;
             }
             if snapshots.contains(&k) {
@@ -345,7 +432,7 @@ impl Study {
             }
             solved.fetch_add(1, Ordering::Relaxed);
             progress(Progress::Solved {
-                topography: name,
+                topography: &label,
                 load_n: load,
                 iterations: report.iterations,
                 seconds: report.seconds,
@@ -354,10 +441,10 @@ impl Study {
         Ok(())
     }
 
-    /// Every row from the solve records: topography × law × load.
-    fn rows(&self, dir: &Path) -> Result<Vec<Row>> {
-        let mut rows = Vec::with_capacity(self.topographies.len() * self.laws.len() * self.loads.len());
-        for t in 0..self.topographies.len() {
+    /// Every row from the solve records of `units`: topography × law × load.
+    fn rows(&self, dir: &Path, units: std::ops::Range<usize>) -> Result<Vec<Row>> {
+        let mut rows = Vec::with_capacity(units.len() * self.laws.len() * self.loads.len());
+        for t in units {
             let solves = self.solves_dir(dir, t);
             let records = (0..self.loads.len())
                 .map(|k| {
@@ -376,6 +463,27 @@ impl Study {
             }
         }
         Ok(rows)
+    }
+
+    /// The resolution study's rows: the study's `rows` and those of the coarse sweeps, by
+    /// coarsening (none without coarse sweeps).
+    fn resolution_rows(&self, dir: &Path, rows: &[Row]) -> Result<Vec<ResolutionRow>> {
+        if self.coarse.is_empty() {
+            return Ok(Vec::new());
+        }
+        let pixel = |t: &Topography| t.physical_size.expect("built with a physical size").0 / t.nx() as f64;
+        let own = |name: &str| &self.topographies.iter().find(|(n, _)| n == name).expect("a row's topography").1;
+        let mut out: Vec<ResolutionRow> =
+            rows.iter().map(|r| ResolutionRow::new(1, pixel(own(&r.topography)), r)).collect();
+        for factor in COARSENING {
+            for (c, (_, f, topo)) in self.coarse.iter().enumerate() {
+                if *f == factor {
+                    let u = self.topographies.len() + c;
+                    out.extend(self.rows(dir, u..u + 1)?.iter().map(|r| ResolutionRow::new(factor, pixel(topo), r)));
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// Indices of the swept loads nearest (in log scale) to [`FIGURE_LOADS_N`], ascending.
@@ -460,12 +568,23 @@ fn crop_window(c: &CropSpec) -> CropWindow {
     }
 }
 
-/// The law a checked spec describes (without its name).
-fn resolve_law(spec: &LawSpec) -> Result<FrictionLaw> {
-    match (spec.mu_s, spec.mu_d, &spec.preset, &spec.curve) {
+/// The laws a checked spec describes, named, each with its hold time [s] where known: one,
+/// or one per hold time of an aging law.
+fn resolve_law(spec: &LawSpec) -> Result<Vec<(FrictionLaw, Option<f64>)>> {
+    if let (Some(mu_s), Some(mu_d), Some(t0), Some(beta), Some(times)) =
+        (spec.mu_s, spec.mu_d, spec.hold_time, spec.aging, &spec.hold_times)
+    {
+        return times
+            .iter()
+            .zip(spec.names())
+            .map(|(t, name)| Ok((FrictionLaw::aged(mu_s, mu_d, t0.0, beta, t.0)?.named(name), Some(t.0))))
+            .collect();
+    }
+    let law = match (spec.mu_s, spec.mu_d, &spec.preset, &spec.curve) {
         (Some(mu_s), Some(mu_d), ..) => FrictionLaw::new(mu_s, mu_d),
         (_, _, Some(preset), _) => FrictionLaw::preset(preset),
         (_, _, _, Some(curve)) => FrictionLaw::from_curve_file(curve, spec.window),
         _ => unreachable!("checked: a law is a pair, a preset or a curve"),
-    }
+    }?;
+    Ok(vec![(law.named(spec.name()), spec.stated_hold_time())])
 }
