@@ -25,7 +25,7 @@ fn the_drop_at_another_modulus_is_the_drop_at_a_scaled_load() {
     let e0 = Material::SILICON.plane_strain_modulus();
     for youngs in [127e9, 133e9] {
         let e = Material { youngs, poisson: 0.26 }.plane_strain_modulus();
-        for load in [3e-4, 3e-3] {
+        for load in [3e-3, 3e-2] {
             let direct = solve(&heights, surface.size, e, load);
             let scaled = solve(&heights, surface.size, e0, load * e0 / e);
             let elements = direct.iter().filter(|p| **p > 0.0).count();

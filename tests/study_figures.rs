@@ -189,7 +189,7 @@ fn every_figure_movie_and_the_report() {
         ("hold-time", 1300, 850),
         ("stress-ratio-histograms", 1500, 1100),
         ("pressure-distribution", 1200, 800),
-        ("contact-maps", 1400, 1480),
+        ("contact-maps", 1400, 1600),
         ("class-map", 1400, 1060),
         ("class-fractions", 1450, 800),
         ("friction-curve", 1200, 800),
