@@ -90,6 +90,32 @@ fn bad_study_files_fail_on_one_line_at_their_place() {
             "law[0]: the static friction coefficient 0.2 is below the dynamic one",
         ),
         ("preset = \"hold 100 s\"", "mu_s = 0.6", "law[0]: give exactly one of"),
+        // Aging laws: complete, with hold times that keep mu_s above mu_d, listed once.
+        (
+            "preset = \"hold 100 s\"",
+            "mu_s = 0.6\nmu_d = 0.4\naging = 0.1\nhold_times = [\"10 s\"]",
+            "law[0]: an aging law needs mu_s (at hold_time), mu_d, hold_time, aging and hold_times",
+        ),
+        (
+            "preset = \"hold 100 s\"",
+            "mu_s = 0.6\nmu_d = 0.4\nhold_time = \"100 s\"\naging = 0.1\nhold_times = [\"0.1 s\"]",
+            "law[0]: after a hold of 0.1 s: the static friction coefficient",
+        ),
+        (
+            "preset = \"hold 100 s\"",
+            "mu_s = 0.6\nmu_d = 0.4\nhold_time = \"100 s\"\naging = 0.1\nhold_times = [\"1 min\", \"60 s\"]",
+            "law[0]: hold_times: 60 s is listed twice",
+        ),
+        (
+            "preset = \"hold 100 s\"",
+            "mu_s = 0.6\nmu_d = 0.4\nhold_time = \"100 mN\"\naging = 0.1\nhold_times = [\"10 s\"]",
+            "'100 mN' is a force, not a time",
+        ),
+        (
+            "preset = \"hold 100 s\"",
+            "preset = \"hold 100 s\"\n[[law]]\nmu_s = 0.6\nmu_d = 0.4\nhold_time = \"100 s\"\naging = 0.1\nhold_times = [\"100 s\"]",
+            "law[1]: the name \"hold 100 s\" is used twice",
+        ),
         // A boundary that does not exist, a cap too small for its window.
         ("\"periodic\"", "\"periodical\"", "error: study.toml:7:12: contact.boundary: 'periodical' is not"),
         (
@@ -190,6 +216,13 @@ fn print_default_is_the_default_study_and_explains_it() {
         "experiments",
         "figures",
         "snapshot_fractions",
+        "hold_time_loads",
+        "log_density",
+        "youngs_uncertainty",
+        "hold_time",
+        "aging",
+        "hold_times",
+        "resolution",
         "PLACEHOLDERS",
     ] {
         assert!(text.contains(key), "{key} is not explained");
@@ -226,4 +259,36 @@ fn file_caps_hardness_and_unknown_units() {
     assert!(!o.status.success() && stderr.trim_end().lines().count() == 1, "{stderr}");
     assert!(stderr.contains("topography \"ball\"") && stderr.contains("height_unit"), "{stderr}");
     assert!(!dir.path().join("out").exists());
+}
+
+/// An aging law gives one law per hold time; the study as run keeps the laws as given — an
+/// aging law's parameters, a curve law's file (made absolute) and window.
+#[test]
+fn laws_expand_and_are_written_back_as_given() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("afm.csv"), "0,0.1\n1,0.6\n2,0.4\n3,0.4\n4,0.3\n").unwrap();
+    let laws =
+        "[[law]]\nmu_s = 0.6\nmu_d = 0.4\nhold_time = \"100 s\"\naging = 0.1\nhold_times = [\"10 s\", \"1000 s\"]\n\
+                [[law]]\ncurve = \"afm.csv\"\nwindow = [0.5, 1.5]\n";
+    let study = GOOD
+        .replace("[[law]]\npreset = \"hold 100 s\"\n", laws)
+        .replace("min = \"0.1 mN\"\nmax = \"100 mN\"\ncount = 3", "values = [\"0.1 mN\"]");
+    std::fs::write(dir.path().join("study.toml"), &study).unwrap();
+    let config = StudyConfig::from_file(&dir.path().join("study.toml")).unwrap();
+    let prepared = asperity::study::run::Study::prepare(config, "study.toml").unwrap();
+    let names: Vec<(String, f64, f64)> =
+        prepared.laws().iter().map(|l| (l.name.clone().unwrap(), l.mu_s, l.mu_d)).collect();
+    assert_eq!(names.len(), 3);
+    assert_eq!(names[0].0, "hold 10 s");
+    assert!((names[0].1 - 0.5).abs() < 1e-12 && (names[1].1 - 0.7).abs() < 1e-12 && names[1].0 == "hold 1000 s");
+    assert_eq!((names[2].1, names[2].2), (0.6, 0.4));
+    let o = asperity(&["run", "study.toml", "--out", "out"], dir.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let written = std::fs::read_to_string(dir.path().join("out/study.toml")).unwrap();
+    let again = StudyConfig::parse(&written, "written").unwrap();
+    let curve = &again.laws[1];
+    assert_eq!(curve.curve.as_deref(), Some(dir.path().join("afm.csv").as_path()));
+    assert_eq!(curve.window, Some((0.5, 1.5)));
+    assert_eq!(again.laws[0].hold_times.as_ref().map(Vec::len), Some(2));
+    assert_eq!(again.laws[0].aging, Some(0.1));
 }

@@ -11,7 +11,8 @@ use asperity::contact::{summarize, Boundary, ContactSolver, Material, SolverOpti
 use asperity::friction::{ElementLoads, FrictionLaw, Onset};
 use asperity::plot::study::render;
 use asperity::shs::ShsPoint;
-use asperity::study::{FigureInput, FigureKind, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
+use asperity::study::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, FIGURE_LOADS_N};
+use asperity::topography::resample::resample;
 use asperity::topography::synth::SyntheticSurface;
 use ndarray::Array2;
 
@@ -21,7 +22,8 @@ struct Study {
     topographies: Vec<String>,
     laws: Vec<FrictionLaw>,
     maps: Vec<MapSnapshot>,
-    parameters: serde_json::Value,
+    resolution: Vec<ResolutionRow>,
+    parameters: String,
 }
 
 const LOADS_N: [f64; 5] = [1e-4, 1e-3, 3e-3, 1e-2, 1e-1];
@@ -30,12 +32,34 @@ fn study() -> &'static Study {
     static STUDY: OnceLock<Study> = OnceLock::new();
     STUDY.get_or_init(|| {
         let laws = vec![FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::preset("hold 10 s").unwrap()];
-        let (mut rows, mut maps, mut topographies) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut rows, mut maps, mut topographies, mut resolution) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for seed in 0..2 {
             // The paper's silicon ball window (31.13 µm) on a coarse grid: 243 nm pixels.
             let surface = SyntheticSurface { grid: (128, 128), seed, ..Default::default() };
             let topo = surface.generate().unwrap();
             let name = format!("ball {seed}");
+            // The same ball on pixels twice as large, for the resolution figure.
+            let coarse = resample(&topo, 2.0 * surface.size.0 / 128.0, &asperity::limits::Limits::default()).unwrap();
+            let heights: Vec<f64> = coarse.heights.iter().copied().collect();
+            let e_star = Material::SILICON.plane_strain_modulus();
+            let mut solver =
+                ContactSolver::new(&heights, (64, 64), surface.size, e_star, Boundary::Free, SolverOptions::default())
+                    .unwrap();
+            let pixel = surface.size.0 / 64.0;
+            for load in LOADS_N {
+                let report = solver.solve(load, |_, _| {}).unwrap();
+                let pressure = Array2::from_shape_vec((64, 64), solver.pressure().to_vec()).unwrap();
+                let summary = summarize(solver.pressure(), (64, 64), surface.size, Boundary::Free, None);
+                let facts = SolveFacts::new(&summary, &report);
+                let loads = ElementLoads::from_pressure(&pressure, pixel * pixel).unwrap();
+                for law in &laws {
+                    resolution.push(ResolutionRow::new(
+                        2,
+                        pixel,
+                        &Row::new(&name, load, &facts, &Onset::new(&loads, law)),
+                    ));
+                }
+            }
             let (ny, nx) = topo.heights.dim();
             let heights: Vec<f64> = topo.heights.iter().copied().collect();
             let e_star = Material::SILICON.plane_strain_modulus();
@@ -50,7 +74,9 @@ fn study() -> &'static Study {
                 let facts = SolveFacts::new(&summary, &report);
                 let loads = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).unwrap();
                 for law in &laws {
-                    rows.push(Row::new(&name, load, &facts, &Onset::new(&loads, law)));
+                    let row = Row::new(&name, load, &facts, &Onset::new(&loads, law));
+                    resolution.push(ResolutionRow::new(1, pixel.0, &row));
+                    rows.push(row);
                 }
                 if seed == 0 && FIGURE_LOADS_N.contains(&load) {
                     maps.push(MapSnapshot::crop(&name, load, &pressure, pixel, 3).unwrap());
@@ -58,13 +84,9 @@ fn study() -> &'static Study {
             }
             topographies.push(name);
         }
-        let parameters = serde_json::json!({
-            "grid": [128, 128],
-            "loads_n": LOADS_N,
-            "material": {"youngs_pa": 130e9, "poisson": 0.26},
-            "boundary": "free",
-        });
-        Study { rows, topographies, laws, maps, parameters }
+        let parameters =
+            "[material]\nyoungs = 130000000000.0\npoisson = 0.26\n\n[contact]\nboundary = \"free\"\n".to_string();
+        Study { rows, topographies, laws, maps, resolution, parameters }
     })
 }
 
@@ -95,6 +117,11 @@ fn input<'a>(
         rows: &s.rows,
         topographies: &s.topographies,
         laws: &s.laws,
+        hold_times: &[Some(100.0), Some(10.0)],
+        modulus_ratios: &[130.0 / 127.0, 130.0 / 133.0],
+        resolution: &s.resolution,
+        hold_time_loads: &[1e-4, 1e-3, 1e-2],
+        log_density: false,
         maps,
         experiments,
         figures,
@@ -156,9 +183,13 @@ fn every_figure_movie_and_the_report() {
 
     // (name, width, height) of each figure.
     let figures = [
-        ("friction-drop", 1650, 850),
+        ("friction-drop", 1400, 850),
+        ("static-dynamic-coefficients", 1400, 850),
+        ("resolution", 1400, 850),
+        ("hold-time", 1300, 850),
+        ("stress-ratio-histograms", 1500, 1100),
         ("pressure-distribution", 1200, 800),
-        ("contact-maps", 1400, 1480),
+        ("contact-maps", 1400, 1600),
         ("class-map", 1400, 1060),
         ("class-fractions", 1450, 800),
         ("friction-curve", 1200, 800),
@@ -194,11 +225,31 @@ fn every_figure_movie_and_the_report() {
     for file in expected.iter().filter(|f| f.starts_with("figures/")) {
         assert!(html.contains(&format!("\"{file}\"")), "index.html links {file}");
     }
-    for text in ["Fig. 2", "Fig. 3", "Fig. S4", "Fig. 4f", "Fig. 4g", "Fig. 4a", "Fig. S6", "supplemental movie"] {
+    for text in [
+        "Fig. 2",
+        "Fig. S1",
+        "Fig. 3",
+        "Fig. S4",
+        "Fig. 4b–e",
+        "Fig. 4f",
+        "Fig. 4g",
+        "Fig. 4a",
+        "Fig. S6",
+        "supplemental movie",
+    ] {
         assert!(html.contains(text), "index.html names {text}");
     }
     // The parameters, the laws with the placeholder warning, a results row per load.
-    assert!(html.contains("&quot;boundary&quot;: &quot;free&quot;") && html.contains("130000000000"));
+    assert!(
+        html.contains("boundary = &quot;free&quot;") && html.contains("youngs = 130000000000.0"),
+        "TOML parameters"
+    );
+    assert!(html.contains("Limits of the model") && html.contains("Mindlin"));
+    // Measured points join the law of their hold time; the 30 s one matches none.
+    let svg = std::fs::read_to_string(dir.path().join("figures/friction-drop.svg")).unwrap();
+    for label in ["hold 100 s: measured", "hold 10 s: measured", "measured, other hold times"] {
+        assert!(svg.contains(label), "friction drop legend: {label}");
+    }
     assert!(html.contains("illustrative placeholder") && html.contains("hold 10 s"));
     for load in ["0.1 mN", "1 mN", "3 mN", "10 mN", "100 mN"] {
         assert!(html.contains(&format!("<tr><td>{load}</td>")), "results row at {load}");
@@ -243,11 +294,16 @@ fn nothing_to_draw_is_no_failure() {
         rows: &[],
         topographies: &s.topographies,
         laws: &laws,
+        hold_times: &[],
+        modulus_ratios: &[],
+        resolution: &[],
+        hold_time_loads: &[],
+        log_density: false,
         maps: &[],
         experiments: &[],
         figures: &FigureKind::ALL,
         snapshot_fractions: &[0.0, 1.5],
-        parameters: &serde_json::Value::Null,
+        parameters: "",
     };
     let dir = tempfile::tempdir().unwrap();
     let files = render(dir.path(), &input).unwrap();

@@ -1,4 +1,4 @@
-//! `asperity run --quick`, the CI's study: the default study on a coarse grid, end to end.
+//! `asperity run --quick`, the CI's smoke study: the default study on a coarse grid, end to end.
 
 use std::collections::BTreeMap;
 use std::process::Command;
@@ -26,11 +26,14 @@ fn the_quick_study_shows_the_friction_drop_falling_with_load() {
     for ((topography, law), curve) in &curves {
         assert_eq!(curve.len(), 7);
         let (first, last) = (curve[0], curve[6]);
-        assert_eq!((first.0, last.0), (1e-4, 1e-1));
-        assert!(first.1 > last.1, "{topography}, {law}: drop {} at 0.1 mN, {} at 100 mN", first.1, last.1);
+        assert_eq!((first.0, last.0), (1e-7, 1e-1));
+        // One element at 0.1 µN: the single-element drop mu_s/mu_d.
+        let law = if law == "hold 100 s" { 0.6 / 0.4 } else { 0.5 / 0.4 };
+        assert!((first.1 - law).abs() < 1e-12, "{topography}: drop {} at 0.1 µN", first.1);
+        assert!(first.1 > last.1, "{topography}: drop {} at 0.1 µN, {} at 100 mN", first.1, last.1);
     }
-    // The first ball's maps at 0.1, 1, 10 and 100 mN (loads 0, 2, 4 and 6 of 7).
-    for (k, load) in [(0, 1e-4), (2, 1e-3), (4, 1e-2), (6, 1e-1)] {
+    // The first ball's maps at 0.1, 1, 10 and 100 mN (loads 3 to 6 of 7, one per decade).
+    for (k, load) in [(3, 1e-4), (4, 1e-3), (5, 1e-2), (6, 1e-1)] {
         let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();
         assert_eq!((snap.load_n, snap.grid), (load, (256, 256)));
     }

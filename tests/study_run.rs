@@ -55,8 +55,11 @@ fn direct_rows() -> Vec<Row> {
         grid: (64, 64),
         seed,
         roughness: Some(SelfAffine {
+            hurst: 0.8,
+            rolloff_wavelength: Some(5e-6),
+            short_cutoff_wavelength: None,
+            long_cutoff_wavelength: None,
             amplitude: asperity::topography::synth::Amplitude::RmsHeight(rms),
-            ..SelfAffine::silicon_ball()
         }),
         cap,
     };

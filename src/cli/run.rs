@@ -1,7 +1,9 @@
 //! `asperity run`: the paper's numerical study, end to end.
 
+use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use clap::Args;
 
@@ -9,13 +11,17 @@ use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
 use asperity::Result;
 
+/// Seconds between progress lines when stderr is not a terminal.
+const BATCH_PROGRESS: Duration = Duration::from_secs(5);
+
 /// Run a study: elastic contact of every topography at every load, the stick-slip model with
 /// every local friction law, the results table and the figures.
 ///
 /// Without STUDY, runs the default study: three synthetic silicon balls (31.13 µm square,
 /// 1500 × 1500 points, ≈ 40 nm RMS on a 1.5 mm-radius sphere), each against a synthetic wafer
-/// (0.2 nm RMS), E = 130 GPa, ν = 0.26, 13 loads from 0.1 to 100 mN, and the local laws
-/// "hold 100 s" and "hold 10 s" — ILLUSTRATIVE PLACEHOLDERS for measured (mu_s, mu_d) pairs.
+/// (0.2 nm RMS), E = 130 ± 3 GPa, ν = 0.26, 25 loads from 0.1 µN (one contact element) to
+/// 100 mN, and the local laws "hold 100 s" and "hold 10 s" of one aging law — ILLUSTRATIVE
+/// PLACEHOLDERS for measured (mu_s, mu_d) pairs.
 /// `--print-default` shows it as a commented study file to start from.
 ///
 /// Writes into DIR: results.csv and results.json (one row per topography × law × load:
@@ -35,8 +41,9 @@ pub struct RunArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "results")]
     out: PathBuf,
-    /// The same study on a coarse grid, fast: every topography on 256 × 256 points over the
-    /// same window, 7 loads over the same range.
+    /// A smoke run: the same study on a coarse grid, fast — every topography on 256 × 256
+    /// points over the same window, 7 loads over the same range. The pixel is the model's
+    /// element, so its numbers are not the study's.
     #[arg(long)]
     quick: bool,
     /// Print the default study as a commented study file (every key and unit explained) and
@@ -70,14 +77,31 @@ pub fn run(args: RunArgs) -> Result<()> {
     let study = Study::prepare(config, &origin)?.waiting(args.wait);
 
     let bar = super::progress_bar(0, "solving");
+    // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
+    let batch = !std::io::stderr().is_terminal();
+    let last_line = Mutex::new(Instant::now());
     let outcome = study.run(&args.out, args.fresh, &|event| match event {
         Progress::Start { total, done } => {
             bar.set_length(total as u64);
             bar.set_position(done as u64);
+            if batch {
+                eprintln!("solving: {total} solves, {done} done by an earlier run");
+            }
         }
         Progress::Solved { topography, load_n, iterations, .. } => {
             bar.set_message(format!("{topography} at {load_n:.3e} N ({iterations} iterations)"));
             bar.inc(1);
+            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+            let finished = bar.length().is_some_and(|l| bar.position() == l);
+            if batch && (last.elapsed() >= BATCH_PROGRESS || finished) {
+                *last = Instant::now();
+                eprintln!(
+                    "solving: {}/{} after {:.0} s ({topography} at {load_n:.3e} N)",
+                    bar.position(),
+                    bar.length().unwrap_or(0),
+                    start.elapsed().as_secs_f64()
+                );
+            }
         }
     })?;
     bar.finish_and_clear();

@@ -73,6 +73,28 @@ impl FrictionLaw {
         Ok(FrictionLaw::new(mu_s, mu_d)?.named(label))
     }
 
+    /// The law after a hold of `hold` [s] for Si–Si contacts that age (AFM, Li et al., Nature
+    /// 480, 233, 2011): mu_s(t) = mu_s(t₀) + β·log10(t/t₀), mu_d fixed, where `mu_s` is
+    /// measured after a hold of `t0` [s] and `beta` is the gain per decade of hold time. An
+    /// error when mu_s(t) falls below mu_d (named `--hold-time`).
+    pub fn aged(mu_s: f64, mu_d: f64, t0: f64, beta: f64, hold: f64) -> Result<Self> {
+        if !(t0 > 0.0 && hold > 0.0 && t0.is_finite() && hold.is_finite() && beta.is_finite()) {
+            return Err(Error::invalid(
+                "--hold-time",
+                format!(
+                    "hold times must be positive and finite and β finite, got t₀ = {t0} s, t = {hold} s, β = {beta}"
+                ),
+            ));
+        }
+        let aged = mu_s + beta * (hold / t0).log10();
+        FrictionLaw::new(aged, mu_d).map_err(|e| {
+            Error::invalid(
+                "--hold-time",
+                format!("after a hold of {hold} s: {}", e.to_string().trim_start_matches("--mu-s: ")),
+            )
+        })
+    }
+
     /// The local friction drop mu_s / mu_d: the friction drop of a single-element interface.
     pub fn drop(&self) -> f64 {
         self.mu_s / self.mu_d
@@ -199,6 +221,18 @@ mod tests {
         for (mu_s, mu_d) in [(0.6, 0.0), (0.3, 0.4), (f64::NAN, 0.4)] {
             assert!(!FrictionLaw::new(mu_s, mu_d).unwrap_err().to_string().contains('\n'));
         }
+    }
+
+    #[test]
+    fn aging_adds_beta_per_decade_of_hold_time() {
+        let law = FrictionLaw::aged(0.6, 0.4, 100.0, 0.1, 10.0).unwrap();
+        assert!((law.mu_s - 0.5).abs() < 1e-15 && law.mu_d == 0.4);
+        let law = FrictionLaw::aged(0.6, 0.4, 100.0, 0.1, 1000.0).unwrap();
+        assert!((law.mu_s - 0.7).abs() < 1e-15);
+        assert_eq!(FrictionLaw::aged(0.6, 0.4, 100.0, 0.1, 100.0).unwrap().mu_s, 0.6);
+        let e = FrictionLaw::aged(0.6, 0.4, 100.0, 0.1, 0.1).unwrap_err().to_string();
+        assert!(e.starts_with("--hold-time: after a hold of 0.1 s") && e.contains("below the dynamic"), "{e}");
+        assert!(FrictionLaw::aged(0.6, 0.4, 0.0, 0.1, 1.0).is_err());
     }
 
     #[test]

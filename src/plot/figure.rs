@@ -6,6 +6,7 @@ use plotters::coord::Shift;
 use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::{FontDesc, FontTransform};
 use plotters_backend::DrawingErrorKind;
 
 use super::style;
@@ -310,9 +311,6 @@ impl Panel {
         let mut chart = builder.build_cartesian_2d(x, y)?;
         chart
             .configure_mesh()
-            .x_desc(self.x.label.as_str())
-            .y_desc(self.y.label.as_str())
-            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
             .label_style((style::FONT, style::TICK_LABEL_SIZE))
             .x_label_formatter(&tick_label)
             .y_label_formatter(&tick_label)
@@ -320,6 +318,14 @@ impl Panel {
             .light_line_style(RGBColor(242, 242, 242))
             .axis_style(BLACK.stroke_width(style::LINE_WIDTH))
             .draw()?;
+        // Axis names typeset (sub- and superscripts), below and left of the plotting area.
+        let base = area.get_base_pixel();
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let (_, height) = area.dim_in_pixel();
+        let size = style::AXIS_LABEL_SIZE;
+        let centre_x = (xr.start + xr.end) / 2 - base.0;
+        typeset(area, &self.x.label, (centre_x, height as i32 - 24), size, HPos::Center, false)?;
+        typeset(area, &self.y.label, (22, (yr.start + yr.end) / 2 - base.1), size, HPos::Center, true)?;
 
         let (xa, ya) = (&self.x, &self.y);
         let shown = |&(px, py): &(f64, f64)| xa.shows(px) && ya.shows(py);
@@ -391,34 +397,139 @@ impl Panel {
                 }
             }
         }
-        if self.legend.is_some() && self.legend_beside > 0 {
-            // Beside the axes, outside the plotting area (which clips what is drawn on it),
-            // in the order the series were pushed.
-            let base = area.get_base_pixel();
-            let (xr, yr) = chart.plotting_area().get_pixel_range();
-            let x = xr.end - base.0 + 20;
-            let font = (style::FONT, style::LEGEND_SIZE).into_font().into_text_style(area);
-            let font = font.pos(Pos::new(HPos::Left, VPos::Center));
-            let labelled = self.series.iter().filter_map(|s| s.label.as_ref().map(|l| (s, l)));
-            for (k, (s, label)) in labelled.enumerate() {
-                let y = yr.start - base.1 + 14 + (k as f64 * style::LEGEND_SIZE * 1.55) as i32;
-                area.draw(&legend_glyph(&s.shape, s.colour.mix(s.opacity), x, y))?;
-                area.draw_text(label, &font, (x + 34, y))?;
+        let labelled: Vec<(&Series, &String)> =
+            self.series.iter().filter_map(|s| s.label.as_ref().map(|l| (s, l))).collect();
+        if let (Some(position), false) = (&self.legend, labelled.is_empty()) {
+            // Entries in the order the series were pushed, labels typeset; beside the axes
+            // (outside the plotting area, which clips what is drawn on it) or in a corner.
+            let line = (style::LEGEND_SIZE * 1.55) as i32;
+            let widths = labelled
+                .iter()
+                .map(|(_, l)| typeset_width(area, l, style::LEGEND_SIZE))
+                .collect::<Result<Vec<i32>, _>>()?;
+            let (w, h) = (widths.iter().max().copied().unwrap_or(0) + 34 + 20, labelled.len() as i32 * line + 12);
+            let (left, top) = (xr.start - base.0, yr.start - base.1);
+            let (right, bottom) = (xr.end - base.0, yr.end - base.1);
+            let (x, y) = if self.legend_beside > 0 {
+                (right + 20, top)
+            } else {
+                match position {
+                    SeriesLabelPosition::UpperLeft => (left + 12, top + 12),
+                    SeriesLabelPosition::LowerLeft => (left + 12, bottom - h - 12),
+                    SeriesLabelPosition::LowerRight => (right - w - 12, bottom - h - 12),
+                    _ => (right - w - 12, top + 12),
+                }
+            };
+            if self.legend_beside == 0 {
+                area.draw(&Rectangle::new([(x, y), (x + w, y + h)], WHITE.mix(0.88).filled()))?;
+                area.draw(&Rectangle::new([(x, y), (x + w, y + h)], BLACK.mix(0.6).stroke_width(1)))?;
             }
-        } else if let Some(position) = &self.legend {
-            if self.series.iter().any(|s| s.label.is_some()) {
-                chart
-                    .configure_series_labels()
-                    .position(position.clone())
-                    .margin(12)
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK.mix(0.6))
-                    .label_font((style::FONT, style::LEGEND_SIZE))
-                    .draw()?;
+            for (k, (s, label)) in labelled.iter().enumerate() {
+                let ly = y + 6 + line / 2 + k as i32 * line;
+                area.draw(&legend_glyph(&s.shape, s.colour.mix(s.opacity), x + 8, ly))?;
+                typeset(area, label, (x + 42, ly), style::LEGEND_SIZE, HPos::Left, false)?;
             }
         }
         Ok(())
     }
+}
+
+/// Pieces of typeset text: base line, subscript or superscript.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Level {
+    Base,
+    Sub,
+    Super,
+}
+
+/// `text` cut into pieces at `_x` and `^x` (one character) or `_{…}` and `^{…}`, as TeX
+/// writes sub- and superscripts: "μ_S", "N^μ/N", "n^{tot}".
+fn pieces(text: &str) -> Vec<(String, Level)> {
+    let mut out = Vec::new();
+    let mut base = String::new();
+    let mut chars = text.chars();
+    while let Some(c) = chars.next() {
+        let level = match c {
+            '_' => Level::Sub,
+            '^' => Level::Super,
+            _ => {
+                base.push(c);
+                continue;
+            }
+        };
+        let mut script = String::new();
+        match chars.next() {
+            Some('{') => script.extend(chars.by_ref().take_while(|d| *d != '}')),
+            Some(d) => script.push(d),
+            None => {
+                base.push(c);
+                continue;
+            }
+        }
+        if !base.is_empty() {
+            out.push((std::mem::take(&mut base), Level::Base));
+        }
+        out.push((script, level));
+    }
+    if !base.is_empty() {
+        out.push((base, Level::Base));
+    }
+    out
+}
+
+fn piece_font(level: Level, size: f64) -> FontDesc<'static> {
+    let size = if level == Level::Base { size } else { size * 0.72 };
+    (style::FONT, size).into_font()
+}
+
+/// The width [px] of `text` typeset at `size`.
+pub(super) fn typeset_width<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    size: f64,
+) -> Result<i32, DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut width = 0;
+    for (t, level) in pieces(text) {
+        width += area.estimate_text_size(&t, &piece_font(level, size).into_text_style(area))?.0 as i32;
+    }
+    Ok(width)
+}
+
+/// Draw `text` with its sub- and superscripts typeset (see [`pieces`]) at `pos` [px] on
+/// `area`, centred across the line and anchored along it by `along`; reading upwards when
+/// `vertical` (an axis name on the left).
+pub(super) fn typeset<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    pos: (i32, i32),
+    size: f64,
+    along: HPos,
+    vertical: bool,
+) -> DrawResult<DB> {
+    let total = typeset_width(area, text, size)?;
+    let mut advance = match along {
+        HPos::Left => 0,
+        HPos::Center => -total / 2,
+        HPos::Right => -total,
+    };
+    for (t, level) in pieces(text) {
+        let shift = match level {
+            Level::Base => 0,
+            Level::Sub => (size * 0.28) as i32,
+            Level::Super => -(size * 0.38) as i32,
+        };
+        let font = piece_font(level, size);
+        let width = area.estimate_text_size(&t, &font.clone().into_text_style(area))?.0 as i32;
+        let style = font.into_text_style(area).pos(Pos::new(HPos::Left, VPos::Center));
+        if vertical {
+            let style = style.transform(FontTransform::Rotate270);
+            area.draw_text(&t, &style, (pos.0 + shift, pos.1 - advance))?;
+        } else {
+            area.draw_text(&t, &style, (pos.0 + advance, pos.1 + shift))?;
+        }
+        advance += width;
+    }
+    Ok(())
 }
 
 impl Draw for Panel {
@@ -513,6 +624,37 @@ impl Draw for Figure {
         let areas = area.split_by_breakpoints::<i32, i32, _, _>([], breaks);
         for ((panel, _), sub) in self.rows.iter().zip(&areas) {
             panel.draw(sub)?;
+        }
+        Ok(())
+    }
+}
+
+/// Panels side by side in rows of `columns`, each in an equal cell.
+#[derive(Clone, Debug)]
+pub struct Grid {
+    size: (u32, u32),
+    columns: usize,
+    panels: Vec<Panel>,
+}
+
+impl Grid {
+    /// `panels` in rows of `columns` on a `size` px canvas.
+    pub fn new(panels: Vec<Panel>, columns: usize, size: (u32, u32)) -> Self {
+        assert!(columns > 0 && !panels.is_empty(), "a grid needs panels and columns");
+        Grid { size, columns, panels }
+    }
+}
+
+impl Draw for Grid {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let rows = self.panels.len().div_ceil(self.columns);
+        let cells = area.split_evenly((rows, self.columns));
+        for (panel, cell) in self.panels.iter().zip(&cells) {
+            panel.draw(cell)?;
         }
         Ok(())
     }

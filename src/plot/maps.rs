@@ -177,7 +177,9 @@ pub(super) fn map_chart<'a, DB: DrawingBackend>(
         .x_label_area_size(X_LABELS)
         .y_label_area_size(Y_LABELS)
         .build_cartesian_2d(view.x.0..view.x.1, view.y.0..view.y.1)?;
-    let label = move |v: &f64| tick_label(&(v * scale));
+    // Ticks a rounding error away from zero ("-4.2e-16") read 0.
+    let tiny = 1e-9 * view.width().max(view.height()) * scale;
+    let label = move |v: &f64| tick_label(&if (v * scale).abs() < tiny { 0.0 } else { v * scale });
     let (x_desc, y_desc) = if named { (format!("x [{unit}]"), format!("y [{unit}]")) } else { Default::default() };
     chart
         .configure_mesh()
@@ -357,6 +359,10 @@ pub(super) fn text<DB: DrawingBackend>(
     size: f64,
     anchor: (HPos, VPos),
 ) -> DrawResult<DB> {
+    if matches!(anchor.1, VPos::Center) {
+        // Typeset: sub- and superscripts ("μ^S", "δ/δ_{peak}").
+        return super::figure::typeset(area, s, pos, size, anchor.0, false);
+    }
     let style = (style::FONT, size).into_font().into_text_style(area).pos(Pos::new(anchor.0, anchor.1));
     area.draw_text(s, &style, pos)
 }
@@ -406,13 +412,6 @@ pub(super) fn swatches<DB: DrawingBackend>(
     Ok(())
 }
 
-/// A message centred on `area`, for a panel without data.
-pub(super) fn no_data<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, message: &str) -> DrawResult<DB> {
-    let (w, h) = area.dim_in_pixel();
-    area.draw(&Rectangle::new([(10, 10), (w as i32 - 10, h as i32 - 10)], style::GREY.mix(0.6).stroke_width(1)))?;
-    text(area, message, (w as i32 / 2, h as i32 / 2), LABEL, (HPos::Center, VPos::Center))
-}
-
 /// A fraction as a percentage, with two significant digits below 10 %: "84.2 %", "0.025 %".
 fn percent(f: f64) -> String {
     let p = 100.0 * f;
@@ -435,17 +434,32 @@ fn scale_bar_length(width: f64) -> f64 {
 /// Contact maps (Fig. S4): the whole window at each of the figure loads, contact pixels coloured
 /// by pressure on one scale; where the contact is small beside the window an inset zooms into it.
 pub(super) struct ContactMaps<'a> {
-    /// (target load [N], the snapshot nearest it if close enough).
+    /// (target load [N], the snapshot nearest it if close enough); loads without one get no
+    /// panel.
     pub panels: Vec<(f64, Option<&'a MapSnapshot>)>,
+}
+
+impl ContactMaps<'_> {
+    /// (columns, rows) of the panels: 2 × 2 for four, else one row.
+    fn layout(&self) -> (usize, usize) {
+        let n = self.panels.iter().filter(|p| p.1.is_some()).count().max(1);
+        if n == 4 {
+            (2, 2)
+        } else {
+            (n, 1)
+        }
+    }
 }
 
 impl Draw for ContactMaps<'_> {
     fn size(&self) -> (u32, u32) {
-        (1400, 1480)
+        let (columns, rows) = self.layout();
+        (700 * columns as u32, 56 + 712 * rows as u32 + 120)
     }
 
     fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
         let maps: Vec<&MapSnapshot> = self.panels.iter().filter_map(|p| p.1).collect();
+        let (columns, rows) = self.layout();
         let p_max = maps.iter().flat_map(|m| m.pressure.iter()).fold(0.0f64, |a, &b| a.max(b));
         let (p_scale, p_unit) = prefixed(p_max, "Pa");
         let (head, rest) = area.split_vertically(56);
@@ -459,14 +473,8 @@ impl Draw for ContactMaps<'_> {
         )?;
         let (grid, bar) = rest.split_vertically(rest.dim_in_pixel().1 - 120);
         let letters = ["a", "b", "c", "d", "e", "f"];
-        for (k, (cell, (target, snap))) in grid.split_evenly((2, 2)).iter().zip(&self.panels).enumerate() {
+        for (k, (cell, snap)) in grid.split_evenly((rows, columns)).iter().zip(&maps).enumerate() {
             let (title, body) = cell.split_vertically(40);
-            let Some(snap) = snap else {
-                let name = format!("({}) N ≈ {}", letters[k % 6], load_label(*target));
-                text(&title, &name, (title.dim_in_pixel().0 as i32 / 2, 22), HEADING, (HPos::Center, VPos::Center))?;
-                no_data(&body.margin(10, 10, 10, 10), &format!("no solve near {} in this study", load_label(*target)))?;
-                continue;
-            };
             let points = snap.pressure.iter().filter(|p| **p > 0.0).count();
             let heading = format!(
                 "({}) N = {}: {points} contact pixel{}",
@@ -491,7 +499,7 @@ impl Draw for ContactMaps<'_> {
                 .filter(small)
                 .or_else(|| Some(View::main_patch(snap)).filter(|v| sparse && small(v)));
             if let Some(zoom) = zoom {
-                inset(&chart, plot, zoom, &layer, colour)?;
+                inset(&chart, window, zoom, &layer, colour)?;
             }
         }
         colour_bar(
@@ -503,23 +511,48 @@ impl Draw for ContactMaps<'_> {
     }
 }
 
-/// An inset on the corner of `chart`'s plotting area farthest from `zoom` showing `zoom` at
-/// full resolution, with a scale bar, and the zoomed region marked on the main map.
+/// An inset in the corner of the window `frame` (inside it) that hides the fewest drawn
+/// pixels of `layer` (the farthest from `zoom` among equals), showing `zoom` at full resolution
+/// with a scale bar, and the zoomed region marked on the main map.
 fn inset<DB: DrawingBackend>(
     chart: &MapChart<'_, DB>,
-    plot: (u32, u32),
+    frame: View,
     zoom: View,
     layer: &Layer,
     colour: impl Fn(f64) -> RGBColor,
 ) -> DrawResult<DB> {
     let plotting = chart.plotting_area();
     let base = plotting.get_base_pixel();
-    let side = (plot.0.min(plot.1) as f64 * 0.42) as i32;
-    let pad = 10;
-    let centre = chart.backend_coord(&(0.5 * (zoom.x.0 + zoom.x.1), 0.5 * (zoom.y.0 + zoom.y.1)));
-    let (cx, cy) = (centre.0 - base.0, centre.1 - base.1);
-    let left = if cx > plot.0 as i32 / 2 { pad } else { plot.0 as i32 - side - pad };
-    let top = if cy > plot.1 as i32 / 2 { pad } else { plot.1 as i32 - side - pad };
+    let at = |x: f64, y: f64| {
+        let p = chart.backend_coord(&(x, y));
+        (p.0 - base.0, p.1 - base.1)
+    };
+    let ((fx0, fy0), (fx1, fy1)) = (at(frame.x.0, frame.y.1), at(frame.x.1, frame.y.0));
+    let side = (((fx1 - fx0).min(fy1 - fy0)) as f64 * 0.42) as i32;
+    let pad = 8;
+    let centre = at(0.5 * (zoom.x.0 + zoom.x.1), 0.5 * (zoom.y.0 + zoom.y.1));
+    // Drawn pixels (screen) of the layer, to count what each corner would hide.
+    let (dx, dy) = layer.pixel;
+    let drawn: Vec<(i32, i32)> = layer
+        .values
+        .indexed_iter()
+        .filter(|(_, v)| !v.is_nan())
+        .map(|((r, c), _)| at((layer.origin.1 + c) as f64 * dx + 0.5 * dx, (layer.origin.0 + r) as f64 * dy + 0.5 * dy))
+        .collect();
+    let corners = [
+        (fx0 + pad, fy0 + pad),
+        (fx1 - side - pad, fy0 + pad),
+        (fx0 + pad, fy1 - side - pad),
+        (fx1 - side - pad, fy1 - side - pad),
+    ];
+    let hidden = |(l, t): (i32, i32)| {
+        drawn.iter().filter(|(x, y)| (l - 12..l + side + 12).contains(x) && (t - 12..t + side + 12).contains(y)).count()
+    };
+    let far = |(l, t): (i32, i32)| -(((l + side / 2 - centre.0) as f64).hypot((t + side / 2 - centre.1) as f64));
+    let (left, top) = corners
+        .into_iter()
+        .min_by(|a, b| hidden(*a).cmp(&hidden(*b)).then(far(*a).total_cmp(&far(*b))))
+        .expect("four corners");
     let screen = plotting.strip_coord_spec();
 
     // The zoomed region on the main map, at least 14 px wide so that it is seen.
@@ -570,7 +603,7 @@ impl Draw for ClassMap<'_> {
         text(
             &head,
             &format!(
-                "Element classes at the critical state, N = {} ({}: μ_s = {}, μ_d = {})",
+                "Element classes at the critical state, N = {} ({}: μ^S = {}, μ^D = {})",
                 load_label(snap.load_n),
                 self.law_name,
                 tick_label(&law.mu_s),
@@ -585,18 +618,24 @@ impl Draw for ClassMap<'_> {
         // Priorities where a screen pixel shows several elements: the rare critical ones first.
         let priority = |class: ElementClass| match class {
             ElementClass::Critical => 3.0,
-            ElementClass::PreSliding => 2.0,
-            ElementClass::Subcritical => 1.0,
+            ElementClass::Subcritical => 2.0,
+            ElementClass::PreSliding => 1.0,
             ElementClass::NoContact => f64::NAN,
         };
         let values = snap.pressure.mapv(|p| if p > 0.0 { priority(onset.class_of(p * area_px)) } else { f64::NAN });
         let colour = |v: f64| match v as i32 {
             3 => style::CRITICAL,
-            2 => style::PRE_SLIDING,
-            _ => style::SUBCRITICAL,
+            2 => style::SUBCRITICAL,
+            _ => style::PRE_SLIDING,
         };
         let (chart, view, plot) = map_chart(&map, View::contact(snap), true)?;
-        draw_layer(&chart, view, plot, &Layer::on(snap, &values), colour)?;
+        let layer = Layer::on(snap, &values);
+        draw_layer(&chart, view, plot, &layer, colour)?;
+        // Where a screen pixel shows several elements, the most loaded patch at full resolution.
+        let patch = View::main_patch(snap);
+        if patch.width().max(patch.height()) < 0.3 * view.width().min(view.height()) {
+            inset(&chart, view, patch, &layer, colour)?;
+        }
         // A few critical elements among thousands would be lost: ring each.
         if onset.critical.count <= 50 {
             let (dx, dy) = snap.pixel_size;
@@ -612,16 +651,16 @@ impl Draw for ClassMap<'_> {
         let m = onset.elements as f64;
         let share = |c: usize| format!("{c} ({})", percent(c as f64 / m));
         let mut entries = vec![
-            (style::CRITICAL, format!("critical (μ = μ_s): {}", share(onset.critical.count))),
-            (style::PRE_SLIDING, format!("pre-sliding (μ = μ_d): {}", share(onset.pre_sliding.count))),
-            (style::SUBCRITICAL, format!("subcritical (μ_0 < μ_s): {}", share(onset.subcritical.count))),
+            (style::CRITICAL, format!("critical (μ = μ^S): {}", share(onset.critical.count))),
+            (style::PRE_SLIDING, format!("pre-sliding (μ = μ^D): {}", share(onset.pre_sliding.count))),
+            (style::SUBCRITICAL, format!("subcritical (μ^0 < μ^S): {}", share(onset.subcritical.count))),
         ];
         entries.push((WHITE, "no contact".to_string()));
         let legend = side.margin(60, 0, 10, 10);
         swatches(&legend, &entries, LABEL * 0.95)?;
         let notes = [
             format!("{} elements, F_S/N = {:.4}", onset.elements, onset.static_coefficient()),
-            format!("friction drop F_S/(μ_d N) = {:.4}", onset.friction_drop()),
+            format!("friction drop F_S/(μ^D N) = {:.4}", onset.friction_drop()),
             if onset.critical.count <= 50 { "critical elements ringed".to_string() } else { String::new() },
         ];
         for (k, note) in notes.iter().enumerate() {
@@ -636,7 +675,7 @@ impl Draw for ClassMap<'_> {
 /// in the pre-sliding colour.
 pub(super) struct RatioSnapshots<'a> {
     /// (target load [N], the snapshot and its onset, if any).
-    pub columns: Vec<(f64, Option<(&'a MapSnapshot, Onset)>)>,
+    pub columns: Vec<(&'a MapSnapshot, Onset)>,
     /// δ/δ_peak of the rows, each in (0, 1].
     pub fractions: Vec<f64>,
     pub law: FrictionLaw,
@@ -659,7 +698,7 @@ impl Draw for RatioSnapshots<'_> {
         text(
             &head,
             &format!(
-                "Local stress ratio as the displacement grows ({}: μ_s = {}, μ_d = {})",
+                "Local stress ratio as the displacement grows ({}: μ^S = {}, μ^D = {})",
                 self.law_name,
                 tick_label(&self.law.mu_s),
                 tick_label(&self.law.mu_d)
@@ -670,45 +709,35 @@ impl Draw for RatioSnapshots<'_> {
         )?;
         let (col_heads, rest) = rest.split_vertically(COLUMN_HEADER);
         let (rows_area, bottom) = rest.split_vertically(self.fractions.len() as u32 * CELL);
-        for (j, (target, column)) in self.columns.iter().enumerate() {
+        for (j, (snap, onset)) in self.columns.iter().enumerate() {
             let x = (ROW_HEADER + j as u32 * CELL + CELL / 2) as i32;
-            let (heading, zoom) = match column {
-                Some((snap, onset)) => (
-                    format!("N = {}, {} elements", load_label(snap.load_n), onset.elements),
-                    if View::detail(snap, CELL - 90).1 { "zoom: most loaded patch" } else { "whole contact" },
-                ),
-                None => (format!("N ≈ {}", load_label(*target)), ""),
-            };
+            let heading = format!("N = {}, {} elements", load_label(snap.load_n), onset.elements);
+            let zoom = if View::detail(snap, CELL - 90).1 { "zoom: most loaded patch" } else { "whole contact" };
             text(&col_heads, &heading, (x, 16), LABEL, (HPos::Center, VPos::Center))?;
             text(&col_heads, zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
         }
-        let layers: Vec<Option<(&MapSnapshot, &Onset, View)>> =
-            self.columns.iter().map(|(_, c)| c.as_ref().map(|(s, o)| (*s, o, View::detail(s, CELL - 90).0))).collect();
+        let layers: Vec<(&MapSnapshot, &Onset, View)> =
+            self.columns.iter().map(|(s, o)| (*s, o, View::detail(s, CELL - 90).0)).collect();
         for (i, f) in self.fractions.iter().enumerate() {
             let row = rows_area.clone().shrink((0, i as u32 * CELL), (w, CELL));
             let (label, cells) = row.split_horizontally(ROW_HEADER);
             let y = CELL as i32 / 2;
             text(
                 &label,
-                &format!("δ/δ_peak = {}", tick_label(f)),
+                &format!("δ/δ_{{peak}} = {}", tick_label(f)),
                 (ROW_HEADER as i32 / 2, y),
                 LABEL,
                 (HPos::Center, VPos::Center),
             )?;
-            for (j, column) in layers.iter().enumerate() {
+            for (j, (snap, onset, view)) in layers.iter().enumerate() {
                 let cell = cells.clone().shrink((j as u32 * CELL, 0), (CELL, CELL));
-                match column {
-                    Some((snap, onset, view)) => {
-                        let values = ratio_layer(snap, onset, *f);
-                        let (chart, fitted, plot) = map_chart(&cell, *view, false)?;
-                        let mu_s = self.law.mu_s;
-                        draw_layer(&chart, fitted, plot, &Layer::on(snap, &values), |v| ratio_value_colour(v, mu_s))?;
-                        let (_, unit) = fitted.unit();
-                        let corner = chart.plotting_area().strip_coord_spec();
-                        text(&corner, &format!("[{unit}]"), (plot.0 as i32 - 6, 6), TICK, (HPos::Right, VPos::Top))?;
-                    }
-                    None => no_data(&cell.margin(10, 10, 10, 10), "no solve near this load")?,
-                }
+                let values = ratio_layer(snap, onset, *f);
+                let (chart, fitted, plot) = map_chart(&cell, *view, false)?;
+                let mu_s = self.law.mu_s;
+                draw_layer(&chart, fitted, plot, &Layer::on(snap, &values), |v| ratio_value_colour(v, mu_s))?;
+                let (_, unit) = fitted.unit();
+                let corner = chart.plotting_area().strip_coord_spec();
+                text(&corner, &format!("x, y [{unit}]"), (plot.0 as i32 - 6, 6), TICK, (HPos::Right, VPos::Top))?;
             }
         }
         ratio_key(&bottom.margin(10, 10, ROW_HEADER as i32, 20), &self.law)
@@ -721,10 +750,10 @@ pub(super) fn ratio_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, law: 
     let (w, _) = area.dim_in_pixel();
     let (bar, side) = area.split_horizontally((w as f64 * 0.62) as u32);
     let mu_s = law.mu_s;
-    colour_bar(&bar, (0.0, mu_s), "stress ratio of stuck elements (μ_s: critical)", ratio_colour)?;
+    colour_bar(&bar, (0.0, mu_s), "stress ratio of stuck elements (μ^S: critical)", ratio_colour)?;
     swatches(
         &side.margin(6, 0, 20, 0),
-        &[(style::PRE_SLIDING, format!("slipped: μ_d = {} (pre-sliding)", tick_label(&law.mu_d)))],
+        &[(style::PRE_SLIDING, format!("slipped: μ^D = {} (pre-sliding)", tick_label(&law.mu_d)))],
         TICK,
     )
 }

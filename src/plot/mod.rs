@@ -6,7 +6,9 @@
 //!
 //! [`study::render`] draws a numerical study's figures, movies and report.
 
+mod coefficients;
 mod figure;
+mod histograms;
 mod maps;
 mod movie;
 mod report;
@@ -17,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Marker, Panel, Series, Shape};
+pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Grid, Marker, Panel, Series, Shape};
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;
 

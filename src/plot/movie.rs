@@ -57,7 +57,7 @@ impl Draw for Frame<'_> {
         let law = &self.onset.law;
         let (head, rest) = area.split_vertically(110);
         let title = format!(
-            "N = {}, {} (μ_s = {}, μ_d = {})",
+            "N = {}, {} (μ^S = {}, μ^D = {})",
             super::maps::load_label(self.snap.load_n),
             self.law_name,
             tick_label(&law.mu_s),
@@ -71,7 +71,7 @@ impl Draw for Frame<'_> {
         let slipped = values.iter().filter(|v| **v < 0.0).count();
         let force = force_at(self.curve, self.fraction);
         let state = format!(
-            "δ/δ_peak = {:.3}   F/N = {:.4}   slipped {slipped} of {}   [frame {}/{}]",
+            "δ/δ_{{peak}} = {:.3}   F/N = {:.4}   slipped {slipped} of {}   [frame {}/{}]",
             self.fraction,
             force,
             self.onset.elements,
@@ -89,7 +89,7 @@ impl Draw for Frame<'_> {
 
         let top = self.curve.iter().fold(law.mu_s, |m, p| m.max(p.1)) * 1.08;
         let mut panel = Panel::new(
-            Axis::dimensionless("δ/δ_peak").range(0.0, END_STEPS as f64 / STEPS as f64),
+            Axis::dimensionless("δ/δ_{peak}").range(0.0, END_STEPS as f64 / STEPS as f64),
             Axis::dimensionless("F/N").range(0.0, top),
         );
         panel.push(Series::line(self.curve.to_vec(), style::PALETTE[0]));

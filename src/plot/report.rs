@@ -15,6 +15,10 @@ use crate::study::{law_name, FigureInput, FigureKind, Row};
 fn heading(kind: FigureKind) -> (&'static str, &'static str) {
     match kind {
         FigureKind::FrictionDrop => ("Friction drop vs normal load", "Fig. 2"),
+        FigureKind::StaticDynamicCoefficients => ("Static and dynamic friction coefficients", "Fig. S1"),
+        FigureKind::Resolution => ("Friction drop vs pixel size", "the element size"),
+        FigureKind::HoldTime => ("Friction drop vs hold time", "aging, Fig. 2's two hold times"),
+        FigureKind::StressRatioHistograms => ("Distributions of the local stress ratio", "Fig. 4b–e"),
         FigureKind::PressureDistribution => ("Distribution of the local normal stress", "Fig. 3"),
         FigureKind::ContactMaps => ("Contact maps", "Fig. S4"),
         FigureKind::ClassMap => ("Element classes at the critical state", "Fig. 4f"),
@@ -114,11 +118,11 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
 
     results(w, input);
     laws(w, input);
-    let parameters = serde_json::to_string_pretty(input.parameters).unwrap_or_else(|e| format!("({e})"));
+    limits(w);
     let _ = writeln!(
         w,
-        "<h2 id=\"parameters\">Parameters</h2>\n<p>The study as run:</p>\n<pre>{}</pre>",
-        escape(&parameters)
+        "<h2 id=\"parameters\">Parameters</h2>\n<p>The study as run (<code>study.toml</code>):</p>\n<pre>{}</pre>",
+        escape(input.parameters)
     );
 
     for d in drawn.iter().filter(|d| !d.images.is_empty()) {
@@ -142,7 +146,7 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
     crate::output::write_atomic(path, |out| out.write_all(h.as_bytes()))
 }
 
-/// The friction drop per law at each load: mean ± half the range over the topographies.
+/// The friction drop per law at each load: its range over the topographies.
 fn results(w: &mut String, input: &FigureInput) {
     let _ = writeln!(w, "<h2 id=\"results\">Results</h2>");
     let columns: Vec<(String, Vec<(f64, Vec<&Row>)>)> =
@@ -156,9 +160,9 @@ fn results(w: &mut String, input: &FigureInput) {
     }
     let _ = writeln!(
         w,
-        "<p>Friction drop F<sub>S</sub>/(μ<sub>d</sub> N) per law and normal load: the mean over the {} \
-         topograph{} ± half their range. The full table is in <code>results.csv</code>.</p>\n<table>\n<tr>\
-         <th>normal load</th><th>contact elements (mean)</th>",
+        "<p>Friction drop F<sub>S</sub>/(μ<sup>D</sup> N) per law and normal load: the lowest and highest \
+         value over the {} topograph{}, and the contact elements likewise. The full table is in \
+         <code>results.csv</code>.</p>\n<table>\n<tr><th>normal load</th><th>contact elements</th>",
         input.topographies.len(),
         if input.topographies.len() == 1 { "y" } else { "ies" }
     );
@@ -169,14 +173,23 @@ fn results(w: &mut String, input: &FigureInput) {
     for load in loads {
         let at = |groups: &[(f64, Vec<&Row>)]| groups.iter().position(|g| (g.0 / load - 1.0).abs() < 1e-9);
         let points = columns.iter().find_map(|c| at(&c.1).map(|k| &c.1[k].1)).map_or(String::from("–"), |rows| {
-            format!("{:.0}", spread(rows.iter().map(|r| r.contact_points as f64)).1)
+            let (lo, _, hi) = spread(rows.iter().map(|r| r.contact_points as f64));
+            if lo == hi {
+                format!("{lo:.0}")
+            } else {
+                format!("{lo:.0}–{hi:.0}")
+            }
         });
         let _ = write!(w, "<tr><td>{}</td><td>{points}</td>", load_label(load));
         for (_, groups) in &columns {
             match at(groups).map(|k| &groups[k].1) {
                 Some(rows) => {
-                    let (lo, mean, hi) = spread(rows.iter().map(|r| r.friction_drop));
-                    let _ = write!(w, "<td>{mean:.4} ± {:.4}</td>", (hi - lo) / 2.0);
+                    let (lo, _, hi) = spread(rows.iter().map(|r| r.friction_drop));
+                    if format!("{lo:.4}") == format!("{hi:.4}") {
+                        let _ = write!(w, "<td>{lo:.4}</td>");
+                    } else {
+                        let _ = write!(w, "<td>{lo:.4}–{hi:.4}</td>");
+                    }
                 }
                 None => {
                     let _ = write!(w, "<td>–</td>");
@@ -186,6 +199,23 @@ fn results(w: &mut String, input: &FigureInput) {
         let _ = writeln!(w, "</tr>");
     }
     let _ = writeln!(w, "</table>");
+}
+
+/// The model's assumptions, as the paper states them.
+fn limits(w: &mut String) {
+    let _ = writeln!(
+        w,
+        "<h2 id=\"limits\">Limits of the model</h2>\n<ul>\n\
+         <li>No elastic interaction between contact points: the tangential force is shared equally by the \
+         stuck elements (a fibre bundle with equal load sharing), as the paper argues for patches far apart \
+         beside their deformation; it may fail at high loads where patches come close.</li>\n\
+         <li>No Mindlin tangential compliance: an element is stuck or slipping, with no partial slip inside a \
+         patch.</li>\n\
+         <li>The contact area and the normal pressure stay fixed during sliding.</li>\n\
+         <li>Elastic contact: local pressures above the hardness are not capped unless the study sets one.</li>\n\
+         <li>The pixel is the model's element: results depend on the pixel size (see the resolution figure); \
+         a study on a coarser grid (<code>--quick</code>) gives other numbers.</li>\n</ul>"
+    );
 }
 
 /// The friction laws, with the warning that presets are not measurements.

@@ -13,10 +13,10 @@ use rayon::prelude::*;
 
 use super::maps::{load_label, ClassMap, ContactMaps, RatioSnapshots};
 use super::movie::{scaled_curve, write_movie};
+use super::{coefficients, histograms};
 use super::{style, tick_label, write_figure, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Loading, Onset};
-use crate::shs::ShsPoint;
 use crate::study::{law_name, FigureInput, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
 
 /// A snapshot stands for a figure load when it lies within half a decade of it.
@@ -24,11 +24,8 @@ const NEAR_DECADES: f64 = 0.5;
 
 /// Colours of the figure loads 0.1, 1, 10, 100 mN: the p(σ) curves and their lines on the
 /// friction-drop figure (dark to light, as the paper's black to yellow).
-const LOAD_COLOURS: [RGBColor; 4] =
+pub(super) const LOAD_COLOURS: [RGBColor; 4] =
     [RGBColor(25, 25, 25), RGBColor(120, 50, 160), RGBColor(215, 120, 20), RGBColor(40, 140, 190)];
-
-/// A measured point belongs to the law of its hold time when the two agree within this factor.
-const HOLD_MATCH: f64 = 1.25;
 
 /// What became of one requested figure.
 pub(super) struct Drawn {
@@ -71,6 +68,10 @@ pub fn render(dir: &Path, input: &FigureInput) -> Result<Vec<PathBuf>> {
 pub(super) fn stem(kind: FigureKind) -> &'static str {
     match kind {
         FigureKind::FrictionDrop => "friction-drop",
+        FigureKind::StaticDynamicCoefficients => "static-dynamic-coefficients",
+        FigureKind::Resolution => "resolution",
+        FigureKind::HoldTime => "hold-time",
+        FigureKind::StressRatioHistograms => "stress-ratio-histograms",
         FigureKind::PressureDistribution => "pressure-distribution",
         FigureKind::ContactMaps => "contact-maps",
         FigureKind::ClassMap => "class-map",
@@ -107,9 +108,28 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
     };
     let name = stem(kind);
     match kind {
-        FigureKind::FrictionDrop => match friction_drop(input) {
+        FigureKind::FrictionDrop => match coefficients::friction_drop(input) {
             Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
             None => drawn.notes.push("no result rows to draw the friction drop from".into()),
+        },
+        FigureKind::StaticDynamicCoefficients => match coefficients::static_dynamic(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("no result rows to draw the coefficients from".into()),
+        },
+        FigureKind::Resolution => match coefficients::resolution(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("no solves at coarser pixels".into()),
+        },
+        FigureKind::HoldTime => match coefficients::hold_time(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("fewer than two laws with a hold time, or no load near the chosen ones".into()),
+        },
+        FigureKind::StressRatioHistograms => match first_law {
+            Some(law) => {
+                let (fig, caption) = histograms::stress_ratio_histograms(nearest(input.maps, 1e-2), law)?;
+                figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?;
+            }
+            None => drawn.notes.push("no friction law".into()),
         },
         FigureKind::PressureDistribution => match pressure_distribution(input) {
             Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
@@ -169,12 +189,17 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                 drawn.notes.push(format!("δ/δ_peak outside (0, 1] left out: {bad:?}"));
             }
             let mut columns = Vec::new();
+            let mut panels = Vec::new();
             for &target in &FIGURE_LOADS_N[..3] {
                 let snap = nearest(input.maps, target);
-                columns.push((target, snap.map(|s| onset_of(s, law).map(|(_, o)| (s, o))).transpose()?));
+                panels.push((target, snap));
+                // No empty columns: a load without a map is said in the report only.
+                if let Some(s) = snap {
+                    columns.push((s, onset_of(s, law)?.1));
+                }
             }
-            note_missing(&mut drawn, &columns.iter().map(|(t, c)| (*t, c.as_ref().map(|c| c.0))).collect::<Vec<_>>());
-            if fractions.is_empty() || columns.iter().all(|c| c.1.is_none()) {
+            note_missing(&mut drawn, &panels);
+            if fractions.is_empty() || columns.is_empty() {
                 drawn.notes.push("nothing to show: no snapshot fraction or no map near 0.1, 1 or 10 mN".into());
             } else {
                 let list: Vec<String> = fractions.iter().map(tick_label).collect();
@@ -228,7 +253,7 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
 fn note_missing(drawn: &mut Drawn, panels: &[(f64, Option<&MapSnapshot>)]) {
     for (target, snap) in panels {
         if snap.is_none() {
-            drawn.notes.push(format!("no pressure map near {}: its panel says so", load_label(*target)));
+            drawn.notes.push(format!("no pressure map near {}: no panel", load_label(*target)));
         }
     }
 }
@@ -256,115 +281,6 @@ pub(super) fn spread(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
     (lo, sum / n as f64, hi)
 }
 
-/// The hold time [s] a law's name states ("hold 100 s", "100s hold"), if any.
-fn hold_time(name: &str) -> Option<f64> {
-    let words: Vec<&str> = name.split_whitespace().collect();
-    words.iter().enumerate().find_map(|(i, w)| match w.strip_suffix('s') {
-        Some(number) if !number.is_empty() => number.parse().ok(),
-        _ if words.get(i + 1) == Some(&"s") => w.parse().ok(),
-        _ => None,
-    })
-}
-
-/// The colour of the law at `index`: black, red, … as the paper's 100 s and 10 s hold times.
-fn law_colour(index: usize) -> RGBColor {
-    style::PALETTE[index % style::PALETTE.len()]
-}
-
-/// Friction drop vs load (Fig. 2).
-fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
-    let mut series = Vec::new();
-    let mut levels: Vec<f64> = Vec::new();
-    let mut measured: Vec<Option<&ShsPoint>> = input.experiments.iter().map(Some).collect();
-    let topographies = input.topographies.len();
-    for (i, law) in input.laws.iter().enumerate() {
-        let name = law_name(law);
-        let groups = by_load(input.rows, &name);
-        if groups.is_empty() {
-            continue;
-        }
-        let colour = law_colour(i);
-        let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
-        let stats: Vec<(f64, f64, f64)> = groups.iter().map(|g| spread(g.1.iter().map(|r| r.friction_drop))).collect();
-        let (lower, upper): (Vec<f64>, Vec<f64>) = stats.iter().map(|s| (s.0, s.2)).unzip();
-        levels.extend(lower.iter().chain(&upper));
-        let band = if topographies > 1 { format!("{topographies} topographies") } else { "1 topography".into() };
-        series.push(Series::band(x.clone(), lower, upper, colour).label(format!("{name}: model, {band}")));
-        series.push(Series::line(x.iter().copied().zip(stats.iter().map(|s| s.1)).collect(), colour));
-        let limit = law.drop();
-        levels.push(limit);
-        let (x0, x1) = (x[0], x[x.len() - 1]);
-        series.push(
-            Series::line(vec![(x0, limit), (x1, limit)], colour)
-                .dotted()
-                .label(format!("{name}: one element, μ_s/μ_d = {}", tick_label(&limit))),
-        );
-        // Measured points of this law's hold time.
-        if let Some(hold) = hold_time(&name) {
-            let mine: Vec<&ShsPoint> = measured
-                .iter_mut()
-                .filter(|p| p.is_some_and(|p| (p.hold_s / hold).ln().abs() <= HOLD_MATCH.ln()))
-                .filter_map(Option::take)
-                .collect();
-            if !mine.is_empty() {
-                series.push(points(&mine, Marker::Circle, colour, format!("{name}: measured"), &mut levels));
-            }
-        }
-    }
-    if series.is_empty() {
-        return None;
-    }
-    let others: Vec<&ShsPoint> = measured.into_iter().flatten().collect();
-    if !others.is_empty() {
-        series.push(points(&others, Marker::Square, style::GREY, "measured, other hold times".into(), &mut levels));
-    }
-    let (lo, hi) = levels.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-    let pad = ((hi - lo) * 0.06).max(0.01);
-    let (y0, y1) = (lo - pad, hi + pad);
-    for (k, &target) in FIGURE_LOADS_N[..3].iter().enumerate() {
-        if let Some(snap) = nearest(input.maps, target) {
-            let x = snap.load_n * 1e3;
-            series.push(
-                Series::line(vec![(x, y0), (x, y1)], LOAD_COLOURS[k])
-                    .width(1)
-                    .label(format!("load of p(σ): {}", load_label(snap.load_n))),
-            );
-        }
-    }
-    let xs = input.rows.iter().map(|r| r.load_n).chain(input.experiments.iter().map(|p| p.load_n));
-    let (x0, x1) = xs.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x * 1e3), b.max(x * 1e3)));
-    let mut panel = Panel::new(
-        Axis::new("normal load N", "mN").log().range(x0 / 1.4, x1 * 1.4),
-        Axis::dimensionless("friction drop F_S / (μ_d N)").range(y0, y1),
-    )
-    .title("Friction drop vs normal load")
-    .legend_beside(470);
-    panel.series = series;
-    let experiments = if input.experiments.is_empty() {
-        " No measured points were given.".to_string()
-    } else {
-        " Points: measured friction drops F_S/F_D (mean ± standard deviation where given), coloured as the law of \
-         their hold time; grey squares match no law's hold time."
-            .to_string()
-    };
-    let caption = format!(
-        "The friction drop F_S/(μ_d N) as a function of normal load (the paper's Fig. 2): per friction law, the \
-         shaded band spans the values over the {topographies} topograph{}, the line is their mean, and the dotted \
-         line is the single-element limit μ_s/μ_d.{experiments} Thin vertical lines mark the loads of the p(σ) \
-         figure.",
-        if topographies == 1 { "y" } else { "ies" }
-    );
-    Some((Figure::new(panel).with_size(1650, 850), caption))
-}
-
-/// Measured points as a scatter series with error bars where given; extends `levels`.
-fn points(points: &[&ShsPoint], marker: Marker, colour: RGBColor, label: String, levels: &mut Vec<f64>) -> Series {
-    let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.load_n * 1e3, p.friction_drop)).collect();
-    let err: Vec<f64> = points.iter().map(|p| p.friction_drop_std.unwrap_or(0.0)).collect();
-    levels.extend(points.iter().zip(&err).flat_map(|(p, e)| [p.friction_drop - e, p.friction_drop + e]));
-    Series::scatter(xy, marker, colour).errors(err).label(label)
-}
-
 /// p(σ) of the local normal stress at the loads nearest 0.1, 1 and 10 mN (Fig. 3).
 fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
     let maps: Vec<(usize, &MapSnapshot)> =
@@ -374,30 +290,41 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
         return None;
     }
     let (scale, unit) = super::prefixed(max, "Pa");
+    let density_axis = Axis::new("probability density p(σ)", &format!("1/{unit}"));
     let mut panel = Panel::new(
-        Axis::new("local normal stress σ", &unit),
-        Axis::new("probability density p(σ)", &format!("1/{unit}")),
+        Axis::new("local normal stress σ", &unit).range(0.0, max * scale * 1.04),
+        if input.log_density { density_axis.log() } else { density_axis },
     )
     .title("Distribution of the local normal stress")
     .legend(LegendPosition::UpperRight);
+    // One set of bins for every load, so that the curves compare bin by bin.
+    let smallest = maps.iter().map(|(_, m)| m.pressure.iter().filter(|p| **p > 0.0).count()).min().unwrap_or(0);
+    let bins = ((smallest as f64).sqrt().round() as usize).clamp(12, 40);
+    let width = max / bins as f64;
     for (k, snap) in maps {
         let contact: Vec<f64> = snap.pressure.iter().copied().filter(|p| *p > 0.0).collect();
-        let bins = ((contact.len() as f64).sqrt().round() as usize).clamp(12, 60);
-        let density = crate::contact::pressure_density(&contact, bins);
-        let width = density.get(1).map_or(density[0].0 * 2.0, |d| d.0 - density[0].0);
-        // A histogram's outline: each bin a flat step.
-        let mut outline = vec![(0.0, 0.0)];
-        for (centre, d) in density {
-            let (a, b) = ((centre - width / 2.0) * scale, (centre + width / 2.0) * scale);
-            outline.extend([(a, d / scale), (b, d / scale)]);
+        let mut counts = vec![0usize; bins];
+        for p in &contact {
+            counts[((p / width) as usize).min(bins - 1)] += 1;
         }
-        outline.push((outline[outline.len() - 1].0, 0.0));
+        let norm = 1.0 / (contact.len() as f64 * width);
+        // A histogram's outline: each bin a flat step; on a log axis empty bins are left out.
+        let mut outline = vec![(0.0, 0.0)];
+        for (i, c) in counts.iter().enumerate() {
+            let d = *c as f64 * norm / scale;
+            let (a, b) = (i as f64 * width * scale, (i + 1) as f64 * width * scale);
+            outline.extend([(a, d), (b, d)]);
+        }
+        outline.push((max * scale, 0.0));
+        if input.log_density {
+            outline.retain(|p| p.1 > 0.0);
+        }
         let label = format!("N = {} ({} elements)", load_label(snap.load_n), contact.len());
         panel.push(Series::line(outline, LOAD_COLOURS[k]).width(3).label(label));
     }
     let caption = "The probability density p(σ) of the local normal stress σ over the contact elements at the loads \
-                   nearest 0.1, 1 and 10 mN (the paper's Fig. 3), as histograms: discrete at low load (a few \
-                   elements), continuous at high load."
+                   nearest 0.1, 1 and 10 mN (the paper's Fig. 3), as histograms on common bins: discrete at low \
+                   load (a few elements), continuous at high load."
         .to_string();
     Some((Figure::new(panel).with_size(1200, 800), caption))
 }
@@ -427,7 +354,7 @@ fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
         let n = mean(normal);
         panel.push(Series::scatter(n.clone(), Marker::Circle, colour));
         panel.push(Series::line(n, colour).width(3).label(format!("{class}: N^μ/N")));
-        panel.push(Series::line(mean(friction), colour).width(3).dashed().label(format!("{class}: F^μ/F_S")));
+        panel.push(Series::line(mean(friction), colour).width(3).dashed().label(format!("{class}: F_f^μ/F_f")));
     }
     let topographies = input.topographies.len();
     let caption = format!(
@@ -450,13 +377,13 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
     let rigid = scaled_curve(&loads, &onset, Loading::RigidDisplacement, end);
     let peak = onset.static_coefficient();
     let mut panel = Panel::new(
-        Axis::dimensionless("imposed displacement δ/δ_peak").range(0.0, end),
+        Axis::dimensionless("imposed displacement δ/δ_{peak}").range(0.0, end),
         Axis::dimensionless("friction coefficient F/N").range(0.0, law.mu_s * 1.25),
     )
     .title(format!("Friction vs displacement at N = {} ({} elements)", load_label(snap.load_n), onset.elements))
     .legend(LegendPosition::UpperRight);
-    panel.push(Series::line(vec![(0.0, law.mu_s), (end, law.mu_s)], style::GREY).dotted().label("local μ_s"));
-    panel.push(Series::line(vec![(0.0, law.mu_d), (end, law.mu_d)], style::GREY).dotted().label("local μ_d"));
+    panel.push(Series::line(vec![(0.0, law.mu_s), (end, law.mu_s)], style::GREY).dotted().label("local μ^S"));
+    panel.push(Series::line(vec![(0.0, law.mu_d), (end, law.mu_d)], style::GREY).dotted().label("local μ^D"));
     panel.push(Series::line(rigid, style::PALETTE[2]).width(2).dashed().label("rigid displacement control"));
     panel.push(Series::line(els, style::PALETTE[0]).width(3).label("equal load sharing (the model)"));
     panel.push(
@@ -474,18 +401,4 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
         peak
     );
     Ok((Figure::new(panel).with_size(1200, 800), caption))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn hold_times_from_law_names() {
-        assert_eq!(hold_time("hold 100 s"), Some(100.0));
-        assert_eq!(hold_time("hold 10s"), Some(10.0));
-        assert_eq!(hold_time("2.5 s hold"), Some(2.5));
-        assert_eq!(hold_time("mu_s=0.6 mu_d=0.4"), None);
-        assert_eq!(hold_time("silicon"), None);
-    }
 }

@@ -57,7 +57,7 @@ use crate::contact::{Boundary, Material};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
-use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE};
+use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE, TIME};
 use crate::topography::detrend::Detrend;
 use crate::topography::prepare::Preparation;
 use crate::topography::resample::CropWindow;
@@ -172,6 +172,9 @@ pub struct MaterialSpec {
     /// reported and warned about; the cap on the pressure of plastic solves. None by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hardness: Option<Stress>,
+    /// Uncertainty ΔE of `youngs` [Pa]: the friction-drop figure's band also covers E ± ΔE.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_uncertainty: Option<Stress>,
 }
 
 /// Contact solver settings.
@@ -251,6 +254,15 @@ pub struct LawSpec {
     /// displacement unit.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window: Option<(f64, f64)>,
+    /// The AFM hold time the law was measured at [s] (t₀ of an aging law).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_time: Option<Time>,
+    /// β of an aging law, mu_s(t) = mu_s(t₀) + β·log10(t/t₀) with mu_d fixed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aging: Option<f64>,
+    /// The hold times [s] an aging law is evaluated at: one law of the study each.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_times: Option<Vec<Time>>,
 }
 
 /// What to write besides the results table.
@@ -265,6 +277,12 @@ pub struct OutputSpec {
     pub figures: Vec<FigureKind>,
     #[serde(default = "default_fractions")]
     pub snapshot_fractions: Vec<f64>,
+    /// Loads [N] of the hold-time figure.
+    #[serde(default = "default_hold_time_loads")]
+    pub hold_time_loads: Vec<Force>,
+    /// p(σ) on a logarithmic density axis.
+    #[serde(default)]
+    pub log_density: bool,
 }
 
 /// How large the study's inputs and grids may be (see [`crate::limits`]).
@@ -298,6 +316,10 @@ fn all_figures() -> Vec<FigureKind> {
 
 fn default_fractions() -> Vec<f64> {
     vec![0.25, 0.5, 0.75, 1.0]
+}
+
+fn default_hold_time_loads() -> Vec<Force> {
+    vec![Force(1e-4), Force(1e-3), Force(1e-2)]
 }
 
 /// The sections of the default study, for a study file that leaves some out.
@@ -549,9 +571,12 @@ impl StudyConfig {
         for (i, law) in self.laws.iter().enumerate() {
             let here = [key("law"), Segment::Index(i)];
             law.check().or_else(|r| at(&here, r))?;
-            let name = law.name();
-            if self.laws[..i].iter().any(|o| o.name() == name) {
-                return at(&here, format!("the name \"{name}\" is used twice"));
+            let (earlier, mine): (Vec<String>, Vec<String>) =
+                (self.laws[..i].iter().flat_map(|o| o.names()).collect(), law.names());
+            for (k, name) in mine.iter().enumerate() {
+                if earlier.contains(name) || mine[..k].contains(name) {
+                    return at(&here, format!("the name \"{name}\" is used twice"));
+                }
             }
         }
 
@@ -677,7 +702,39 @@ impl LawSpec {
         }
     }
 
+    /// The names of the laws this spec gives the study: its name, or for an aging law one
+    /// per hold time ("hold 10 s", or "NAME, hold 10 s" when it has a name).
+    pub fn names(&self) -> Vec<String> {
+        match &self.hold_times {
+            Some(times) => times
+                .iter()
+                .map(|t| match &self.name {
+                    Some(n) => format!("{n}, hold {} s", t.0),
+                    None => format!("hold {} s", t.0),
+                })
+                .collect(),
+            None => vec![self.name()],
+        }
+    }
+
+    /// The hold time of a law given by this spec: its `hold_time`, or the one a preset's name
+    /// states ("hold 100 s").
+    pub fn stated_hold_time(&self) -> Option<f64> {
+        self.hold_time.map(|t| t.0).or_else(|| {
+            let preset = self.preset.as_deref()?;
+            preset.strip_prefix("hold ")?.strip_suffix(" s")?.parse().ok()
+        })
+    }
+
     fn check(&self) -> std::result::Result<(), String> {
+        if let Some(t) = self.hold_time {
+            if !(t.0 > 0.0) {
+                return Err(format!("hold_time: {} s is not positive", t.0));
+            }
+        }
+        if self.aging.is_some() || self.hold_times.is_some() {
+            return self.check_aging();
+        }
         match (self.mu_s, self.mu_d, &self.preset, &self.curve) {
             (Some(mu_s), Some(mu_d), None, None) => {
                 if self.name.is_none() {
@@ -702,6 +759,31 @@ impl LawSpec {
             },
             _ => Err("give exactly one of `mu_s` and `mu_d` (with `name`), `preset` or `curve`".into()),
         }
+    }
+
+    /// An aging law: mu_s at `hold_time`, mu_d, `aging` and `hold_times`, nothing else.
+    fn check_aging(&self) -> std::result::Result<(), String> {
+        let (Some(mu_s), Some(mu_d), Some(t0), Some(beta), Some(times)) =
+            (self.mu_s, self.mu_d, self.hold_time, self.aging, &self.hold_times)
+        else {
+            return Err("an aging law needs mu_s (at hold_time), mu_d, hold_time, aging and hold_times".into());
+        };
+        if self.preset.is_some() || self.curve.is_some() || self.window.is_some() {
+            return Err("an aging law is given by mu_s, mu_d, hold_time, aging and hold_times only".into());
+        }
+        if times.is_empty() {
+            return Err("hold_times is empty".into());
+        }
+        for (i, t) in times.iter().enumerate() {
+            if !(t.0 > 0.0) {
+                return Err(format!("hold_times: {} s is not positive", t.0));
+            }
+            if times[..i].contains(t) {
+                return Err(format!("hold_times: {} s is listed twice", t.0));
+            }
+            FrictionLaw::aged(mu_s, mu_d, t0.0, beta, t.0).map(drop).map_err(reason_of)?;
+        }
+        Ok(())
     }
 }
 
@@ -831,6 +913,11 @@ quantity!(
     /// A stress or modulus [Pa].
     Stress,
     PRESSURE
+);
+quantity!(
+    /// A time [s].
+    Time,
+    TIME
 );
 
 /// A physical size (lx, ly) [m]: one length for a square, or two.

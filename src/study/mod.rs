@@ -260,8 +260,15 @@ impl MapSnapshot {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FigureKind {
-    /// Friction drop vs load, a band over the topographies per law, measured points (Fig. 2).
+    /// Friction drop vs load, a band over the topographies (and E ± ΔE) per law, measured
+    /// points (Fig. 2).
     FrictionDrop,
+    /// Static and dynamic friction coefficients vs load, measured points (Fig. S1).
+    StaticDynamicCoefficients,
+    /// Friction drop vs load at the study's pixel size and 2× and 4× coarser.
+    Resolution,
+    /// Friction drop vs hold time at chosen loads, for the laws with a hold time.
+    HoldTime,
     /// p(σ) of the local normal stress at 0.1, 1 and 10 mN (Fig. 3).
     PressureDistribution,
     /// Contact maps at 0.1, 1, 10 and 100 mN (Fig. S4).
@@ -272,6 +279,9 @@ pub enum FigureKind {
     ClassFractions,
     /// Friction coefficient vs imposed displacement at 0.1 mN (Fig. 4a).
     FrictionCurve,
+    /// Histograms of the local stress ratio at the critical state: one element, the two
+    /// two-element scenarios, the interface at 10 mN (Fig. 4b–e).
+    StressRatioHistograms,
     /// Stress-ratio maps at δ/δ_peak = 0.25 … 1 for 0.1, 1 and 10 mN (Fig. S6).
     StressRatioSnapshots,
     /// Animated GIFs of the stress-ratio map as δ grows, at 0.1, 1 and 10 mN (the movies).
@@ -280,16 +290,51 @@ pub enum FigureKind {
 
 impl FigureKind {
     /// Every figure, in the report's order.
-    pub const ALL: [FigureKind; 8] = [
+    pub const ALL: [FigureKind; 12] = [
         FigureKind::FrictionDrop,
+        FigureKind::StaticDynamicCoefficients,
+        FigureKind::Resolution,
+        FigureKind::HoldTime,
         FigureKind::PressureDistribution,
         FigureKind::ContactMaps,
         FigureKind::ClassMap,
         FigureKind::ClassFractions,
         FigureKind::FrictionCurve,
+        FigureKind::StressRatioHistograms,
         FigureKind::StressRatioSnapshots,
         FigureKind::Movies,
     ];
+}
+
+/// The pixel sizes of the resolution figure, as multiples of the study's.
+pub const COARSENING: [usize; 2] = [2, 4];
+
+/// One result of the resolution study (`resolution.csv`): a topography × law × load on a grid
+/// `coarsening` times coarser than the study's (1: the study's own).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResolutionRow {
+    pub coarsening: usize,
+    /// Pixel size along x [m].
+    pub pixel_size_m: f64,
+    pub load_n: f64,
+    pub topography: String,
+    pub law: String,
+    pub contact_points: usize,
+    pub friction_drop: f64,
+}
+
+impl ResolutionRow {
+    pub fn new(coarsening: usize, pixel_size_m: f64, row: &Row) -> ResolutionRow {
+        ResolutionRow {
+            coarsening,
+            pixel_size_m,
+            load_n: row.load_n,
+            topography: row.topography.clone(),
+            law: row.law.clone(),
+            contact_points: row.contact_points,
+            friction_drop: row.friction_drop,
+        }
+    }
 }
 
 /// The loads [N] at which the paper shows maps, distributions, curves and movies; a study keeps
@@ -304,6 +349,17 @@ pub struct FigureInput<'a> {
     pub topographies: &'a [String],
     /// Friction laws, in the study's order; maps, curves and movies use the first.
     pub laws: &'a [FrictionLaw],
+    /// The hold time [s] of each law, where known (matches measured points to laws).
+    pub hold_times: &'a [Option<f64>],
+    /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only):
+    /// by linear elasticity drop(N; E*) = drop(N·E*₀/E*; E*₀).
+    pub modulus_ratios: &'a [f64],
+    /// The resolution study's rows (empty when it was not asked for).
+    pub resolution: &'a [ResolutionRow],
+    /// Loads [N] of the hold-time figure.
+    pub hold_time_loads: &'a [f64],
+    /// p(σ) on a logarithmic density axis.
+    pub log_density: bool,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].
     pub maps: &'a [MapSnapshot],
     /// Measured points to overlay on the friction-drop figure (may be empty).
@@ -312,8 +368,9 @@ pub struct FigureInput<'a> {
     pub figures: &'a [FigureKind],
     /// δ/δ_peak of the stress-ratio snapshots.
     pub snapshot_fractions: &'a [f64],
-    /// The study's parameters as run (the resolved config), shown in the report.
-    pub parameters: &'a serde_json::Value,
+    /// The study's parameters as run (the study file written beside the results), shown in
+    /// the report.
+    pub parameters: &'a str,
 }
 
 #[cfg(test)]

@@ -7,9 +7,11 @@
 //! parallel, each sweeping its loads in increasing order from the previous solution (warm
 //! start). It writes into DIR:
 //!
-//! - `study.toml`: the study as run (paths absolute, loads and laws explicit);
+//! - `study.toml`: the study as run (paths absolute, loads explicit);
 //! - `results.csv`, `results.json`: one [`Row`] per topography × solve (elastic, plastic, as
 //!   `contact.plastic` lists them) × law × load, in that order;
+//! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
+//!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
 //! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
 //!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order);
 //! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for (a plastic
@@ -44,7 +46,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
-use super::{FigureInput, MapSnapshot, Row, SolveFacts, FIGURE_LOADS_N};
+use super::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, COARSENING, FIGURE_LOADS_N};
 use crate::contact::{self, ContactSolver, Proceed, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
@@ -53,6 +55,7 @@ use crate::output::{self, Access, Lock};
 use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
+use crate::topography::resample::resample;
 use crate::topography::Topography;
 
 /// Pixels kept around the contact points in a [`MapSnapshot`].
@@ -75,7 +78,11 @@ pub struct Study {
     /// The study as run.
     config: StudyConfig,
     topographies: Vec<(String, Topography)>,
+    /// (topography index, coarsening, the topography resampled) for the resolution figure.
+    coarse: Vec<(usize, usize, Topography)>,
     laws: Vec<FrictionLaw>,
+    /// The hold time [s] of each law, where known.
+    hold_times: Vec<Option<f64>>,
     /// Loads [N], ascending.
     loads: Vec<f64>,
     experiments: Vec<ShsPoint>,
@@ -146,10 +153,25 @@ impl Study {
             let topo = build_topography(spec, grid, &limits).map_err(|e| at(&format!("topography \"{name}\""), e))?;
             topographies.push((name, topo));
         }
-        let mut laws = Vec::with_capacity(config.laws.len());
+        let (mut laws, mut hold_times) = (Vec::new(), Vec::new());
         for spec in &config.laws {
             let name = spec.name();
-            laws.push(resolve_law(spec).map_err(|e| at(&format!("law \"{name}\""), e))?.named(name));
+            for (law, hold) in resolve_law(spec).map_err(|e| at(&format!("law \"{name}\""), e))? {
+                laws.push(law);
+                hold_times.push(hold);
+            }
+        }
+        let mut coarse = Vec::new();
+        if config.output.figures.contains(&FigureKind::Resolution) {
+            for (t, (name, topo)) in topographies.iter().enumerate() {
+                let (lx, _) = topo.physical_size.expect("built with a physical size");
+                for factor in COARSENING {
+                    let pixel = lx / topo.nx() as f64 * factor as f64;
+                    let coarser =
+                        resample(topo, pixel, &limits).map_err(|e| at(&format!("topography \"{name}\""), e))?;
+                    coarse.push((t, factor, coarser));
+                }
+            }
         }
         let experiments = match &config.output.experiments {
             Some(path) => read_points(path).map_err(|e| at("output.experiments", e))?,
@@ -166,11 +188,17 @@ impl Study {
         let mut config = config;
         config.loads =
             LoadsSpec { values: Some(loads.iter().map(|&l| Force(l)).collect()), min: None, max: None, count: None };
-        config.laws = laws
-            .iter()
-            .map(|l| LawSpec { name: l.name.clone(), mu_s: Some(l.mu_s), mu_d: Some(l.mu_d), ..LawSpec::default() })
-            .collect();
-        Ok(Study { origin: origin.to_string(), config, topographies, laws, loads, experiments, wait: false })
+        Ok(Study {
+            origin: origin.to_string(),
+            config,
+            topographies,
+            coarse,
+            laws,
+            hold_times,
+            loads,
+            experiments,
+            wait: false,
+        })
     }
 
     /// When another process works in DIR on the same units, wait for it (`true`) instead of
@@ -179,7 +207,7 @@ impl Study {
         Study { wait, ..self }
     }
 
-    /// The study as it runs: paths absolute, loads and laws explicit.
+    /// The study as it runs: paths absolute, loads explicit.
     pub fn config(&self) -> &StudyConfig {
         &self.config
     }
@@ -192,6 +220,33 @@ impl Study {
     /// The topographies as built, with their names.
     pub fn topographies(&self) -> &[(String, Topography)] {
         &self.topographies
+    }
+
+    /// The friction laws, one per law of the study file or per hold time of an aging law.
+    pub fn laws(&self) -> &[FrictionLaw] {
+        &self.laws
+    }
+
+    /// How many sweeps the study runs: one per topography, and for the resolution figure one
+    /// per topography and coarsening.
+    fn units(&self) -> usize {
+        self.topographies.len() + self.coarse.len()
+    }
+
+    /// Sweep `u`'s name in progress reports, folder under `solves/`, topography, and the name
+    /// of its rows.
+    fn unit(&self, u: usize) -> (String, String, &Topography, &str) {
+        match u.checked_sub(self.topographies.len()) {
+            None => {
+                let (name, topo) = &self.topographies[u];
+                (name.clone(), name.clone(), topo, name)
+            }
+            Some(c) => {
+                let (t, factor, topo) = &self.coarse[c];
+                let name = &self.topographies[*t].0;
+                (format!("{name} ({factor}× coarser)"), format!("{name}@{factor}x"), topo, name)
+            }
+        }
     }
 
     /// Run the study into `dir`, resuming the solves an earlier run of the same study left
@@ -209,25 +264,41 @@ impl Study {
     ) -> Result<Outcome> {
         let _claim = self.claim(dir, fresh)?;
 
-        let sweeps: Vec<(usize, bool)> = (0..self.topographies.len())
-            .flat_map(|t| self.config.contact.plastic.modes().into_iter().map(move |plastic| (t, plastic)))
-            .collect();
+        let sweeps = self.sweeps();
         let total = sweeps.len() * self.loads.len();
-        let finished: Vec<usize> = sweeps.iter().map(|&(t, plastic)| self.finished(dir, t, plastic)).collect();
+        let finished: Vec<usize> = sweeps.iter().map(|&(u, plastic)| self.finished(dir, u, plastic)).collect();
         let resumed: usize = finished.iter().sum();
         if !progress(Progress::Start { total, done: resumed }).proceed() {
             return Err(self.interrupted());
         }
         let solved = AtomicUsize::new(0);
-        (0..sweeps.len()).into_par_iter().try_for_each(|k| {
-            let (t, plastic) = sweeps[k];
-            self.sweep(dir, t, plastic, finished[k], progress, &solved)
+        // Each worker takes the next sweep in order: the study's own first, the cheap coarse
+        // ones filling in at the end.
+        let next = AtomicUsize::new(0);
+        let workers = rayon::current_num_threads().min(sweeps.len()).max(1);
+        (0..workers).into_par_iter().try_for_each(|_| loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            if k >= sweeps.len() {
+                return Ok(());
+            }
+            let (u, plastic) = sweeps[k];
+            self.sweep(dir, u, plastic, finished[k], progress, &solved)?;
         })?;
 
         let _results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
         output::remove_stale_temporaries(dir)?;
         output::remove_stale_temporaries(&dir.join("figures"))?;
-        let rows = self.rows(dir)?;
+        let rows = self.rows(dir, 0..self.topographies.len())?;
+        let resolution = self.resolution_rows(dir, &rows)?;
+        if !resolution.is_empty() {
+            output::write_atomic(&dir.join("resolution.csv"), |w| {
+                let mut csv = csv::Writer::from_writer(w);
+                for row in &resolution {
+                    csv.serialize(row).map_err(std::io::Error::other)?;
+                }
+                csv.flush()
+            })?;
+        }
         output::write_atomic(&dir.join("results.csv"), |w| {
             let mut csv = csv::Writer::from_writer(w);
             for row in &rows {
@@ -244,7 +315,8 @@ impl Study {
             .map(|k| MapSnapshot::load(&snapshots, &self.snapshot_stem(k)))
             .collect::<Result<Vec<_>>>()?;
         let names: Vec<String> = self.topographies.iter().map(|(n, _)| n.clone()).collect();
-        let parameters = serde_json::to_value(&self.config).map_err(|e| Error::invalid("study", e.to_string()))?;
+        let parameters = self.study_file()?;
+        let hold_time_loads: Vec<f64> = self.config.output.hold_time_loads.iter().map(|f| f.0).collect();
         // The figures show the first kind of solve listed; the table has them all.
         let first = self.config.contact.plastic.modes()[0];
         let shown: Vec<Row> = rows.iter().filter(|r| r.plastic == first).cloned().collect();
@@ -252,6 +324,11 @@ impl Study {
             rows: &shown,
             topographies: &names,
             laws: &self.laws,
+            hold_times: &self.hold_times,
+            modulus_ratios: &self.modulus_ratios(),
+            resolution: &resolution,
+            hold_time_loads: &hold_time_loads,
+            log_density: self.config.output.log_density,
             maps: &maps,
             experiments: &self.experiments,
             figures: &self.config.output.figures,
@@ -261,6 +338,26 @@ impl Study {
         let figures = crate::plot::study::render(dir, &input)?;
         let warnings = super::warnings(&rows);
         Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures, warnings })
+    }
+
+    /// The study as run, as a study file.
+    fn study_file(&self) -> Result<String> {
+        let text = toml::to_string(&self.config).map_err(|e| Error::invalid("study", e.to_string()))?;
+        Ok(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")))
+    }
+
+    /// E*₀/E* for E − ΔE and E + ΔE of `material.youngs_uncertainty` (none without it).
+    fn modulus_ratios(&self) -> Vec<f64> {
+        let Some(delta) = self.config.material.youngs_uncertainty else { return Vec::new() };
+        let e0 = self.config.effective_modulus();
+        [-1.0, 1.0]
+            .iter()
+            .filter_map(|sign| {
+                let mut config = self.config.clone();
+                config.material.youngs.0 += sign * delta.0;
+                (config.material.youngs.0 > 0.0).then(|| e0 / config.effective_modulus())
+            })
+            .collect()
     }
 
     /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
@@ -306,20 +403,19 @@ impl Study {
                 lock.share()?
             }
         };
-        output::write_atomic(&dir.join("study.toml"), |w| {
-            let text = toml::to_string(&self.config).map_err(std::io::Error::other)?;
-            w.write_all(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")).as_bytes())
-        })?;
+        let text = self.study_file()?;
+        output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
         let last = self.loads.len() - 1;
-        let units = (0..self.topographies.len())
+        let units = (0..self.units())
             .map(|t| {
-                // One lock per topography covers its elastic and plastic sweeps.
+                // One lock per topography (or coarser copy) covers its elastic and plastic sweeps.
                 let unit = self.solves_dir(dir, t, false);
                 std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
-                let what = format!("topography \"{}\"", self.topographies[t].0);
+                let (label, folder, ..) = self.unit(t);
+                let what = format!("topography \"{label}\"");
                 let lock = self.lock(&unit.join(format!("loads-00-{last:02}.lock")), Access::Exclusive, dir, &what)?;
                 // This unit's own folders, now that no one else writes there.
-                let pressure = dir.join("pressure").join(&self.topographies[t].0);
+                let pressure = dir.join("pressure").join(folder);
                 for folder in [plastic_dir(unit.clone(), true), unit, plastic_dir(pressure.clone(), true), pressure] {
                     output::remove_stale_temporaries(&folder)?;
                 }
@@ -409,22 +505,31 @@ impl Study {
         })
     }
 
-    /// The folder of topography `t`'s solve records, elastic or plastic.
-    fn solves_dir(&self, dir: &Path, t: usize, plastic: bool) -> PathBuf {
-        plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(&self.topographies[t].0), plastic)
+    /// The sweeps of the run, (unit, plastic): every topography in each kind of solve listed,
+    /// the coarser copies of the resolution figure in the first kind only.
+    fn sweeps(&self) -> Vec<(usize, bool)> {
+        let modes = self.config.contact.plastic.modes();
+        let main =
+            (0..self.topographies.len()).flat_map(|t| modes.clone().into_iter().map(move |plastic| (t, plastic)));
+        main.chain((self.topographies.len()..self.units()).map(|u| (u, modes[0]))).collect()
     }
 
-    /// How many of topography `t`'s loads have their record: the sweep resumes after them.
-    fn finished(&self, dir: &Path, t: usize, plastic: bool) -> usize {
-        let solves = self.solves_dir(dir, t, plastic);
+    /// The folder of sweep `u`'s solve records, elastic or plastic.
+    fn solves_dir(&self, dir: &Path, u: usize, plastic: bool) -> PathBuf {
+        plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(self.unit(u).1), plastic)
+    }
+
+    /// How many of sweep `u`'s loads have their record: the sweep resumes after them.
+    fn finished(&self, dir: &Path, u: usize, plastic: bool) -> usize {
+        let solves = self.solves_dir(dir, u, plastic);
         (0..self.loads.len()).take_while(|k| solves.join(format!("{k:02}.json")).is_file()).count()
     }
 
-    /// Sweep topography `t` over the loads from index `first` on, elastic or plastic.
+    /// Sweep `u` over the loads from index `first` on, elastic or plastic.
     fn sweep<R: Proceed>(
         &self,
         dir: &Path,
-        t: usize,
+        u: usize,
         plastic: bool,
         first: usize,
         progress: &(dyn Fn(Progress) -> R + Sync),
@@ -434,8 +539,9 @@ impl Study {
         if first == n {
             return Ok(());
         }
-        let (name, topo) = &self.topographies[t];
-        let solves = self.solves_dir(dir, t, plastic);
+        let (label, _, topo, name) = self.unit(u);
+        let main = u < self.topographies.len();
+        let solves = self.solves_dir(dir, u, plastic);
         std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
         let warm = |k: usize| solves.join(format!("warm-{k:02}.npy"));
         let shape = topo.heights.dim();
@@ -460,13 +566,14 @@ impl Study {
             solver.warm_start(pressure.as_slice().ok_or_else(|| Error::file(&path, "not a row-major array"))?)?;
         }
         let maps = plastic_dir(dir.join("pressure").join(name), plastic);
-        if self.config.output.pressure_maps {
+        let keep_maps = self.config.output.pressure_maps && main;
+        if keep_maps {
             std::fs::create_dir_all(&maps).map_err(|e| Error::io(&maps, e))?;
         }
-        let shown = t == 0 && plastic == self.config.contact.plastic.modes()[0];
+        let shown = u == 0 && plastic == self.config.contact.plastic.modes()[0];
         let snapshots = if shown { self.snapshot_indices() } else { Vec::new() };
         for (k, &load) in self.loads.iter().enumerate().skip(first) {
-            let context = |e: Error| Error::invalid(format!("topography \"{name}\" at {load} N"), e.to_string());
+            let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
             let report = solver.solve(load, |_, _| ()).map_err(context)?;
             let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
             let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
@@ -475,7 +582,7 @@ impl Study {
             let rows = self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law))).collect();
 
             // Everything of this solve first, its record last: a record means the solve is done.
-            if self.config.output.pressure_maps {
+            if keep_maps {
                 output::write_npy(&maps.join(format!("{k:02}.npy")), &pressure)?;
             }
             if snapshots.contains(&k) {
@@ -498,7 +605,7 @@ impl Study {
             }
             solved.fetch_add(1, Ordering::Relaxed);
             let answer = progress(Progress::Solved {
-                topography: name,
+                topography: &label,
                 load_n: load,
                 iterations: report.iterations,
                 seconds: report.seconds,
@@ -514,13 +621,11 @@ impl Study {
         Error::Interrupted { what: format!("study {}", self.origin) }
     }
 
-    /// Every row from the solve records: topography × law × load.
-    fn rows(&self, dir: &Path) -> Result<Vec<Row>> {
-        let mut rows = Vec::with_capacity(self.topographies.len() * self.laws.len() * self.loads.len());
-        for (t, plastic) in (0..self.topographies.len())
-            .flat_map(|t| self.config.contact.plastic.modes().into_iter().map(move |plastic| (t, plastic)))
-        {
-            let solves = self.solves_dir(dir, t, plastic);
+    /// Every row from the solve records of `units`: topography × solve × law × load.
+    fn rows(&self, dir: &Path, units: std::ops::Range<usize>) -> Result<Vec<Row>> {
+        let mut rows = Vec::with_capacity(units.len() * self.laws.len() * self.loads.len());
+        for (u, plastic) in self.sweeps().into_iter().filter(|(u, _)| units.contains(u)) {
+            let solves = self.solves_dir(dir, u, plastic);
             let records = (0..self.loads.len())
                 .map(|k| {
                     let path = solves.join(format!("{k:02}.json"));
@@ -538,6 +643,27 @@ impl Study {
             }
         }
         Ok(rows)
+    }
+
+    /// The resolution study's rows: the study's `rows` and those of the coarse sweeps, by
+    /// coarsening (none without coarse sweeps).
+    fn resolution_rows(&self, dir: &Path, rows: &[Row]) -> Result<Vec<ResolutionRow>> {
+        if self.coarse.is_empty() {
+            return Ok(Vec::new());
+        }
+        let pixel = |t: &Topography| t.physical_size.expect("built with a physical size").0 / t.nx() as f64;
+        let own = |name: &str| &self.topographies.iter().find(|(n, _)| n == name).expect("a row's topography").1;
+        let mut out: Vec<ResolutionRow> =
+            rows.iter().map(|r| ResolutionRow::new(1, pixel(own(&r.topography)), r)).collect();
+        for factor in COARSENING {
+            for (c, (_, f, topo)) in self.coarse.iter().enumerate() {
+                if *f == factor {
+                    let u = self.topographies.len() + c;
+                    out.extend(self.rows(dir, u..u + 1)?.iter().map(|r| ResolutionRow::new(factor, pixel(topo), r)));
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// Indices of the swept loads nearest (in log scale) to [`FIGURE_LOADS_N`], ascending.
@@ -680,12 +806,23 @@ fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limi
     spec.preparation(grid, *limits).apply(io::read(path, &options)?)
 }
 
-/// The law a checked spec describes (without its name).
-fn resolve_law(spec: &LawSpec) -> Result<FrictionLaw> {
-    match (spec.mu_s, spec.mu_d, &spec.preset, &spec.curve) {
+/// The laws a checked spec describes, named, each with its hold time [s] where known: one,
+/// or one per hold time of an aging law.
+fn resolve_law(spec: &LawSpec) -> Result<Vec<(FrictionLaw, Option<f64>)>> {
+    if let (Some(mu_s), Some(mu_d), Some(t0), Some(beta), Some(times)) =
+        (spec.mu_s, spec.mu_d, spec.hold_time, spec.aging, &spec.hold_times)
+    {
+        return times
+            .iter()
+            .zip(spec.names())
+            .map(|(t, name)| Ok((FrictionLaw::aged(mu_s, mu_d, t0.0, beta, t.0)?.named(name), Some(t.0))))
+            .collect();
+    }
+    let law = match (spec.mu_s, spec.mu_d, &spec.preset, &spec.curve) {
         (Some(mu_s), Some(mu_d), ..) => FrictionLaw::new(mu_s, mu_d),
         (_, _, Some(preset), _) => FrictionLaw::preset(preset),
         (_, _, _, Some(curve)) => FrictionLaw::from_curve_file(curve, spec.window),
         _ => unreachable!("checked: a law is a pair, a preset or a curve"),
-    }
+    }?;
+    Ok(vec![(law.named(spec.name()), spec.stated_hold_time())])
 }

@@ -127,25 +127,34 @@ impl Default for SelfAffine {
 
 impl SelfAffine {
     /// A stand-in for the roughness of the paper's silicon balls on their 31.13 µm window:
-    /// H = 0.8, roll-off at 5 µm, 22 nm RMS. On the 1.5 mm-radius sphere (34 nm RMS over that
-    /// window by itself) the sum has ≈ 40 nm RMS — 38 to 43 nm depending on the seed — as the
-    /// paper's AFM scans of the balls (Fig. S3). The paper does not give H or the roll-off: 0.8
-    /// is typical of polished surfaces, and a roll-off well inside the window keeps the RMS of
-    /// the sum close to 40 nm for every seed.
+    /// H = 0.8, roll-off at 7 µm, no roughness below 0.25 µm, 21 nm RMS. On the 1.5 mm-radius
+    /// sphere (34 nm RMS over that window by itself) the sum has ≈ 39 nm RMS, as the paper's AFM
+    /// scans of the balls (≈ 40 nm, Fig. S3). The paper gives neither H, the roll-off nor the
+    /// short cut-off: they are calibrated so that the contact looks like the paper's (Fig. S4) —
+    /// at 0.1 mN 30–100 elements in a few patches close together, many patches at 10 mN, local
+    /// pressures below silicon's hardness (12 GPa) up to 10 mN; without the short cut-off the
+    /// surface is rough down to the pixel (RMS slope ≈ 0.1) and touches in scattered patches
+    /// at 15–30 GPa. (The README's calibration table gives the numbers.)
     pub fn silicon_ball() -> Self {
+        SelfAffine {
+            hurst: 0.8,
+            rolloff_wavelength: Some(7e-6),
+            short_cutoff_wavelength: Some(0.25e-6),
+            long_cutoff_wavelength: None,
+            amplitude: Amplitude::RmsHeight(21e-9),
+        }
+    }
+
+    /// A stand-in for the roughness of the paper's silicon wafer: H = 0.8, roll-off at 5 µm,
+    /// 0.2 nm RMS down to the pixel.
+    pub fn silicon_wafer() -> Self {
         SelfAffine {
             hurst: 0.8,
             rolloff_wavelength: Some(5e-6),
             short_cutoff_wavelength: None,
             long_cutoff_wavelength: None,
-            amplitude: Amplitude::RmsHeight(22e-9),
+            amplitude: Amplitude::RmsHeight(0.2e-9),
         }
-    }
-
-    /// A stand-in for the roughness of the paper's silicon wafer: 0.2 nm RMS, otherwise as
-    /// [`SelfAffine::silicon_ball`].
-    pub fn silicon_wafer() -> Self {
-        SelfAffine { amplitude: Amplitude::RmsHeight(0.2e-9), ..SelfAffine::silicon_ball() }
     }
 
     /// Check the parameters; errors name the CLI option.

@@ -1,0 +1,445 @@
+//! The study's curves of friction against a control parameter: the friction drop against the
+//! load (Fig. 2, with the band over topographies and Young's modulus), the static and dynamic
+//! coefficients against the load (Fig. S1), the friction drop at coarser pixels (resolution)
+//! and against the AFM hold time (aging).
+
+use super::maps::load_label;
+use super::study::{by_load, spread, LOAD_COLOURS};
+use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
+use crate::shs::ShsPoint;
+use crate::study::{law_name, FigureInput, ResolutionRow, Row, COARSENING};
+
+/// A measured point belongs to the law of its hold time when the two agree within this factor.
+const HOLD_MATCH: f64 = 1.25;
+
+/// The colour of the law at `index`: black, red, … as the paper's 100 s and 10 s hold times.
+pub(super) fn law_colour(index: usize) -> RGBColor {
+    style::PALETTE[index % style::PALETTE.len()]
+}
+
+/// The index of the law whose hold time matches `point`'s, if any.
+fn law_of(input: &FigureInput, point: &ShsPoint) -> Option<usize> {
+    input
+        .hold_times
+        .iter()
+        .enumerate()
+        .filter_map(|(i, h)| h.map(|h| (i, (point.hold_s / h).ln().abs())))
+        .filter(|(_, d)| *d <= HOLD_MATCH.ln())
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, _)| i)
+}
+
+/// `value(row)` against the load, per topography, in increasing load.
+fn per_topography(rows: &[Row], law: &str, value: impl Fn(&Row) -> f64) -> Vec<Vec<(f64, f64)>> {
+    let mut names: Vec<&str> = Vec::new();
+    for r in rows.iter().filter(|r| r.law == law) {
+        if !names.contains(&r.topography.as_str()) {
+            names.push(&r.topography);
+        }
+    }
+    names
+        .iter()
+        .map(|t| {
+            let mut curve: Vec<(f64, f64)> =
+                rows.iter().filter(|r| r.law == law && r.topography == *t).map(|r| (r.load_n, value(r))).collect();
+            curve.sort_by(|a, b| a.0.total_cmp(&b.0));
+            curve
+        })
+        .collect()
+}
+
+/// The value of `curve` (ascending loads) at `load`, linear in log(load) between its points;
+/// `None` outside its loads.
+pub(super) fn interpolate(curve: &[(f64, f64)], load: f64) -> Option<f64> {
+    let k = curve.iter().position(|p| p.0 >= load * (1.0 - 1e-12))?;
+    if (curve[k].0 / load - 1.0).abs() < 1e-12 {
+        return Some(curve[k].1);
+    }
+    let (a, b) = (curve.get(k.checked_sub(1)?)?, curve[k]);
+    let t = (load / a.0).ln() / (b.0 / a.0).ln();
+    Some(a.1 + t * (b.1 - a.1))
+}
+
+/// The lowest load [N] at which some topography of `law` has more than one contact element.
+fn first_multi_element_load(rows: &[Row], law: &str) -> Option<f64> {
+    rows.iter().filter(|r| r.law == law && r.contact_points > 1).map(|r| r.load_n).min_by(f64::total_cmp)
+}
+
+/// The x range [mN] of the load axis: the study's loads and the measured ones.
+fn load_range(input: &FigureInput) -> (f64, f64) {
+    let xs = input.rows.iter().map(|r| r.load_n).chain(input.experiments.iter().map(|p| p.load_n));
+    let (lo, hi) = xs.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x * 1e3), b.max(x * 1e3)));
+    (lo / 1.5, hi * 1.5)
+}
+
+/// y range fitting `levels` with a little room.
+fn fit(levels: &[f64]) -> (f64, f64) {
+    let (lo, hi) = levels.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    let pad = ((hi - lo) * 0.06).max(0.005);
+    (lo - pad, hi + pad)
+}
+
+/// Measured points as a scatter series with error bars where given; extends `levels`.
+fn measured(xy: Vec<(f64, f64)>, err: Vec<f64>, marker: Marker, colour: RGBColor, levels: &mut Vec<f64>) -> Series {
+    levels.extend(xy.iter().zip(&err).flat_map(|(p, e)| [p.1 - e, p.1 + e]));
+    Series::scatter(xy, marker, colour).errors(err)
+}
+
+/// Friction drop vs load (Fig. 2): per law a band over the topographies — and over E ± ΔE when
+/// the study gives ΔE, by drop(N; E*) = drop(N·E*₀/E*; E*₀) — their mean, the single-element
+/// value mu_s/mu_d dotted below the first load carried by more than one element, the measured
+/// points of the law's hold time, and the loads of the p(σ) figure.
+pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
+    let (x0, x1) = load_range(input);
+    let mut series = Vec::new();
+    let mut levels: Vec<f64> = Vec::new();
+    let topographies = input.topographies.len();
+    let mut matched = vec![false; input.experiments.len()];
+    for (i, law) in input.laws.iter().enumerate() {
+        let name = law_name(law);
+        let curves = per_topography(input.rows, &name, |r| r.friction_drop);
+        let groups = by_load(input.rows, &name);
+        if groups.is_empty() {
+            continue;
+        }
+        let colour = law_colour(i);
+        let loads: Vec<f64> = groups.iter().map(|g| g.0).collect();
+        let x: Vec<f64> = loads.iter().map(|l| l * 1e3).collect();
+        let mut ratios = vec![1.0];
+        ratios.extend_from_slice(input.modulus_ratios);
+        let (lower, upper): (Vec<f64>, Vec<f64>) = loads
+            .iter()
+            .map(|&n| {
+                let values = curves.iter().flat_map(|c| ratios.iter().filter_map(|r| interpolate(c, n * r)));
+                let (lo, _, hi) = spread(values);
+                (lo, hi)
+            })
+            .unzip();
+        levels.extend(lower.iter().chain(&upper));
+        let mean: Vec<(f64, f64)> =
+            x.iter().zip(&groups).map(|(&x, g)| (x, spread(g.1.iter().map(|r| r.friction_drop)).1)).collect();
+        let band = if topographies > 1 { format!("{topographies} topographies") } else { "1 topography".into() };
+        let modulus = if input.modulus_ratios.is_empty() { String::new() } else { ", E ± ΔE".to_string() };
+        series.push(Series::band(x.clone(), lower, upper, colour).label(format!("{name}: model, {band}{modulus}")));
+        series.push(Series::line(mean, colour));
+        let limit = law.drop();
+        levels.push(limit);
+        let end = first_multi_element_load(input.rows, &name).map_or(x1, |l| l * 1e3);
+        series.push(
+            Series::line(vec![(x0, limit), (end, limit)], colour)
+                .dotted()
+                .label(format!("{name}: one element, μ^S/μ^D = {}", tick_label(&limit))),
+        );
+        let mine: Vec<&ShsPoint> = input
+            .experiments
+            .iter()
+            .zip(matched.iter_mut())
+            .filter(|(p, _)| law_of(input, p) == Some(i))
+            .map(|(p, m)| {
+                *m = true;
+                p
+            })
+            .collect();
+        if !mine.is_empty() {
+            let xy = mine.iter().map(|p| (p.load_n * 1e3, p.friction_drop)).collect();
+            let err = mine.iter().map(|p| p.friction_drop_std.unwrap_or(0.0)).collect();
+            series.push(measured(xy, err, Marker::Circle, colour, &mut levels).label(format!("{name}: measured")));
+        }
+    }
+    if series.is_empty() {
+        return None;
+    }
+    let others: Vec<&ShsPoint> = input.experiments.iter().zip(&matched).filter(|(_, m)| !**m).map(|(p, _)| p).collect();
+    if !others.is_empty() {
+        let xy = others.iter().map(|p| (p.load_n * 1e3, p.friction_drop)).collect();
+        let err = others.iter().map(|p| p.friction_drop_std.unwrap_or(0.0)).collect();
+        series.push(
+            measured(xy, err, Marker::Square, style::GREY, &mut levels).label("measured, other hold times".to_string()),
+        );
+    }
+    let (y0, y1) = fit(&levels);
+    // The loads of the p(σ) figure: short dashed ticks along the top, not lines like axes.
+    let top = y1 - (y1 - y0) * 0.08;
+    for (k, &target) in crate::study::FIGURE_LOADS_N[..3].iter().enumerate() {
+        if let Some(load) = nearest_load(input.rows, target) {
+            series.push(
+                Series::line(vec![(load * 1e3, top), (load * 1e3, y1)], LOAD_COLOURS[k])
+                    .width(4)
+                    .label(format!("p(σ) at {}", load_label(load))),
+            );
+        }
+    }
+    let mut panel = Panel::new(
+        Axis::new("normal load N", "mN").log().range(x0, x1),
+        Axis::dimensionless("friction drop μ_S/μ_D = F_S/(μ^D N)").range(y0, y1),
+    )
+    .title("Friction drop vs normal load")
+    .legend(LegendPosition::LowerLeft);
+    panel.series = series;
+    let experiments = if input.experiments.is_empty() {
+        " No measured points were given.".to_string()
+    } else {
+        " Points: measured friction drops F_S/F_D (mean ± standard deviation where given), coloured as the law of \
+         their hold time; grey squares match no law's hold time."
+            .to_string()
+    };
+    let modulus = if input.modulus_ratios.is_empty() {
+        String::new()
+    } else {
+        " and over Young's modulus E ± ΔE (from the same solves: by linear elasticity the drop at load N for a \
+         modulus E* is the drop at N·E*₀/E* for the study's E*₀)"
+            .to_string()
+    };
+    let caption = format!(
+        "The friction drop F_S/(μ_d N) as a function of normal load (the paper's Fig. 2): per friction law, the \
+         shaded band spans the values over the {topographies} topograph{}{modulus}, the line is the mean over the \
+         topographies, and the dotted line is the single-element value μ_s/μ_d, drawn below the lowest load carried \
+         by more than one element.{experiments} Short ticks along the top mark the loads of the p(σ) figure.",
+        if topographies == 1 { "y" } else { "ies" }
+    );
+    Some((Figure::new(panel).with_size(1400, 850), caption))
+}
+
+/// The swept load nearest `target` in log scale, if within half a decade.
+fn nearest_load(rows: &[Row], target: f64) -> Option<f64> {
+    rows.iter()
+        .map(|r| r.load_n)
+        .filter(|l| (l / target).log10().abs() <= 0.5)
+        .min_by(|a, b| (a / target).ln().abs().total_cmp(&(b / target).ln().abs()))
+}
+
+/// Static and dynamic friction coefficients vs load (Fig. S1): per law the band of F_S/N over
+/// the topographies and the constant mu_d, with the measured points of its hold time.
+pub(super) fn static_dynamic(input: &FigureInput) -> Option<(Figure, String)> {
+    let (x0, x1) = load_range(input);
+    let mut series = Vec::new();
+    let mut levels = Vec::new();
+    for (i, law) in input.laws.iter().enumerate() {
+        let name = law_name(law);
+        let groups = by_load(input.rows, &name);
+        if groups.is_empty() {
+            continue;
+        }
+        let colour = law_colour(i);
+        let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
+        let stats: Vec<(f64, f64, f64)> =
+            groups.iter().map(|g| spread(g.1.iter().map(|r| r.static_coefficient))).collect();
+        levels.extend(stats.iter().flat_map(|s| [s.0, s.2]));
+        levels.push(law.mu_d);
+        series.push(
+            Series::band(x.clone(), stats.iter().map(|s| s.0).collect(), stats.iter().map(|s| s.2).collect(), colour)
+                .label(format!("{name}: static μ_S = F_S/N (model)")),
+        );
+        series.push(Series::line(x.iter().copied().zip(stats.iter().map(|s| s.1)).collect(), colour));
+        series.push(
+            Series::line(vec![(x0, law.mu_d), (x1, law.mu_d)], colour)
+                .dashed()
+                .label(format!("{name}: dynamic μ_D = μ^D = {}", tick_label(&law.mu_d))),
+        );
+        let mine: Vec<&ShsPoint> = input.experiments.iter().filter(|p| law_of(input, p) == Some(i)).collect();
+        let pick = |f: fn(&ShsPoint) -> (Option<f64>, Option<f64>)| -> (Vec<(f64, f64)>, Vec<f64>) {
+            mine.iter()
+                .filter_map(|p| {
+                    let (v, e) = f(p);
+                    v.map(|v| ((p.load_n * 1e3, v), e.unwrap_or(0.0)))
+                })
+                .unzip()
+        };
+        let (xy, err) = pick(|p| (p.static_coefficient, p.static_coefficient_std));
+        if !xy.is_empty() {
+            series.push(measured(xy, err, Marker::Circle, colour, &mut levels).label(format!("{name}: measured μ_S")));
+        }
+        let (xy, err) = pick(|p| (p.dynamic_coefficient, p.dynamic_coefficient_std));
+        if !xy.is_empty() {
+            series.push(
+                measured(xy, err, Marker::Square, colour, &mut levels).hollow().label(format!("{name}: measured μ_D")),
+            );
+        }
+    }
+    if series.is_empty() {
+        return None;
+    }
+    let (y0, y1) = fit(&levels);
+    let mut panel = Panel::new(
+        Axis::new("normal load N", "mN").log().range(x0, x1),
+        Axis::dimensionless("friction coefficient").range(y0, y1),
+    )
+    .title("Static and dynamic friction coefficients vs normal load")
+    .legend(LegendPosition::UpperRight);
+    panel.series = series;
+    let caption = "The static friction coefficient μ_S = F_S/N (band over the topographies, line their mean) and the \
+                   dynamic one μ_D (dashed: the model's is the local μ_d at every load) against the normal load (the \
+                   paper's Fig. S1); filled circles and open squares: measured μ_S and μ_D of the law's hold time, \
+                   where the study gives measured points."
+        .to_string();
+    Some((Figure::new(panel).with_size(1400, 850), caption))
+}
+
+/// Colours of the pixel sizes: the study's, 2× and 4× coarser.
+const RESOLUTION_COLOURS: [RGBColor; 3] = [RGBColor(20, 20, 20), RGBColor(30, 100, 200), RGBColor(230, 120, 0)];
+
+/// Friction drop vs load for the first law at the study's pixel size and [`COARSENING`] times
+/// coarser: a band over the topographies and their mean per pixel size.
+pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
+    let law = input.laws.first()?;
+    let name = law_name(law);
+    let mut series = Vec::new();
+    let mut levels = vec![law.drop()];
+    let mut pixels = Vec::new();
+    for (k, factor) in std::iter::once(1).chain(COARSENING).enumerate() {
+        let rows: Vec<&ResolutionRow> =
+            input.resolution.iter().filter(|r| r.coarsening == factor && r.law == name).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        let mut loads: Vec<f64> = rows.iter().map(|r| r.load_n).collect();
+        loads.sort_by(f64::total_cmp);
+        loads.dedup();
+        let stats: Vec<(f64, f64, f64)> =
+            loads.iter().map(|&l| spread(rows.iter().filter(|r| r.load_n == l).map(|r| r.friction_drop))).collect();
+        levels.extend(stats.iter().flat_map(|s| [s.0, s.2]));
+        let x: Vec<f64> = loads.iter().map(|l| l * 1e3).collect();
+        let pixel = rows[0].pixel_size_m;
+        pixels.push(format!("{} nm", tick_label(&(pixel * 1e9))));
+        let what = if factor == 1 { "the study's".to_string() } else { format!("{factor}× coarser") };
+        let colour = RESOLUTION_COLOURS[k];
+        series.push(
+            Series::band(x.clone(), stats.iter().map(|s| s.0).collect(), stats.iter().map(|s| s.2).collect(), colour)
+                .label(format!("pixel {} nm ({what})", tick_label(&(pixel * 1e9)))),
+        );
+        series.push(Series::line(x.into_iter().zip(stats.iter().map(|s| s.1)).collect(), colour));
+    }
+    if pixels.len() < 2 {
+        return None;
+    }
+    let (x0, x1) = load_range(input);
+    series.push(
+        Series::line(vec![(x0, law.drop()), (x1, law.drop())], style::GREY)
+            .dotted()
+            .label(format!("one element: μ^S/μ^D = {}", tick_label(&law.drop()))),
+    );
+    let (y0, y1) = fit(&levels);
+    let mut panel = Panel::new(
+        Axis::new("normal load N", "mN").log().range(x0, x1),
+        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
+    )
+    .title(format!("Friction drop vs load at three pixel sizes ({name})"))
+    .legend(LegendPosition::LowerLeft);
+    panel.series = series;
+    let caption = format!(
+        "The friction drop against the normal load for the law \"{name}\" with the same topographies resampled to \
+         pixels of {} (band over the topographies, line their mean). The pixel is the model's element: a coarser \
+         pixel carries more load per element, so the interface stays single-element to higher loads and the drop \
+         at a given load is higher. Results of the model hold for one pixel size; a study on another grid (such as \
+         `asperity run --quick`) gives other numbers.",
+        pixels.join(", ")
+    );
+    Some((Figure::new(panel).with_size(1400, 850), caption))
+}
+
+/// Friction drop vs hold time at the chosen loads, for the laws with a hold time: a band over
+/// the topographies per load, measured points at their hold time.
+pub(super) fn hold_time(input: &FigureInput) -> Option<(Figure, String)> {
+    let mut laws: Vec<(f64, String)> =
+        input.laws.iter().zip(input.hold_times).filter_map(|(l, h)| h.map(|h| (h, law_name(l)))).collect();
+    laws.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if laws.len() < 2 {
+        return None;
+    }
+    let mut series = Vec::new();
+    let mut levels = Vec::new();
+    let times: Vec<f64> = laws.iter().map(|l| l.0).collect();
+    let mut chosen = Vec::new();
+    for (k, &target) in input.hold_time_loads.iter().enumerate() {
+        let Some(load) = nearest_load(input.rows, target) else { continue };
+        chosen.push(load);
+        let stats: Vec<(f64, f64, f64)> = laws
+            .iter()
+            .map(|(_, name)| {
+                spread(
+                    input
+                        .rows
+                        .iter()
+                        .filter(|r| r.law == *name && (r.load_n / load - 1.0).abs() < 1e-9)
+                        .map(|r| r.friction_drop),
+                )
+            })
+            .collect();
+        levels.extend(stats.iter().flat_map(|s| [s.0, s.2]));
+        let colour = LOAD_COLOURS[k % LOAD_COLOURS.len()];
+        series.push(
+            Series::band(
+                times.clone(),
+                stats.iter().map(|s| s.0).collect(),
+                stats.iter().map(|s| s.2).collect(),
+                colour,
+            )
+            .label(format!("model at {}", load_label(load))),
+        );
+        series.push(Series::line(times.iter().copied().zip(stats.iter().map(|s| s.1)).collect(), colour));
+        series.push(Series::scatter(
+            times.iter().copied().zip(stats.iter().map(|s| s.1)).collect(),
+            Marker::Circle,
+            colour,
+        ));
+    }
+    if chosen.is_empty() {
+        return None;
+    }
+    // Measured points at the chosen load nearest theirs (within half a decade), else grey.
+    let mut by_load: Vec<(Vec<(f64, f64)>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); chosen.len() + 1];
+    for p in input.experiments {
+        let k = chosen
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| (p.load_n / **l).log10().abs() <= 0.5)
+            .min_by(|a, b| (p.load_n / a.1).ln().abs().total_cmp(&(p.load_n / b.1).ln().abs()))
+            .map_or(chosen.len(), |(k, _)| k);
+        by_load[k].0.push((p.hold_s, p.friction_drop));
+        by_load[k].1.push(p.friction_drop_std.unwrap_or(0.0));
+    }
+    for (k, (xy, err)) in by_load.into_iter().enumerate() {
+        if xy.is_empty() {
+            continue;
+        }
+        let (colour, label) = match chosen.get(k) {
+            Some(load) => (LOAD_COLOURS[k % LOAD_COLOURS.len()], format!("measured near {}", load_label(*load))),
+            None => (style::GREY, "measured at other loads".to_string()),
+        };
+        series.push(measured(xy, err, Marker::Square, colour, &mut levels).hollow().label(label));
+    }
+    let (y0, y1) = fit(&levels);
+    let hold_xs = times.iter().copied().chain(input.experiments.iter().map(|p| p.hold_s));
+    let (t0, t1) = hold_xs.fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t), b.max(t)));
+    let mut panel = Panel::new(
+        Axis::new("hold time t", "s").log().range(t0 / 1.5, t1 * 1.5),
+        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
+    )
+    .title("Friction drop vs hold time")
+    .legend(LegendPosition::UpperLeft);
+    panel.series = series;
+    let caption = format!(
+        "The friction drop against the AFM hold time t of the local law (laws {}), at the swept loads nearest {} \
+         (band over the topographies, line their mean). An aging law has mu_s(t) = mu_s(t₀) + β·log10(t/t₀) with \
+         mu_d fixed; measured points sit at their hold time, coloured as the nearest of these loads.",
+        laws.iter().map(|l| format!("\"{}\"", l.1)).collect::<Vec<_>>().join(", "),
+        chosen.iter().map(|l| load_label(*l)).collect::<Vec<_>>().join(", ")
+    );
+    Some((Figure::new(panel).with_size(1300, 850), caption))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolation_is_linear_in_log_load() {
+        let curve = [(1e-3, 1.0), (1e-2, 2.0), (1e-1, 4.0)];
+        assert_eq!(interpolate(&curve, 1e-2), Some(2.0));
+        assert!((interpolate(&curve, 10f64.powf(-2.5)).unwrap() - 1.5).abs() < 1e-12);
+        assert!((interpolate(&curve, 10f64.powf(-1.5)).unwrap() - 3.0).abs() < 1e-12);
+        assert_eq!(interpolate(&curve, 1e-4), None);
+        assert_eq!(interpolate(&curve, 1.0), None);
+        assert_eq!(interpolate(&curve, 1e-3), Some(1.0));
+    }
+}

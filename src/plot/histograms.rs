@@ -1,0 +1,112 @@
+//! Fig. 4b–e: the distribution of the local stress ratio over the elements at the critical
+//! state, for one element, for the paper's two two-element scenarios, and for the interface at
+//! the load nearest 10 mN.
+
+use super::maps::load_label;
+use super::{style, tick_label, Axis, Grid, Panel, Series};
+use crate::error::Result;
+use crate::friction::{ElementClass, ElementLoads, FrictionLaw, Onset};
+use crate::study::MapSnapshot;
+
+/// Bins of the subcritical ratios of a many-element interface between 0 and mu_s.
+const BINS: usize = 40;
+
+/// The fraction n^μ/n^tot of the elements at each local stress ratio μ at the critical state,
+/// by class: (class, μ, fraction); subcritical ratios binned (bin centre) when `binned`.
+fn ratios(loads: &ElementLoads, onset: &Onset, binned: bool) -> Vec<(ElementClass, f64, f64)> {
+    let law = &onset.law;
+    let m = loads.len() as f64;
+    let mut out = Vec::new();
+    for (class, mu, count) in [
+        (ElementClass::PreSliding, law.mu_d, onset.pre_sliding.count),
+        (ElementClass::Critical, law.mu_s, onset.critical.count),
+    ] {
+        if count > 0 {
+            out.push((class, mu, count as f64 / m));
+        }
+    }
+    let sub: Vec<f64> = loads
+        .sorted()
+        .iter()
+        .filter(|n| onset.class_of(**n) == ElementClass::Subcritical)
+        .map(|n| onset.stress_ratio_of(*n, 1.0))
+        .collect();
+    if binned {
+        let width = law.mu_s / BINS as f64;
+        let mut counts = [0usize; BINS];
+        for mu in &sub {
+            counts[((mu / width) as usize).min(BINS - 1)] += 1;
+        }
+        out.extend(
+            counts
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| **c > 0)
+                .map(|(k, c)| (ElementClass::Subcritical, (k as f64 + 0.5) * width, *c as f64 / m)),
+        );
+    } else {
+        out.extend(sub.iter().map(|mu| (ElementClass::Subcritical, *mu, 1.0 / m)));
+    }
+    out
+}
+
+/// One panel of bars at the stress ratios of `loads` at its critical state.
+fn panel(title: String, loads: &ElementLoads, law: &FrictionLaw, binned: bool) -> Panel {
+    let onset = Onset::new(loads, law);
+    let width = law.mu_s / BINS as f64 * if binned { 0.9 } else { 1.5 };
+    let bars = ratios(loads, &onset, binned);
+    // On the logarithmic axis of a many-element interface, bars rise from below the rarest.
+    let least = bars.iter().map(|b| b.2).fold(1.0, f64::min);
+    let (lo, hi) = if binned { (least / 3.0, 2.0) } else { (0.0, 1.1) };
+    let y = Axis::dimensionless("n^μ/n^{tot}").range(lo, hi);
+    let mut panel = Panel::new(
+        Axis::dimensionless("local stress ratio μ").range(0.0, law.mu_s * 1.12),
+        if binned { y.log() } else { y },
+    )
+    .title(title);
+    for (mu, name) in [(law.mu_d, "μ^D"), (law.mu_s, "μ^S")] {
+        panel.push(Series::line(vec![(mu, lo), (mu, hi)], style::GREY).dotted().width(1).label(name));
+    }
+    for (class, mu, fraction) in bars {
+        let colour = match class {
+            ElementClass::Critical => style::CRITICAL,
+            ElementClass::PreSliding => style::PRE_SLIDING,
+            _ => style::SUBCRITICAL,
+        };
+        panel.push(
+            Series::band(vec![mu - width / 2.0, mu + width / 2.0], vec![lo; 2], vec![fraction; 2], colour).opacity(1.0),
+        );
+    }
+    panel
+}
+
+/// The four panels of Fig. 4b–e for `law`, the last from `snap` (the map nearest 10 mN).
+pub(super) fn stress_ratio_histograms(snap: Option<&MapSnapshot>, law: &FrictionLaw) -> Result<(Grid, String)> {
+    let two = |a: f64, b: f64| ElementLoads::from_forces(&[a, b]);
+    let mut panels = vec![
+        panel("(b) one element".into(), &ElementLoads::from_forces(&[1.0])?, law, false),
+        panel("(c) two elements, n₂ = 3 n₁: the weaker pre-slides".into(), &two(1.0, 3.0)?, law, false),
+        panel("(d) two elements, n₂ = 1.2 n₁: the stronger is subcritical".into(), &two(1.0, 1.2)?, law, false),
+    ];
+    if let Some(snap) = snap {
+        let loads = ElementLoads::from_pressure(&snap.pressure, snap.pixel_area())?;
+        let title = format!("(e) N = {}, {} elements", load_label(snap.load_n), loads.len());
+        panels.push(panel(title, &loads, law, true));
+    }
+    let caption = format!(
+        "The distribution of the local stress ratio μ = τ/σ over the contact elements at the critical state (the \
+         paper's Fig. 4b–e, law μ_s = {}, μ_d = {}): n^μ/n^tot is the fraction of elements at ratio μ. (b) A single \
+         element is critical at μ_s. (c) Two elements of very different normal force: the weaker has slipped \
+         (pre-sliding, amber, at μ_d) when the stronger reaches μ_s (critical, brown). (d) Two elements of similar \
+         force: the weaker is critical and its slip sets off the stronger, still below μ_s (subcritical, green, at \
+         μ_0 = μ_s n₁/n₂). (e) The interface at the load nearest 10 mN{}, subcritical ratios in {BINS} bins, on a \
+         logarithmic axis.",
+        tick_label(&law.mu_s),
+        tick_label(&law.mu_d),
+        if snap.is_none() { " (no map near 10 mN in this study: left out)" } else { "" }
+    );
+    let n = panels.len();
+    let columns = if n == 4 { 2 } else { n };
+    let size = if n == 4 { (1500, 1100) } else { (500 * n as u32, 560) };
+    Ok((Grid::new(panels, columns, size), caption))
+}
