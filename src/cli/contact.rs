@@ -143,7 +143,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         _ => body.plane_strain_modulus(),
     };
     let path = &args.read.file;
-    let surface = prepare(&args)?;
+    let mut surface = prepare(&args)?;
     let size = contact::contact_size(&surface)?;
     if args.plastic && args.hardness.is_none() {
         return Err(Error::invalid("--plastic", "needs --hardness H, the cap on the pressure"));
@@ -169,6 +169,9 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let heights = surface.heights.as_standard_layout();
     let mut solver =
         ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)?;
+    // The solver keeps its own copy of the heights.
+    drop(heights);
+    surface.heights = ndarray::Array2::zeros((0, 0));
     solver.set_hardness(args.hardness.filter(|_| args.plastic))?;
 
     let out = StagedDir::new(&args.out, "contact")?;

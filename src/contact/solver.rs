@@ -135,11 +135,6 @@ struct ContactSet {
     pressure: Vec<f64>,
     /// Search direction t [m] at each contact point.
     direction: Vec<f64>,
-    /// u − h − c at each contact point [m], with u the stored displacement and c the shift
-    /// ([`ContactSolver::reference`]) of the pass that wrote it.
-    gap: Vec<f64>,
-    /// The stored displacement u at each contact point [m].
-    displacement: Vec<f64>,
 }
 
 /// The compressed rows of a contact set from some row on, for cutting it between tasks.
@@ -148,8 +143,6 @@ struct ContactRows<'a> {
     index: &'a mut [u32],
     pressure: &'a mut [f64],
     direction: &'a mut [f64],
-    gap: &'a mut [f64],
-    displacement: &'a mut [f64],
 }
 
 impl<'a> ContactRows<'a> {
@@ -159,11 +152,9 @@ impl<'a> ContactRows<'a> {
         let (i0, i1) = self.index.split_at_mut(at);
         let (p0, p1) = self.pressure.split_at_mut(at);
         let (t0, t1) = self.direction.split_at_mut(at);
-        let (g0, g1) = self.gap.split_at_mut(at);
-        let (u0, u1) = self.displacement.split_at_mut(at);
         (
-            ContactRows { first: self.first, index: i0, pressure: p0, direction: t0, gap: g0, displacement: u0 },
-            ContactRows { first: mid, index: i1, pressure: p1, direction: t1, gap: g1, displacement: u1 },
+            ContactRows { first: self.first, index: i0, pressure: p0, direction: t0 },
+            ContactRows { first: mid, index: i1, pressure: p1, direction: t1 },
         )
     }
 }
@@ -176,8 +167,6 @@ impl ContactSet {
             index: &mut self.index,
             pressure: &mut self.pressure,
             direction: &mut self.direction,
-            gap: &mut self.gap,
-            displacement: &mut self.displacement,
         };
         (&self.row_start, rows)
     }
@@ -201,9 +190,6 @@ struct Change {
     delta: f64,
     /// Whether the point enters the contact set (else it leaves it).
     entering: bool,
-    /// For an entering point, its gap u − h − c and stored displacement u [m].
-    gap: f64,
-    displacement: f64,
 }
 
 /// The gap's statistics over the contact set, as an iteration starts.
@@ -270,7 +256,7 @@ pub struct ContactSolver {
     next: ContactSet,
     /// D: the projection's changes not yet applied to the displacement, per row.
     pending: Vec<Vec<Change>>,
-    /// Spectrum of D, in one of the forms of [`ChangeTransform`].
+    /// Spectrum of D, in one of the forms of [`ChangeTransform`]; allocated when first needed.
     change_transform: ChangeTransform,
     change_spectrum: Vec<Complex64>,
     change_rows: Vec<ChangeRow>,
@@ -342,7 +328,6 @@ impl ContactSolver {
             Boundary::Free => Influence::free(ny, nx, (lx, ly), e_star),
         };
         let nxh = operator.fft().shape().1 / 2 + 1;
-        let change_spectrum = operator.fft().make_spectrum();
         let (grid_ny, grid_nx) = operator.fft().shape();
         let twiddle = |n: usize| {
             (0..n).map(|k| Complex64::from_polar(1.0, -2.0 * std::f64::consts::PI * k as f64 / n as f64)).collect()
@@ -366,7 +351,7 @@ impl ContactSolver {
             next: ContactSet::default(),
             pending: vec![Vec::new(); ny],
             change_transform: ChangeTransform::None,
-            change_spectrum,
+            change_spectrum: Vec::new(),
             change_rows: (0..DIRECT_ROWS).map(|_| ChangeRow::default()).collect(),
             twiddle_x: twiddle(grid_nx),
             twiddle_y: twiddle(grid_ny),
@@ -399,7 +384,7 @@ impl ContactSolver {
         &self.heights
     }
 
-    /// Pressure of the last solve [Pa], row-major (ny, nx).
+    /// Pressure of the last solve [Pa], row-major (ny, nx); zero after a failed solve.
     pub fn pressure(&self) -> &[f64] {
         &self.pressure_field
     }
@@ -478,8 +463,6 @@ impl ContactSolver {
             pressure.iter().enumerate().filter(|(_, p)| **p > 0.0).map(|(i, p)| (i as u32, *p)).unzip();
         c.row_start = (0..=ny).map(|y| c.index.partition_point(|&i| (i as usize) < y * nx)).collect();
         c.direction = vec![0.0; c.index.len()];
-        c.gap = vec![0.0; c.index.len()];
-        c.displacement = vec![0.0; c.index.len()];
     }
 
     /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
@@ -488,9 +471,34 @@ impl ContactSolver {
     /// cold).
     pub fn solve<R: Proceed>(&mut self, load: f64, mut progress: impl FnMut(usize, f64) -> R) -> Result<SolveReport> {
         check_load(load, self.size, self.e_star)?;
-        if let Some(hardness) = self.hardness {
-            return self.solve_saturated(hardness, load, &mut |it, residual| progress(it, residual).proceed());
+        let mut proceed = |it: usize, residual: f64| progress(it, residual).proceed();
+        // The dense pressure is rebuilt at the end: the iteration needs only the contact set.
+        self.pressure_field = Vec::new();
+        let report = match self.hardness {
+            Some(hardness) => self.solve_saturated(hardness, load, &mut proceed),
+            None => self.solve_elastic(load, &mut proceed),
+        };
+        if self.pressure_field.is_empty() {
+            self.pressure_field = large_buffer(self.ny * self.nx, 0.0);
+            if report.is_ok() {
+                for (&i, &p) in self.contact.index.iter().zip(&self.contact.pressure) {
+                    self.pressure_field[i as usize] = p;
+                }
+            }
         }
+        // What only the iteration needs goes (the next solve allocates it again).
+        self.pending.iter_mut().for_each(|r| *r = Vec::new());
+        self.next = ContactSet::default();
+        self.change_spectrum = Vec::new();
+        let c = &mut self.contact;
+        for v in [&mut c.pressure, &mut c.direction] {
+            v.shrink_to_fit();
+        }
+        c.index.shrink_to_fit();
+        report
+    }
+
+    fn solve_elastic(&mut self, load: f64, progress: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         let start = Instant::now();
         let n = self.ny * self.nx;
         let p_mean = load / (self.size.0 * self.size.1);
@@ -566,7 +574,7 @@ impl ContactSolver {
                     applications += 1.0;
                 }
                 exact = true;
-                if !progress(iterations, residual).proceed() {
+                if !progress(iterations, residual) {
                     return Err(self.interrupted(load));
                 }
                 continue;
@@ -575,15 +583,11 @@ impl ContactSolver {
             applications += 1.0;
             (shifts, residual) = self.step(&shifts, step, total, p_mean, norm)?;
             exact = false;
-            if !progress(iterations, residual).proceed() {
+            if !progress(iterations, residual) {
                 return Err(self.interrupted(load));
             }
         }
         self.warm = true;
-        self.pressure_field.fill(0.0);
-        for (&i, &p) in self.contact.index.iter().zip(&self.contact.pressure) {
-            self.pressure_field[i as usize] = p;
-        }
         Ok(SolveReport {
             load,
             mean_pressure: p_mean,
@@ -613,8 +617,6 @@ impl ContactSolver {
         c.row_start = (0..=self.ny).map(|y| y * self.nx).collect();
         c.pressure = vec![p_mean; n];
         c.direction = vec![0.0; n];
-        c.gap = vec![0.0; n];
-        c.displacement = vec![0.0; n];
     }
 
     /// Recompute the displacement from the pressure (u = K p, σ = 1, nothing pending) and
@@ -660,22 +662,23 @@ impl ContactSolver {
         (shifts, self.residual(&shifts, p_mean, norm))
     }
 
-    /// After the displacement was recomputed (σ = 1): store u and u − h − ḡ at the contact
-    /// points (the reference c = ḡ) and return ḡ, G and the direction's mean.
+    /// After the displacement was recomputed (σ = 1): the reference c = ḡ of the contact
+    /// points' gaps u − h − c, and ḡ, G and the direction's mean.
     fn store_contact_gaps(&mut self) -> Shifts {
         let (u, h) = (&self.displacement, &self.heights);
-        let c = &mut self.contact;
+        let c = &self.contact;
         let count = c.len() as f64;
         let gap_mean = c.index.iter().map(|&i| u[i as usize] - h[i as usize]).sum::<f64>() / count;
         let direction_mean = c.direction.iter().sum::<f64>() / count;
-        c.gap.par_iter_mut().zip(c.displacement.par_iter_mut()).zip(c.index.par_iter()).with_min_len(4096).for_each(
-            |((g, d), &i)| {
-                *d = u[i as usize];
-                *g = *d - h[i as usize] - gap_mean;
-            },
-        );
         self.reference = gap_mean;
-        let gap_norm = c.gap.iter().map(|g| g * g).sum();
+        let gap_norm = c
+            .index
+            .iter()
+            .map(|&i| {
+                let g = u[i as usize] - h[i as usize] - gap_mean;
+                g * g
+            })
+            .sum();
         Shifts { gap_mean, gap_norm, direction_mean }
     }
 
@@ -732,6 +735,9 @@ impl ContactSolver {
             return;
         }
         let (fft, _, _, work) = self.operator.parts();
+        if self.change_spectrum.is_empty() {
+            self.change_spectrum = fft.make_spectrum();
+        }
         fft.forward_rows(
             self.ny,
             work,
@@ -758,7 +764,8 @@ impl ContactSolver {
         let (fft, kernel, spectrum, work) = self.operator.parts();
         let (grid_ny, grid_nx) = fft.shape();
         let c = &mut self.contact;
-        let (index, row_start, gap, u) = (&c.index, &c.row_start, &c.gap, &c.displacement);
+        let (index, row_start, reference) = (&c.index, &c.row_start, self.reference);
+        let (u, h) = (&self.displacement, &self.heights);
         fft.forward_rows(
             ny,
             work,
@@ -773,7 +780,8 @@ impl ContactSolver {
                 let (mut along, mut total) = (0.0, 0.0);
                 for j in row_start[y]..row_start[y + 1] {
                     let i = index[j] as usize;
-                    let g = gap[j] + excess * u[j] + offset;
+                    // The gap as the pass that set the reference wrote it, then shifted.
+                    let g = (u[i] - h[i] - reference) + excess * u[i] + offset;
                     let tj = g + beta * (t[j - base] - s.direction_mean);
                     t[j - base] = tj;
                     line[i - y * nx] = tj;
@@ -881,26 +889,18 @@ impl ContactSolver {
                         let q = rows.pressure[k] - step * rows.direction[k];
                         if q > 0.0 {
                             rows.pressure[k] = q;
-                            rows.gap[k] = g;
-                            rows.displacement[k] = un;
                             member(&mut a, q, g, un, rows.direction[k]);
                         } else {
                             // Clipped: it leaves the contact set.
                             rows.pressure[k] = 0.0;
-                            changed.push(Change {
-                                index: i as u32,
-                                delta: -q,
-                                entering: false,
-                                gap: 0.0,
-                                displacement: 0.0,
-                            });
+                            changed.push(Change { index: i as u32, delta: -q, entering: false });
                         }
                         j += 1;
                     } else if g_old < 0.0 {
                         // Inadmissible: it enters the contact set.
                         a[1] -= g_old;
                         let q = -step * g_old;
-                        changed.push(Change { index: i as u32, delta: q, entering: true, gap: g, displacement: un });
+                        changed.push(Change { index: i as u32, delta: q, entering: true });
                         member(&mut a, q, g, un, 0.0);
                     }
                 }
@@ -931,7 +931,15 @@ impl ContactSolver {
         if sum * sum / count > 0.5 * squares {
             // The mean moved more than the gap varies: sum again around the new mean.
             let (offset, c) = (gap_mean - shifts.gap_mean, &self.contact);
-            shifts.gap_norm = c.gap.iter().zip(&c.displacement).map(|(g, u)| (g + e * u + offset).powi(2)).sum();
+            let (u, h) = (&self.displacement, &self.heights);
+            shifts.gap_norm = c
+                .index
+                .iter()
+                .map(|&i| {
+                    let (u, h) = (u[i as usize], h[i as usize]);
+                    (u - h - gap_mean + e * u + offset).powi(2)
+                })
+                .sum();
         }
         Ok((shifts, (complementarity + p_mean * penetration) / norm))
     }
@@ -947,13 +955,17 @@ impl ContactSolver {
             new.row_start.push(new.row_start[y] + size);
         }
         let n = new.row_start[self.ny];
-        for v in [&mut new.pressure, &mut new.direction, &mut new.gap, &mut new.displacement] {
+        for v in [&mut new.pressure, &mut new.direction] {
             v.resize(n, 0.0);
         }
         new.index.resize(n, 0);
         let (row_start, rows) = new.split_rows();
         merge_rows(0..self.ny, rows, row_start, old, pending);
         std::mem::swap(&mut self.contact, &mut self.next);
+        if self.next.index.capacity() > 4 * self.contact.len() {
+            // The set shrank a lot (the first steps of a cold start): give its old room back.
+            self.next = ContactSet::default();
+        }
     }
 
     /// Let every penetrating point in at the finest mode's stiffness E*π/(2Δ) (used when the
@@ -974,13 +986,7 @@ impl ContactSolver {
                 }
                 let g = sigma * self.displacement[i] - self.heights[i] - s.gap_mean;
                 if g < 0.0 {
-                    changed.push(Change {
-                        index: i as u32,
-                        delta: -stiffness * g,
-                        entering: true,
-                        gap: 0.0,
-                        displacement: 0.0,
-                    });
+                    changed.push(Change { index: i as u32, delta: -stiffness * g, entering: true });
                 }
             }
         }
@@ -1010,8 +1016,8 @@ fn merge_rows(
         return;
     }
     let mut k = 0;
-    let mut put = |out: &mut ContactRows, index: u32, p: f64, t: f64, g: f64, u: f64| {
-        (out.index[k], out.pressure[k], out.direction[k], out.gap[k], out.displacement[k]) = (index, p, t, g, u);
+    let mut put = |out: &mut ContactRows, index: u32, p: f64, t: f64| {
+        (out.index[k], out.pressure[k], out.direction[k]) = (index, p, t);
         k += 1;
     };
     let mut out = out;
@@ -1019,14 +1025,14 @@ fn merge_rows(
         let mut entering = pending[y].iter().filter(|c| c.entering).peekable();
         for j in old.rows(y) {
             while let Some(c) = entering.next_if(|c| c.index < old.index[j]) {
-                put(&mut out, c.index, c.delta, 0.0, c.gap, c.displacement);
+                put(&mut out, c.index, c.delta, 0.0);
             }
             if old.pressure[j] > 0.0 {
-                put(&mut out, old.index[j], old.pressure[j], old.direction[j], old.gap[j], old.displacement[j]);
+                put(&mut out, old.index[j], old.pressure[j], old.direction[j]);
             }
         }
         for c in entering {
-            put(&mut out, c.index, c.delta, 0.0, c.gap, c.displacement);
+            put(&mut out, c.index, c.delta, 0.0);
         }
     }
 }
