@@ -176,7 +176,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
 
 /// The physical size of a surface that the contact solver can take, or a one-line reason
 /// naming the file.
-fn ready_for_contact(surface: &Topography, path: &std::path::Path) -> Result<(f64, f64)> {
+pub fn ready_for_contact(surface: &Topography, path: &std::path::Path) -> Result<(f64, f64)> {
     let bad = surface.heights.iter().filter(|h| !h.is_finite()).count();
     if bad > 0 {
         return Err(Error::file(
