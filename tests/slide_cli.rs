@@ -66,7 +66,10 @@ fn writes_the_onset_its_curve_and_maps() {
     let mut lines = curve.lines();
     assert_eq!(lines.next(), Some("displacement_m,force_n,stick_points,slip_points"));
     let peak = lines.map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap()).fold(0.0, f64::max);
-    assert!((peak - j["static_force_n"].as_f64().unwrap()).abs() <= 1e-12 * peak);
+    // The curve keeps each step's states before and after its cascade; F_S may be an
+    // intermediate round of a cascade, so the curve's peak is at most F_S and close to it.
+    let fs_n = j["static_force_n"].as_f64().unwrap();
+    assert!(peak <= fs_n * (1.0 + 1e-12) && peak > 0.99 * fs_n, "{peak} vs {fs_n}");
 }
 
 #[test]

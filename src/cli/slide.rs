@@ -61,7 +61,7 @@ pub struct SlideArgs {
     window: Option<Vec<f64>>,
     /// Slip-weakening distance d_c [m, or with a unit: 1nm]: μ falls linearly from mu_s to
     /// mu_d over an accumulated slip d_c (default: at once on the first slip).
-    #[arg(long, value_name = "DC", allow_negative_numbers = true, value_parser = super::length)]
+    #[arg(long, value_name = "DC", allow_hyphen_values = true, value_parser = super::length)]
     slip_distance: Option<f64>,
     /// Ramp the tangential force to Q [N] under Coulomb friction at mu_s and write that
     /// partial-slip state, instead of the path to sliding.
@@ -208,11 +208,8 @@ pub fn run(args: SlideArgs) -> Result<()> {
     let out = StagedDir::new(&args.out)?;
     let input = args.read.file.display().to_string();
     let start = Instant::now();
-    let work_report = |work: SlideWork| WorkReport {
-        work,
-        fft_pairs: 2 * work.applications,
-        seconds: start.elapsed().as_secs_f64(),
-    };
+    let work_report =
+        |work: SlideWork| WorkReport { work, fft_pairs: 2 * work.applications, seconds: start.elapsed().as_secs_f64() };
     let contact_points = solver.points().len();
     if let Some(q) = args.tangential_force {
         let (state, work) = ramp_force(&mut solver, law.mu_s, q)?;
@@ -324,7 +321,10 @@ fn curve_after_peak(path: &Path, unit: f64) -> Result<Vec<(f64, f64)>> {
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(points.len() - peak);
     for &(x, mu) in &points[peak..] {
         if mu <= 0.0 {
-            return Err(Error::file(path, format!("friction coefficient {mu} at displacement {x} after the peak is not positive")));
+            return Err(Error::file(
+                path,
+                format!("friction coefficient {mu} at displacement {x} after the peak is not positive"),
+            ));
         }
         let s = (x - x0) * unit;
         match out.last_mut() {
@@ -399,10 +399,15 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool) -> R
     let entry = match (load, &contact.loads[..]) {
         (_, []) => return Err(Error::file(&json_path, "it holds no load")),
         (None, [one]) => one,
-        (None, _) => return Err(Error::invalid("--load", format!("{} holds several loads: choose one", json_path.display()))),
+        (None, _) => {
+            return Err(Error::invalid("--load", format!("{} holds several loads: choose one", json_path.display())))
+        }
         (Some(n), loads) => loads.iter().find(|l| (l.load_n - n).abs() <= 1e-9 * n).ok_or_else(|| {
             let known: Vec<String> = loads.iter().map(|l| format!("{:e}", l.load_n)).collect();
-            Error::invalid("--load", format!("{n:e} N is not among the loads of {}: {}", json_path.display(), known.join(", ")))
+            Error::invalid(
+                "--load",
+                format!("{n:e} N is not among the loads of {}: {}", json_path.display(), known.join(", ")),
+            )
         })?,
     };
     let path = dir.join(&entry.pressure_file);

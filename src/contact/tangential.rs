@@ -337,9 +337,7 @@ impl TangentialSolver {
                 .par_iter()
                 .zip(self.product.par_iter())
                 .zip(self.displacement.par_iter().zip(target.par_iter()))
-                .map(|((t, w), (u, b))| {
-                    ((u[0] - b[0]) * t[0] + (u[1] - b[1]) * t[1], t[0] * w[0] + t[1] * w[1])
-                })
+                .map(|((t, w), (u, b))| ((u[0] - b[0]) * t[0] + (u[1] - b[1]) * t[1], t[0] * w[0] + t[1] * w[1]))
                 .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
             if !(tkt > 0.0) {
                 conjugate = false;

@@ -298,7 +298,12 @@ impl<'a> Path<'a> {
     fn point(&self, delta: f64) -> SlidePoint {
         let q = self.solver.traction();
         let slip = q.iter().zip(&self.bound).filter(|(q, g)| at_bound(**q, **g)).count();
-        SlidePoint { displacement_m: delta, force_n: self.solver.force()[0], stick_points: q.len() - slip, slip_points: slip }
+        SlidePoint {
+            displacement_m: delta,
+            force_n: self.solver.force()[0],
+            stick_points: q.len() - slip,
+            slip_points: slip,
+        }
     }
 
     fn snapshot(&self, point: SlidePoint) -> Snapshot {
@@ -348,7 +353,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
     }];
     // The largest force seen, its state, and the state at the start of its step.
     let mut best: Option<(Snapshot, State)> = None;
-    let run = |path: &mut Path, start: &State, h: f64, until: Option<f64>, curve: &mut Vec<SlidePoint>, best: &mut Option<(Snapshot, State)>| -> Result<()> {
+    let run = |path: &mut Path,
+               start: &State,
+               h: f64,
+               until: Option<f64>,
+               curve: &mut Vec<SlidePoint>,
+               best: &mut Option<(Snapshot, State)>|
+     -> Result<()> {
         path.go_back(start);
         for k in 1..=MAX_STEPS {
             let before = path.state.clone();
@@ -396,7 +407,8 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
         }
         ClassShare { count, normal_fraction: n / normal_force, friction_fraction: f / peak.point.force_n }
     };
-    let (stuck, critical, slipped) = (share(SlideClass::Stuck), share(SlideClass::Critical), share(SlideClass::Slipped));
+    let (stuck, critical, slipped) =
+        (share(SlideClass::Stuck), share(SlideClass::Critical), share(SlideClass::Slipped));
     Ok(ElasticOnset {
         normal_force,
         static_force: peak.point.force_n,
