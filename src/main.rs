@@ -23,6 +23,9 @@ enum Command {
     Contact(cli::contact::ContactArgs),
     /// Static friction, friction drop and element classes from a pressure map (stick-slip model)
     Onset(cli::onset::Args),
+    /// Sliding onset with elastic interaction between the contact points (tangential solve on
+    /// the half-space): static friction, friction drop, shear maps
+    Slide(cli::slide::SlideArgs),
     /// Topographies: inspect, prepare, synthesise, analyse (`topo info | convert | generate | psd`).
     Topo(cli::topo::TopoArgs),
     /// Static and dynamic friction after each hold of a slide-hold-slide trace
@@ -43,6 +46,7 @@ fn main() -> ExitCode {
     let result: asperity::Result<()> = match cli.command {
         Command::Contact(args) => cli::contact::run(args),
         Command::Onset(args) => cli::onset::run(args),
+        Command::Slide(args) => cli::slide::run(args),
         Command::Topo(args) => cli::topo::run(args),
         Command::Shs(args) => cli::shs::run(args),
         Command::Run(args) => cli::run::run(args),

@@ -4,6 +4,7 @@ pub mod contact;
 pub mod onset;
 pub mod run;
 pub mod shs;
+pub mod slide;
 pub mod topo;
 pub mod topo_tools;
 

@@ -201,12 +201,24 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The local law from --mu-s/--mu-d, --curve or a preset --law, labelled by --law.
 fn friction_law(args: &Args) -> Result<FrictionLaw> {
-    let window = match args.window.as_deref() {
+    law_from_options(args.mu_s, args.mu_d, args.curve.as_deref(), args.window.as_deref(), args.law.as_deref())
+}
+
+/// The local law from the options --mu-s, --mu-d, --curve (with --window) and --law, as every
+/// command that takes a law reads them.
+pub fn law_from_options(
+    mu_s: Option<f64>,
+    mu_d: Option<f64>,
+    curve: Option<&Path>,
+    window: Option<&[f64]>,
+    name: Option<&str>,
+) -> Result<FrictionLaw> {
+    let window = match window {
         None => None,
         Some(&[start, end]) => Some((start, end)),
         Some(w) => return Err(Error::invalid("--window", format!("expected START,END, got {} values", w.len()))),
     };
-    let law = match (args.mu_s, args.mu_d, &args.curve, &args.law) {
+    let law = match (mu_s, mu_d, curve, name) {
         (Some(mu_s), Some(mu_d), _, _) => FrictionLaw::new(mu_s, mu_d)?,
         (Some(_), None, _, _) => return Err(Error::invalid("--mu-s", "needs --mu-d too")),
         (None, Some(_), _, _) => return Err(Error::invalid("--mu-d", "needs --mu-s too")),
@@ -219,8 +231,8 @@ fn friction_law(args: &Args) -> Result<FrictionLaw> {
             ))
         }
     };
-    Ok(match &args.law {
-        Some(name) => law.named(name.as_str()),
+    Ok(match name {
+        Some(name) => law.named(name),
         None => law,
     })
 }
@@ -261,7 +273,7 @@ fn read_input(args: &Args) -> Result<Input> {
     Ok(Input { pressure, path: args.input.clone(), pixel_area, load: None })
 }
 
-fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
+pub fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
     let bytes = limits.read_file(path)?;
     let pressure = asperity::topography::io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))?;
     limits.check_grid(pressure.ncols(), pressure.nrows()).map_err(|r| Error::file(path, r))?;

@@ -20,7 +20,10 @@
 //! bound; the step length is the exact minimiser along it; the new traction is projected onto
 //! the disks |q_i| ≤ g_i. Conjugacy is kept while the set of points on their bound stays the
 //! same. One application of K (two FFT pairs) per iteration, a second one when the projection
-//! changed the traction (points sliding along their bound).
+//! changed the traction (points sliding along their bound). Should it stall (it can, when the
+//! set of points on their bound keeps changing), the solve finishes with the accelerated
+//! projected gradient (FISTA with adaptive restart), slower but sure to converge, one
+//! application per iteration.
 //!
 //! Convergence: the projected gradient's norm relative to the target's, both over the contact
 //! points, below the tolerance, on a displacement that is exact (recomputed from scratch).
@@ -29,6 +32,9 @@ use rayon::prelude::*;
 
 use super::influence::{Boundary, ShearCompliance, TangentialInfluence};
 use crate::error::{Error, Result};
+
+/// Iterations without a new best residual after which the solve changes method.
+const STALL: usize = 50;
 
 /// Settings of the tangential solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,6 +84,11 @@ pub struct TangentialSolver {
     field_out: [Vec<f64>; 2],
     /// Whether each point was on its bound in the last iteration.
     on_bound: Vec<bool>,
+    /// The accelerated projected gradient's previous iterate and its displacement.
+    previous_traction: Vec<[f64; 2]>,
+    previous_displacement: Vec<[f64; 2]>,
+    /// The largest eigenvalue of K on the contact set [m/Pa], once needed.
+    lipschitz: Option<f64>,
 }
 
 impl TangentialSolver {
@@ -132,6 +143,9 @@ impl TangentialSolver {
             field_in: grid(),
             field_out: grid(),
             on_bound: vec![false; m],
+            previous_traction: vec![[0.0; 2]; m],
+            previous_displacement: vec![[0.0; 2]; m],
+            lipschitz: None,
         })
     }
 
@@ -219,6 +233,8 @@ impl TangentialSolver {
         let mut applications = 1;
         let mut iterations = 0;
         let mut conjugate = false;
+        let mut accelerated = false;
+        let mut momentum = 1.0;
         let mut exact = true;
         let mut norm_old = 1.0;
         let (mut best, mut best_at) = (f64::INFINITY, 0);
@@ -275,11 +291,21 @@ impl TangentialSolver {
             iterations += 1;
             if residual < best {
                 (best, best_at) = (residual, iterations);
-            } else if iterations - best_at > 50 {
-                // Stalled: restart from the steepest descent on an exact displacement.
-                (conjugate, best_at) = (false, iterations);
-                self.refresh();
+            } else if iterations - best_at > STALL && !accelerated {
+                // The projected conjugate gradient stalls on some active-set changes: finish
+                // with the accelerated projected gradient, which cannot.
+                accelerated = true;
+                if self.lipschitz.is_none() {
+                    self.lipschitz = Some(self.largest_eigenvalue(&mut applications));
+                }
+                self.previous_traction.copy_from_slice(&self.traction);
+                self.previous_displacement.copy_from_slice(&self.displacement);
+                momentum = 1.0;
+            }
+            if accelerated {
+                self.accelerated_step(target, bound, &mut momentum);
                 applications += 1;
+                exact = true;
                 continue;
             }
             let beta = if conjugate && !changed { norm / norm_old } else { 0.0 };
@@ -335,6 +361,65 @@ impl TangentialSolver {
             }
             conjugate = true;
         }
+    }
+}
+
+impl TangentialSolver {
+    /// One step of the accelerated projected gradient (FISTA with adaptive restart, step
+    /// 1/L): from the extrapolated point y = q + β(q − q_prev), q ← P(y − (Ky − b)/L). Ky is
+    /// combined from the stored displacements, so a step costs one application of K.
+    fn accelerated_step(&mut self, target: &[[f64; 2]], bound: &[f64], momentum: &mut f64) {
+        let step = 1.0 / self.lipschitz.expect("estimated before the first step");
+        let next = 0.5 * (1.0 + (1.0 + 4.0 * *momentum * *momentum).sqrt());
+        let beta = (*momentum - 1.0) / next;
+        *momentum = next;
+        self.traction
+            .par_iter_mut()
+            .zip(self.displacement.par_iter())
+            .zip(self.previous_traction.par_iter_mut().zip(self.previous_displacement.par_iter_mut()))
+            .zip(self.direction.par_iter_mut().zip(target.par_iter().zip(bound.par_iter())))
+            .for_each(|(((q, u), (qp, up)), (y, (b, g)))| {
+                *y = [q[0] + beta * (q[0] - qp[0]), q[1] + beta * (q[1] - qp[1])];
+                let ky = [u[0] + beta * (u[0] - up[0]), u[1] + beta * (u[1] - up[1])];
+                *qp = *q;
+                *up = *u;
+                let mut z = [y[0] - step * (ky[0] - b[0]), y[1] - step * (ky[1] - b[1])];
+                let zn = z[0].hypot(z[1]);
+                if zn > *g {
+                    z = [z[0] * g / zn, z[1] * g / zn];
+                }
+                *q = z;
+            });
+        self.refresh();
+        // Restart the momentum when it points uphill (O'Donoghue & Candès).
+        let uphill: f64 = self
+            .direction
+            .par_iter()
+            .zip(self.traction.par_iter().zip(self.previous_traction.par_iter()))
+            .map(|(y, (q, qp))| (y[0] - q[0]) * (q[0] - qp[0]) + (y[1] - q[1]) * (q[1] - qp[1]))
+            .sum();
+        if uphill > 0.0 {
+            *momentum = 1.0;
+        }
+    }
+
+    /// The largest eigenvalue of K restricted to the contact set, by power iteration, with a
+    /// margin for what the iteration has not yet reached.
+    fn largest_eigenvalue(&mut self, applications: &mut usize) -> f64 {
+        let m = self.points.len();
+        let mut v: Vec<[f64; 2]> = (0..m).map(|i| [1.0, 0.5 + 0.25 * ((i * 7919) % 13) as f64 / 13.0]).collect();
+        let mut w = vec![[0.0; 2]; m];
+        let mut estimate = 0.0;
+        for _ in 0..40 {
+            let norm = v.iter().map(|x| x[0] * x[0] + x[1] * x[1]).sum::<f64>().sqrt();
+            v.iter_mut().for_each(|x| *x = [x[0] / norm, x[1] / norm]);
+            let TangentialSolver { operator, points, field_in, field_out, .. } = self;
+            Self::apply_to(operator, points, field_in, field_out, &v, &mut w);
+            *applications += 1;
+            estimate = v.iter().zip(&w).map(|(a, b)| a[0] * b[0] + a[1] * b[1]).sum::<f64>();
+            std::mem::swap(&mut v, &mut w);
+        }
+        1.2 * estimate
     }
 }
 

@@ -29,6 +29,9 @@ const REFINE: usize = 8;
 const MAX_STEPS: usize = 100 * STEPS;
 /// Solves of one cascade after which it is an error.
 const MAX_CASCADE: usize = 2000;
+/// A cascade has settled when no bound changes by more than this fraction: well above what
+/// the solve's tolerance leaves in the slips.
+const SETTLED: f64 = 1e-6;
 /// A traction within this fraction of its bound is on it (slipping).
 const ON_BOUND: f64 = 1e-9;
 
@@ -164,7 +167,9 @@ pub struct ElasticOnset {
     pub stuck: ClassShare,
     pub critical: ClassShare,
     pub slipped: ClassShare,
-    /// F(δ) along the path (the coarse path, then the refined stretches, in increasing δ).
+    /// F(δ) along the path, in increasing δ: the coarse path with the stretch around the peak
+    /// replaced by its refinement; at a δ where a cascade happens, the force before it and
+    /// after it.
     pub curve: Vec<SlidePoint>,
     pub work: SlideWork,
 }
@@ -229,8 +234,9 @@ impl<'a> Path<'a> {
     }
 
     /// One increment to `delta`, with its cascade. `visit` sees every solved state (the state
-    /// before its memory is updated) with its point on the curve.
-    fn step(&mut self, delta: f64, visit: &mut impl FnMut(&Self, SlidePoint)) -> Result<SlidePoint> {
+    /// before its memory is updated) with its point on the curve. Returns the first state
+    /// (before the cascade) and the settled one.
+    fn step(&mut self, delta: f64, visit: &mut impl FnMut(&Self, SlidePoint)) -> Result<(SlidePoint, SlidePoint)> {
         self.work.steps += 1;
         let p = self.solver.pressure();
         let st = &self.state;
@@ -240,10 +246,12 @@ impl<'a> Path<'a> {
         }
         let mut slipped = st.slipped.clone();
         let mut rounds = 0;
+        let mut first = None;
         loop {
             self.solve()?;
             let point = self.point(delta);
             visit(self, point);
+            first.get_or_insert(point);
             // The slip of this increment, and the bounds it implies.
             let (q, u, p) = (self.solver.traction(), self.solver.displacement(), self.solver.pressure());
             let mut same = true;
@@ -254,7 +262,7 @@ impl<'a> Path<'a> {
                 let d = [self.target[i][0] - u[i][0], self.target[i][1] - u[i][1]];
                 slipped[i] = true;
                 let g = self.law.mu(self.state.path[i] + d[0].hypot(d[1]), true) * p[i];
-                if (g - self.bound[i]).abs() > 1e-12 * self.bound[i] {
+                if (g - self.bound[i]).abs() > SETTLED * self.bound[i] {
                     same = false;
                     self.bound[i] = g;
                 }
@@ -282,7 +290,8 @@ impl<'a> Path<'a> {
         st.slipped = slipped;
         st.traction.copy_from_slice(q);
         st.delta = delta;
-        Ok(self.point(delta))
+        let settled = self.point(delta);
+        Ok((first.unwrap_or(settled), settled))
     }
 
     /// The curve point of the solver's current state.
@@ -360,7 +369,11 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
                     *best = Some((p.snapshot(point), before.clone()));
                 }
             };
-            let point = path.step(delta, &mut record)?;
+            let (first, point) = path.step(delta, &mut record)?;
+            if first != point {
+                // The force before the cascade: the curve drops at this δ.
+                curve.push(first);
+            }
             curve.push(point);
             if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) || (until.is_none() && path.sliding(&point)) {
                 return Ok(());
@@ -374,8 +387,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
         let start = best.as_ref().expect("a path has states").1.clone();
         let end = start.delta + 2.0 * h;
         h /= REFINE as f64;
-        run(&mut path, &start, h, Some(end), &mut curve, &mut best)?;
+        let mut finer = Vec::new();
+        run(&mut path, &start, h, Some(end), &mut finer, &mut best)?;
+        // The refined stretch replaces the coarser one.
+        curve.retain(|p| p.displacement_m <= start.delta || p.displacement_m > end * (1.0 + 1e-12));
+        curve.extend(finer);
     }
+    // Stable: at one δ the force before its cascade stays ahead of the settled one.
     curve.sort_by(|a, b| a.displacement_m.total_cmp(&b.displacement_m));
     let (peak, _) = best.expect("a path has states");
     let share = |class: SlideClass| {
@@ -426,7 +444,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
     for k in 1..=MAX_STEPS {
         before = path.state.clone();
         lo = hi;
-        let point = path.step(h * k as f64, &mut none)?;
+        let (_, point) = path.step(h * k as f64, &mut none)?;
         hi = (point.displacement_m, point.force_n);
         if hi.1 >= force {
             break;
@@ -464,5 +482,5 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
 fn force_at(path: &mut Path, start: &State, delta: f64) -> Result<f64> {
     path.go_back(start);
     let mut none = |_: &Path, _: SlidePoint| {};
-    Ok(path.step(delta, &mut none)?.force_n)
+    Ok(path.step(delta, &mut none)?.1.force_n)
 }

@@ -1,0 +1,453 @@
+//! `asperity slide`: the onset of sliding with elastic interaction between the contact points.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+use asperity::contact::{
+    self, Boundary, ContactSolver, Material, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
+};
+use asperity::friction::{
+    elastic_onset, law_from_curve, parse_curve, ramp_force, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork,
+    SlipLaw, Snapshot, Weakening,
+};
+use asperity::limits::Limits;
+use asperity::output::{self, StagedDir};
+use asperity::topography::io;
+use asperity::{Error, Result};
+
+use super::ReadArgs;
+
+/// Sliding onset with elastic interaction: the body is displaced rigidly along x, quasi-
+/// statically, and the shear tractions on the contact points follow from the elastic
+/// half-space (Cerruti) with a local law that has memory (mu_s until a point first slips, then
+/// mu_d, or a slip-weakening distance). The normal pressure is that of the normal solve and
+/// stays fixed; normal and tangential problems are uncoupled (exact for identical bodies,
+/// Goodman's approximation otherwise).
+///
+/// Writes DIR/slide.json, DIR/curve.csv (displacement_m, force_n, stick_points, slip_points),
+/// DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy (int8: 0 no contact,
+/// 1 slipped, 2 critical, 3 stuck) at the peak force, or at the imposed --tangential-force.
+#[derive(Args)]
+pub struct SlideArgs {
+    /// A topography (solved for --load first), or the output directory of `asperity contact`.
+    #[command(flatten)]
+    read: ReadArgs,
+    /// Normal load [N, or with a unit: 10mN]; with a contact directory, which of its loads.
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::force)]
+    load: Option<f64>,
+    /// Local static friction coefficient mu_s (dimensionless, ≥ mu_d).
+    #[arg(long, allow_negative_numbers = true)]
+    mu_s: Option<f64>,
+    /// Local dynamic friction coefficient mu_d (dimensionless, > 0).
+    #[arg(long, allow_negative_numbers = true)]
+    mu_d: Option<f64>,
+    /// Name of the local law: alone, a preset ("hold 100 s", "hold 10 s": ILLUSTRATIVE
+    /// values); with --mu-s/--mu-d or --curve, a label.
+    #[arg(long)]
+    law: Option<String>,
+    /// A measured nanoscale friction curve, CSV of (displacement, friction coefficient), as
+    /// `onset` reads it: mu_s is its peak, and past the peak μ follows the curve as a function
+    /// of the accumulated slip (displacement unit: --curve-unit).
+    #[arg(long, conflicts_with_all = ["mu_s", "mu_d", "slip_distance"], requires = "curve_unit")]
+    curve: Option<PathBuf>,
+    /// The displacement unit of --curve as a length (1nm, 1um, 1e-9).
+    #[arg(long, value_name = "LENGTH", value_parser = super::length)]
+    curve_unit: Option<f64>,
+    /// START,END past the peak of --curve over which mu_d is averaged, in the curve's unit.
+    #[arg(long, requires = "curve", value_delimiter = ',', value_name = "START,END", allow_hyphen_values = true)]
+    window: Option<Vec<f64>>,
+    /// Slip-weakening distance d_c [m, or with a unit: 1nm]: μ falls linearly from mu_s to
+    /// mu_d over an accumulated slip d_c (default: at once on the first slip).
+    #[arg(long, value_name = "DC", allow_hyphen_values = true, value_parser = super::length)]
+    slip_distance: Option<f64>,
+    /// Ramp the tangential force to Q [N] under Coulomb friction at mu_s and write that
+    /// partial-slip state, instead of the path to sliding.
+    #[arg(long, value_name = "Q", allow_negative_numbers = true, value_parser = super::force)]
+    tangential_force: Option<f64>,
+    /// Young's modulus of the elastic body [Pa, or with a unit: 130GPa] (default: silicon).
+    #[arg(long, value_name = "E", default_value_t = Material::SILICON.youngs, allow_negative_numbers = true, value_parser = super::pressure)]
+    youngs: f64,
+    /// Poisson's ratio of the elastic body, in (−1, 0.5) (default: silicon).
+    #[arg(long, value_name = "NU", default_value_t = Material::SILICON.poisson, allow_negative_numbers = true)]
+    poisson: f64,
+    /// Young's modulus of a second elastic body [Pa] (with --poisson2); without it the
+    /// counter-body is rigid.
+    #[arg(long, value_name = "E2", requires = "poisson2", allow_negative_numbers = true, value_parser = super::pressure)]
+    youngs2: Option<f64>,
+    /// Poisson's ratio of the second elastic body.
+    #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
+    poisson2: Option<f64>,
+    /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
+    #[arg(long)]
+    free: bool,
+    /// Tolerance of the tangential solve (relative norm of its projected gradient).
+    #[arg(long, value_name = "T", default_value_t = TangentialOptions::default().tolerance)]
+    tolerance: f64,
+    /// Iteration limit of one tangential solve.
+    #[arg(long, value_name = "K", default_value_t = TangentialOptions::default().max_iterations)]
+    max_iter: usize,
+    /// Output directory (replaced as a whole when the run completes).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+}
+
+/// The part of `asperity contact`'s contact.json this command reads.
+#[derive(Deserialize)]
+struct ContactResult {
+    grid: [usize; 2],
+    physical_size_m: [f64; 2],
+    effective_modulus_pa: f64,
+    boundary: Boundary,
+    loads: Vec<ContactLoad>,
+}
+
+#[derive(Deserialize)]
+struct ContactLoad {
+    load_n: f64,
+    pressure_file: String,
+}
+
+/// The pressure the tangential problem starts from.
+struct Normal {
+    pressure: Vec<f64>,
+    shape: (usize, usize),
+    size: (f64, f64),
+    boundary: Boundary,
+    load: f64,
+}
+
+#[derive(Serialize)]
+struct LawReport {
+    name: Option<String>,
+    mu_s: f64,
+    mu_d: f64,
+    weakening: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    slip_distance_m: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct EqualSharing {
+    static_coefficient: f64,
+    friction_drop: f64,
+}
+
+#[derive(Serialize)]
+struct WorkReport {
+    #[serde(flatten)]
+    work: SlideWork,
+    /// FFT pairs: two per operator application.
+    fft_pairs: usize,
+    seconds: f64,
+}
+
+/// slide.json for the path to sliding.
+#[derive(Serialize)]
+struct OnsetReport {
+    input: String,
+    boundary: &'static str,
+    contact_points: usize,
+    law: LawReport,
+    load_n: f64,
+    static_force_n: f64,
+    static_coefficient: f64,
+    dynamic_coefficient: f64,
+    friction_drop: f64,
+    peak_displacement_m: f64,
+    stuck: ClassShare,
+    critical: ClassShare,
+    slipped: ClassShare,
+    equal_sharing: EqualSharing,
+    work: WorkReport,
+}
+
+/// slide.json for a partial-slip state at an imposed tangential force.
+#[derive(Serialize)]
+struct RampReport {
+    input: String,
+    boundary: &'static str,
+    contact_points: usize,
+    load_n: f64,
+    mu: f64,
+    tangential_force_n: f64,
+    displacement_m: f64,
+    stick_points: usize,
+    slip_points: usize,
+    work: WorkReport,
+}
+
+pub fn run(args: SlideArgs) -> Result<()> {
+    let law = law(&args)?;
+    let mut bodies = vec![Material::new(args.youngs, args.poisson, "--youngs/--poisson")?];
+    if let (Some(e2), Some(nu2)) = (args.youngs2, args.poisson2) {
+        bodies.push(Material::new(e2, nu2, "--youngs2/--poisson2")?);
+    }
+    let e_star = match bodies[..] {
+        [a, b] => contact::combined_modulus(&a, &b),
+        [a] => a.plane_strain_modulus(),
+        _ => unreachable!("one or two bodies"),
+    };
+    if let Some(q) = args.tangential_force {
+        if !(q > 0.0 && q.is_finite()) {
+            return Err(Error::invalid("--tangential-force", format!("must be positive and finite, got {q} N")));
+        }
+    }
+    let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
+    let normal = normal_pressure(&args, e_star)?;
+    let mut solver = TangentialSolver::new(
+        &normal.pressure,
+        normal.shape,
+        normal.size,
+        ShearCompliance::of(&bodies),
+        normal.boundary,
+        options,
+    )?;
+    let out = StagedDir::new(&args.out, "slide")?;
+    let input = args.read.file.display().to_string();
+    let start = Instant::now();
+    let work_report =
+        |work: SlideWork| WorkReport { work, fft_pairs: 2 * work.applications, seconds: start.elapsed().as_secs_f64() };
+    let contact_points = solver.points().len();
+    if let Some(q) = args.tangential_force {
+        let (state, work) = ramp_force(&mut solver, law.mu_s, q)?;
+        write_maps(&out, &solver, &normal, &state)?;
+        let report = RampReport {
+            input,
+            boundary: normal.boundary.name(),
+            contact_points,
+            load_n: normal.load,
+            mu: law.mu_s,
+            tangential_force_n: state.point.force_n,
+            displacement_m: state.point.displacement_m,
+            stick_points: state.point.stick_points,
+            slip_points: state.point.slip_points,
+            work: work_report(work),
+        };
+        output::write_json(&out.path("slide.json"), &report)?;
+        eprintln!(
+            "Q {:.6e} N at δ {:.6e} m: {} stuck, {} slipping ({} solves, {} iterations, {:.1} s)",
+            report.tangential_force_n,
+            report.displacement_m,
+            report.stick_points,
+            report.slip_points,
+            work.solves,
+            work.iterations,
+            report.work.seconds
+        );
+    } else {
+        let onset = elastic_onset(&mut solver, &law)?;
+        write_maps(&out, &solver, &normal, &onset.peak)?;
+        write_curve(&out.path("curve.csv"), &onset.curve)?;
+        let (ny, nx) = normal.shape;
+        let pressure = Array2::from_shape_vec((ny, nx), normal.pressure.clone()).expect("grid shape");
+        let area = solver.pixel_area();
+        let equal = Onset::new(&ElementLoads::from_pressure(&pressure, area)?, &FrictionLaw::new(law.mu_s, law.mu_d)?);
+        let report = OnsetReport {
+            input,
+            boundary: normal.boundary.name(),
+            contact_points,
+            law: law_report(&args, &law),
+            load_n: onset.normal_force,
+            static_force_n: onset.static_force,
+            static_coefficient: onset.static_coefficient(),
+            dynamic_coefficient: law.mu_d,
+            friction_drop: onset.friction_drop(),
+            peak_displacement_m: onset.peak.point.displacement_m,
+            stuck: onset.stuck,
+            critical: onset.critical,
+            slipped: onset.slipped,
+            equal_sharing: EqualSharing {
+                static_coefficient: equal.static_coefficient(),
+                friction_drop: equal.friction_drop(),
+            },
+            work: work_report(onset.work),
+        };
+        output::write_json(&out.path("slide.json"), &report)?;
+        eprintln!(
+            "friction drop {:.6} (equal sharing {:.6}), static coefficient {:.6} ({} steps, {} solves, {} iterations, {:.1} s)",
+            report.friction_drop,
+            report.equal_sharing.friction_drop,
+            report.static_coefficient,
+            onset.work.steps,
+            onset.work.solves,
+            onset.work.iterations,
+            report.work.seconds
+        );
+    }
+    let dir = out.commit()?;
+    eprintln!("wrote {}", dir.join("slide.json").display());
+    Ok(())
+}
+
+/// The local law with its weakening.
+fn law(args: &SlideArgs) -> Result<SlipLaw> {
+    let base = super::onset::law_from_options(
+        args.mu_s,
+        args.mu_d,
+        args.curve.as_deref(),
+        args.window.as_deref(),
+        args.law.as_deref(),
+    )?;
+    let weakening = match (&args.curve, args.slip_distance) {
+        (Some(path), _) => {
+            let unit = args.curve_unit.expect("clap requires --curve-unit with --curve");
+            if !(unit > 0.0 && unit.is_finite()) {
+                return Err(Error::invalid("--curve-unit", format!("must be a positive length, got {unit} m")));
+            }
+            Weakening::Curve(curve_after_peak(path, unit)?)
+        }
+        (None, Some(dc)) => {
+            if !(dc > 0.0 && dc.is_finite()) {
+                return Err(Error::invalid("--slip-distance", format!("must be positive and finite, got {dc} m")));
+            }
+            Weakening::Linear(dc)
+        }
+        (None, None) => Weakening::Instant,
+    };
+    Ok(SlipLaw { mu_s: base.mu_s, mu_d: base.mu_d, weakening })
+}
+
+/// μ(slip) from a friction curve: the points from its peak on, slip measured from the peak.
+fn curve_after_peak(path: &Path, unit: f64) -> Result<Vec<(f64, f64)>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let points = parse_curve(&text).map_err(|r| Error::file(path, r))?;
+    // Validated by the law already read from the same file; the peak as it defines it.
+    law_from_curve(&points, None).map_err(|_| Error::file(path, "no sliding after the friction peak"))?;
+    let peak = points.iter().enumerate().fold(0, |best, (i, p)| if p.1 > points[best].1 { i } else { best });
+    let x0 = points[peak].0;
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(points.len() - peak);
+    for &(x, mu) in &points[peak..] {
+        if mu <= 0.0 {
+            return Err(Error::file(
+                path,
+                format!("friction coefficient {mu} at displacement {x} after the peak is not positive"),
+            ));
+        }
+        let s = (x - x0) * unit;
+        match out.last_mut() {
+            // Repeated displacements: keep the last value.
+            Some(last) if last.0 == s => last.1 = mu,
+            _ => out.push((s, mu)),
+        }
+    }
+    Ok(out)
+}
+
+fn law_report(args: &SlideArgs, law: &SlipLaw) -> LawReport {
+    let (weakening, slip_distance_m) = match law.weakening {
+        Weakening::Instant => ("instant", None),
+        Weakening::Linear(dc) => ("linear", Some(dc)),
+        Weakening::Curve(_) => ("curve", None),
+    };
+    let name = args.law.clone().or_else(|| args.curve.as_ref().map(|p| p.display().to_string()));
+    LawReport { name, mu_s: law.mu_s, mu_d: law.mu_d, weakening, slip_distance_m }
+}
+
+/// The normal pressure: solved here for a topography, or read from a contact directory.
+fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
+    let path = &args.read.file;
+    if path.is_dir() {
+        return read_contact_dir(path, args.load, e_star, args.free, &args.read.limits.limits());
+    }
+    let load = args.load.ok_or_else(|| Error::invalid("--load", "give the normal load for a topography"))?;
+    if !(load > 0.0 && load.is_finite()) {
+        return Err(Error::invalid("--load", format!("must be positive and finite, got {load} N")));
+    }
+    let surface = io::read(path, &args.read.options())?;
+    let size = contact::contact_size(&surface)?;
+    let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
+    let shape = (surface.ny(), surface.nx());
+    let heights = surface.heights.as_standard_layout();
+    let mut solver = ContactSolver::new(
+        heights.as_slice().expect("standard layout"),
+        shape,
+        size,
+        e_star,
+        boundary,
+        SolverOptions::default(),
+    )?;
+    let report = solver.solve(load, |_, _| {})?;
+    eprintln!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds);
+    Ok(Normal { pressure: solver.pressure().to_vec(), shape, size, boundary, load })
+}
+
+fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limits: &Limits) -> Result<Normal> {
+    let json_path = dir.join("contact.json");
+    let text = limits.read_text(&json_path)?;
+    let contact: ContactResult =
+        serde_json::from_str(&text).map_err(|e| Error::file(&json_path, format!("not a contact result: {e}")))?;
+    let [ny, nx] = contact.grid;
+    let [lx, ly] = contact.physical_size_m;
+    if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0 && nx >= 2 && ny >= 2) {
+        return Err(Error::file(&json_path, format!("grid {ny}×{nx} of size {lx}×{ly} m is not a valid surface")));
+    }
+    if (contact.effective_modulus_pa - e_star).abs() > 1e-9 * e_star {
+        return Err(Error::invalid(
+            "--youngs/--poisson",
+            format!(
+                "give the materials of the contact solve: its effective modulus is {:.6e} Pa, these give {e_star:.6e} Pa",
+                contact.effective_modulus_pa
+            ),
+        ));
+    }
+    if free && contact.boundary != Boundary::Free {
+        return Err(Error::invalid("--free", format!("{} was solved with a periodic boundary", json_path.display())));
+    }
+    let entry = match (load, &contact.loads[..]) {
+        (_, []) => return Err(Error::file(&json_path, "it holds no load")),
+        (None, [one]) => one,
+        (None, _) => {
+            return Err(Error::invalid("--load", format!("{} holds several loads: choose one", json_path.display())))
+        }
+        (Some(n), loads) => loads.iter().find(|l| (l.load_n - n).abs() <= 1e-9 * n).ok_or_else(|| {
+            let known: Vec<String> = loads.iter().map(|l| format!("{:e}", l.load_n)).collect();
+            Error::invalid(
+                "--load",
+                format!("{n:e} N is not among the loads of {}: {}", json_path.display(), known.join(", ")),
+            )
+        })?,
+    };
+    let path = dir.join(&entry.pressure_file);
+    let pressure = super::onset::read_pressure(&path, &limits)?;
+    if pressure.dim() != (ny, nx) {
+        let (a, b) = pressure.dim();
+        return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));
+    }
+    Ok(Normal {
+        pressure: pressure.iter().copied().collect(),
+        shape: (ny, nx),
+        size: (lx, ly),
+        boundary: contact.boundary,
+        load: entry.load_n,
+    })
+}
+
+/// shear_x.npy, shear_y.npy [Pa] and classes.npy of a state.
+fn write_maps(out: &StagedDir, solver: &TangentialSolver, normal: &Normal, state: &Snapshot) -> Result<()> {
+    let (ny, nx) = normal.shape;
+    let (mut sx, mut sy) = (Array2::<f64>::zeros((ny, nx)), Array2::<f64>::zeros((ny, nx)));
+    let mut classes = Array2::<i8>::zeros((ny, nx));
+    for ((&i, q), c) in solver.points().iter().zip(&state.traction).zip(&state.classes) {
+        let at = (i / nx, i % nx);
+        sx[at] = q[0];
+        sy[at] = q[1];
+        classes[at] = *c as i8;
+    }
+    output::write_npy(&out.path("shear_x.npy"), &sx)?;
+    output::write_npy(&out.path("shear_y.npy"), &sy)?;
+    output::write_npy(&out.path("classes.npy"), &classes)
+}
+
+fn write_curve(path: &Path, curve: &[asperity::friction::SlidePoint]) -> Result<()> {
+    output::write_atomic(path, |w| {
+        writeln!(w, "displacement_m,force_n,stick_points,slip_points")?;
+        for p in curve {
+            writeln!(w, "{:e},{:e},{},{}", p.displacement_m, p.force_n, p.stick_points, p.slip_points)?;
+        }
+        Ok(())
+    })
+}

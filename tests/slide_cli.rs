@@ -1,0 +1,151 @@
+//! `asperity slide` as users run it: the output contract, the partial-slip mode, the contact
+//! directory as input, and one-line errors.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ndarray::Array2;
+use ndarray_npy::read_npy;
+
+fn asperity(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).output().unwrap()
+}
+
+fn surface() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tamaas/heights.npy")
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn writes_the_onset_its_curve_and_maps() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("slide");
+    let s = surface();
+    let o = asperity(&[
+        "slide",
+        s.to_str().unwrap(),
+        "--size",
+        "8e-6,6e-6",
+        "--load",
+        "2mN",
+        "--mu-s",
+        "0.6",
+        "--mu-d",
+        "0.4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j = json(&out.join("slide.json"));
+    assert_eq!(j["load_n"].as_f64().unwrap(), 2e-3);
+    let (fs, mu_s) = (j["static_coefficient"].as_f64().unwrap(), 0.6);
+    // Elastic sharing lies between total sliding at mu_d and every point at mu_s at once.
+    assert!(fs > 0.4 && fs <= mu_s + 1e-12, "static coefficient {fs}");
+    assert!((j["friction_drop"].as_f64().unwrap() - fs / 0.4).abs() < 1e-12);
+    assert!((j["static_force_n"].as_f64().unwrap() - fs * 2e-3).abs() < 1e-9 * 2e-3);
+    let eq = &j["equal_sharing"];
+    assert!(eq["friction_drop"].as_f64().unwrap() > 1.0 && eq["static_coefficient"].as_f64().unwrap() > 0.4);
+    let classes = ["stuck", "critical", "slipped"];
+    let count: u64 = classes.iter().map(|c| j[c]["count"].as_u64().unwrap()).sum();
+    let normal: f64 = classes.iter().map(|c| j[c]["normal_fraction"].as_f64().unwrap()).sum();
+    let friction: f64 = classes.iter().map(|c| j[c]["friction_fraction"].as_f64().unwrap()).sum();
+    assert_eq!(count, j["contact_points"].as_u64().unwrap());
+    assert!((normal - 1.0).abs() < 1e-9 && (friction - 1.0).abs() < 1e-9);
+    // The maps at the peak: the shear sums to F_S, the classes mark exactly the contact points.
+    let sx: Array2<f64> = read_npy(out.join("shear_x.npy")).unwrap();
+    let sy: Array2<f64> = read_npy(out.join("shear_y.npy")).unwrap();
+    let cl: Array2<i8> = read_npy(out.join("classes.npy")).unwrap();
+    assert_eq!((sx.dim(), sy.dim(), cl.dim()), ((96, 128), (96, 128), (96, 128)));
+    let area = 8e-6 * 6e-6 / (96.0 * 128.0);
+    assert!((sx.sum() * area / j["static_force_n"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+    assert_eq!(cl.iter().filter(|c| **c != 0).count() as u64, count);
+    let curve = std::fs::read_to_string(out.join("curve.csv")).unwrap();
+    let mut lines = curve.lines();
+    assert_eq!(lines.next(), Some("displacement_m,force_n,stick_points,slip_points"));
+    let peak = lines.map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap()).fold(0.0, f64::max);
+    // The curve keeps each step's states before and after its cascade; F_S may be an
+    // intermediate round of a cascade, so the curve's peak is at most F_S and close to it.
+    let fs_n = j["static_force_n"].as_f64().unwrap();
+    assert!(peak <= fs_n * (1.0 + 1e-12) && peak > 0.99 * fs_n, "{peak} vs {fs_n}");
+}
+
+#[test]
+fn ramps_a_tangential_force_from_a_contact_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let (contact, out) = (dir.path().join("contact"), dir.path().join("slide"));
+    let s = surface();
+    let o = asperity(&[
+        "contact",
+        s.to_str().unwrap(),
+        "--size",
+        "8e-6,6e-6",
+        "--load",
+        "0.2mN,2mN",
+        "--out",
+        contact.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let args = |q: &str| {
+        vec![
+            "slide".to_string(),
+            contact.to_str().unwrap().to_string(),
+            "--load".into(),
+            "2mN".into(),
+            "--mu-s".into(),
+            "0.5".into(),
+            "--mu-d".into(),
+            "0.5".into(),
+            "--tangential-force".into(),
+            q.into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+        ]
+    };
+    let run = |q: &str| {
+        let a = args(q);
+        asperity(&a.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let o = run("0.5mN");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j = json(&out.join("slide.json"));
+    assert!((j["tangential_force_n"].as_f64().unwrap() / 0.5e-3 - 1.0).abs() < 1e-5);
+    assert!(j["displacement_m"].as_f64().unwrap() > 0.0);
+    let (stick, slip) = (j["stick_points"].as_u64().unwrap(), j["slip_points"].as_u64().unwrap());
+    assert!(stick > 0 && slip > 0, "half of μN is partial slip: {stick} stuck, {slip} slipping");
+    // Beyond μN there is no partial-slip state: refused in one line, nothing written over.
+    let before = std::fs::read(out.join("slide.json")).unwrap();
+    let o = run("1.5mN");
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--tangential-force") && err.trim().lines().count() == 1, "{err}");
+    assert_eq!(std::fs::read(out.join("slide.json")).unwrap(), before);
+    // A load the directory does not hold.
+    let mut a = args("0.5mN");
+    a[3] = "3mN".into();
+    let o = asperity(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--load") && err.contains("not among"), "{err}");
+}
+
+#[test]
+fn refuses_a_missing_law_and_a_bad_slip_distance() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("slide");
+    let s = surface();
+    let base = ["slide", s.to_str().unwrap(), "--size", "8e-6,6e-6", "--load", "2mN", "--out", out.to_str().unwrap()];
+    for (extra, needle) in [
+        (&[][..], "--mu-s"),
+        (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "-1nm"][..], "--slip-distance"),
+        (&["--mu-s", "0.3", "--mu-d", "0.4"][..], "--mu-s"),
+    ] {
+        let mut a: Vec<&str> = base.to_vec();
+        a.extend_from_slice(extra);
+        let o = asperity(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(needle) && err.trim().lines().count() == 1, "{extra:?}: {err}");
+        assert!(!out.exists());
+    }
+}
