@@ -177,7 +177,9 @@ pub fn parse(text: &str, dim: &Dimension, bare_is_si: bool) -> Result<f64, Strin
         })?;
     // A power-of-ten unit shifts the decimal exponent, so "0.1 mN" is exactly what 1e-4 is.
     let exponent = factor.log10().round() as i32;
-    let value = if 10f64.powi(exponent) == factor { shifted(&t[..split], exponent) } else { None };
+    // Derived units (µm², mN/µm) come out of products within rounding of their power of ten.
+    let decimal = (10f64.powi(exponent) / factor - 1.0).abs() < 1e-12;
+    let value = if decimal { shifted(&t[..split], exponent) } else { None };
     finite(value.unwrap_or(number * factor), text)
 }
 

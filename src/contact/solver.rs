@@ -203,12 +203,14 @@ struct Shifts {
     direction_mean: f64,
 }
 
-/// The smallest mean pressure solved, relative to E* (a representable range, not physics).
-const MIN_STRAIN: f64 = 1e-100;
+/// The range of mean pressures solved, relative to E*: beyond it the products the solver forms
+/// (pressure × gap, their sums over the grid) leave the range of floats. It is a range of
+/// representable numbers, not of physics: full contact at any strain is solved as linear
+/// elasticity has it.
+const STRAIN_RANGE: (f64, f64) = (1e-100, 1e100);
 
 /// Whether a normal `load` [N] on a window of `size` [m] can be solved with effective modulus
-/// `e_star` [Pa]: its mean pressure must lie between 1e-100 E* (below, the solver's products
-/// leave the range of floats) and E* (a strain of order one, far outside linear elasticity).
+/// `e_star` [Pa]: its mean pressure must lie between 1e-100 E* and 1e100 E*.
 pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     use crate::quantity::human;
     if !(load > 0.0 && load.is_finite()) {
@@ -216,16 +218,18 @@ pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     }
     let p_mean = load / (size.0 * size.1);
     let strain = p_mean / e_star;
-    if !(strain > MIN_STRAIN && strain < 1.0) {
+    if !(strain > STRAIN_RANGE.0 && strain < STRAIN_RANGE.1) {
         return Err(Error::invalid(
             "--load",
             format!(
                 "{} N on {} × {} m is a mean pressure of {p_mean:.3e} Pa, {strain:.1e} times the effective \
-                 modulus E* = {e_star:.3e} Pa: outside linear elasticity (the mean pressure must lie between \
-                 {MIN_STRAIN:e} E* and E*)",
+                 modulus E* = {e_star:.3e} Pa: not representable (the mean pressure must lie between {:e} E* \
+                 and {:e} E*)",
                 human(load),
                 human(size.0),
-                human(size.1)
+                human(size.1),
+                STRAIN_RANGE.0,
+                STRAIN_RANGE.1
             ),
         ));
     }

@@ -63,9 +63,9 @@ impl Format for GwyddionTxt {
                 lines.next();
             }
             if rows.is_empty() {
-                return Err(format!("channel '{}' (line {}) has no values", header.title, head[0].0));
+                return Err(format!("channel '{}' (line {}) has no values", text::excerpt(&header.title), head[0].0));
             }
-            let mut data = rows.finish().map_err(|e| format!("channel '{}': {e}", header.title))?;
+            let mut data = rows.finish().map_err(|e| format!("channel '{}': {e}", text::excerpt(&header.title)))?;
             let scale = header.unit.as_deref().and_then(units::metres_per);
             if let Some(s) = scale {
                 data.mapv_inplace(|h| h * s);
@@ -104,7 +104,7 @@ fn block_header(lines: &[&str]) -> Result<BlockHeader, String> {
         if labels.is_empty() || labels.contains(&label) {
             Ok(value)
         } else {
-            Err(format!("'{label}' stands where Gwyddion's export writes '{}'", labels[0]))
+            Err(format!("'{}' stands where Gwyddion's export writes '{}'", text::excerpt(label), labels[0]))
         }
     };
     let title = field(0, CHANNEL)?.to_string();
@@ -113,7 +113,7 @@ fn block_header(lines: &[&str]) -> Result<BlockHeader, String> {
     let number_with_unit = |v: &str| v.split_whitespace().next().and_then(|n| text::number(&n.replacen(',', ".", 1)));
     for v in [width, height] {
         if number_with_unit(v).is_none() {
-            return Err(format!("'{v}' is not a size"));
+            return Err(format!("'{}' is not a size", text::excerpt(v)));
         }
     }
     let size = text::length_in_metres(width).zip(text::length_in_metres(height));

@@ -126,7 +126,7 @@ impl Separators {
                 Separators::DecimalComma => number(&t.replacen(',', ".", 1)),
             };
             match v {
-                Some(v) if v.is_infinite() => return Err(format!("'{t}' is not a finite height")),
+                Some(v) if v.is_infinite() => return Err(format!("'{}' is not a finite height", excerpt(t))),
                 Some(v) => out.push(v),
                 None => return Err(format!("'{}' is not a number", excerpt(t))),
             }
