@@ -24,7 +24,7 @@ fn the_default_balls_touch_as_the_papers_at_0_1_mn_and_in_one_element_at_the_low
         let at = format!("{} at {} N, law {}", row.topography, row.load_n, row.law);
         if row.load_n == lowest {
             assert_eq!((row.contact_points, row.patches), (1, 1), "{at}");
-            assert_eq!(row.friction_drop, row.mu_s / row.mu_d, "{at}");
+            assert!((row.friction_drop - row.mu_s / row.mu_d).abs() < 1e-12, "{at}: drop {}", row.friction_drop);
             assert_eq!(row.critical_normal_fraction, 1.0, "{at}");
         } else {
             assert!((30..=100).contains(&row.contact_points), "{at}: {} elements", row.contact_points);
