@@ -202,12 +202,13 @@ fn failed_renames_and_links_leave_no_temporary() {
 fn convert_without_a_physical_size_writes_and_says_so() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    // An XYZ point list: its coordinates carry no unit, so no physical size.
+    // An XYZ point list: its coordinates carry no unit, so no physical size (its heights are
+    // stated in metres, as an unknown height unit is refused).
     let heights = Array2::from_shape_fn((8, 8), |(i, j)| 1e-9 * ((i * 7 + j * 3) % 5) as f64);
     let lines: String = heights.indexed_iter().map(|((i, j), h)| format!("{j} {i} {h:e}\n")).collect();
     std::fs::write(dir.join("s.xyz"), lines).unwrap();
     for out in ["o.npy", "o.gsf"] {
-        let o = asperity(dir, &["topo", "convert", "s.xyz", out]);
+        let o = asperity(dir, &["topo", "convert", "s.xyz", out, "--height-unit", "m"]);
         succeeds(&o);
         let text = String::from_utf8_lossy(&o.stdout);
         assert!(text.contains("8 × 8 points") && text.contains("physical size unknown"), "{text}");
