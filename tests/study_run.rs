@@ -121,9 +121,10 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
         })
         .unwrap();
     let events = events.into_inner().unwrap();
-    assert_eq!(events[0], (8, 0));
-    assert_eq!(events.len(), 9);
-    assert_eq!((outcome.solved, outcome.resumed, outcome.rows.len()), (8, 0, 16));
+    // 2 topographies × 4 loads, and their copies 2× and 4× coarser for the resolution figure.
+    assert_eq!(events[0], (24, 0));
+    assert_eq!(events.len(), 25);
+    assert_eq!((outcome.solved, outcome.resumed, outcome.rows.len()), (24, 0, 16));
 
     // results.json: the rows, which are the solver's and the model's run directly.
     let json: Vec<Row> = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
@@ -182,12 +183,13 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
     let from_csv: Vec<Row> = csv.deserialize().map(|r| r.unwrap()).collect();
     assert_eq!(from_csv, json);
 
-    // The study as run reads back as a study, with its loads and laws explicit.
+    // The study as run reads back as a study, with its loads explicit and its laws as given.
     let text = std::fs::read_to_string(out.join("study.toml")).unwrap();
     let as_run = StudyConfig::parse(&text, "study.toml").unwrap();
     assert_eq!(&as_run, s.config());
     assert_eq!(as_run.load_values(), [1e-4, 1e-3, 1e-2, 1e-1]);
-    assert_eq!((as_run.laws[0].mu_s, as_run.laws[0].mu_d), (Some(0.6), Some(0.4)));
+    assert_eq!(as_run.laws[0].preset.as_deref(), Some("hold 100 s"));
+    assert_eq!((as_run.laws[1].mu_s, as_run.laws[1].mu_d), (Some(0.9), Some(0.3)));
 
     // Snapshots of the first topography at the loads of the figures, and every pressure map.
     for (k, load) in FIGURE_LOADS_N.iter().enumerate() {
@@ -210,7 +212,7 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
 
     // Run again: everything is found finished, and the results are the same.
     let again = s.run(&out, false, &|_| ()).unwrap();
-    assert_eq!((again.solved, again.resumed), (0, 8));
+    assert_eq!((again.solved, again.resumed), (0, 24));
     assert_eq!(again.rows, outcome.rows);
 }
 
@@ -232,7 +234,8 @@ fn a_dir_of_another_study_is_refused_and_fresh_starts_over() {
     assert_eq!(same.run(&out, false, &|_| ()).unwrap().resumed, 8);
 
     let outcome = other.run(&out, true, &|_| ()).unwrap();
-    assert_eq!((outcome.solved, outcome.resumed), (8, 0));
+    // With the coarser copies of the resolution figure.
+    assert_eq!((outcome.solved, outcome.resumed), (24, 0));
     assert!(outcome.rows.iter().any(|r| r.load_n == 2e-2));
 
     // A folder that holds something else is never a study's.
@@ -290,7 +293,8 @@ fn a_study_compares_elastic_and_plastic_solves() {
         .replace("[[topography]]\nname = \"ball-2\"", "[[unused]]\nname = \"ball-2\"");
     let text = text[..text.find("[[unused]]").unwrap()].to_string() + &text[text.find("[material]").unwrap()..];
     let outcome = study(&text).run(&out, false, &|_| ()).unwrap();
-    assert_eq!((outcome.solved, outcome.rows.len()), (8, 16));
+    // Elastic and plastic sweeps, and the elastic coarser copies of the resolution figure.
+    assert_eq!((outcome.solved, outcome.rows.len()), (16, 16));
     let (elastic, plastic): (Vec<&Row>, Vec<&Row>) = outcome.rows.iter().partition(|r| !r.plastic);
     assert_eq!((elastic.len(), plastic.len()), (8, 8));
     let mut differ = 0;
