@@ -522,7 +522,15 @@ impl Study {
     /// How many of sweep `u`'s loads have their record: the sweep resumes after them.
     fn finished(&self, dir: &Path, u: usize, plastic: bool) -> usize {
         let solves = self.solves_dir(dir, u, plastic);
-        (0..self.loads.len()).take_while(|k| solves.join(format!("{k:02}.json")).is_file()).count()
+        let n = self.loads.len();
+        let done = (0..n).take_while(|k| solves.join(format!("{k:02}.json")).is_file()).count();
+        // A sweep goes on from its last pressure map; without it (a `--fresh` cut short) it
+        // starts over.
+        if done == 0 || done == n || solves.join(format!("warm-{:02}.npy", done - 1)).is_file() {
+            done
+        } else {
+            0
+        }
     }
 
     /// Sweep `u` over the loads from index `first` on, elastic or plastic.
@@ -686,8 +694,9 @@ impl Study {
 }
 
 /// Remove what a run wrote into `dir`, for `--fresh`: the run's own names only, so that files
-/// put there by hand stay (and the folders that hold them); the fingerprint last, so that a
-/// discard cut short is still a study's DIR for the next `--fresh`.
+/// put there by hand stay (and the folders that hold them). The fingerprint stays for the
+/// claim to replace in one rename, so that a discard cut short still leaves a study's DIR; the
+/// solve records go first, so that what such a DIR resumes is solved again.
 fn discard(dir: &Path) -> Result<()> {
     let index = |s: &str| s.len() >= 2 && s.bytes().all(|b| b.is_ascii_digit());
     let indexed = |n: &str, ext: &str| n.strip_suffix(ext).is_some_and(index);
@@ -701,24 +710,26 @@ fn discard(dir: &Path) -> Result<()> {
         let stem = n.strip_suffix(".png").or_else(|| n.strip_suffix(".svg"));
         stem.is_some_and(|s| figure_stems.iter().any(|f| f == s)) || (n.starts_with("movie-") && n.ends_with(".gif"))
     };
-    remove_matching(dir, |n| RESULT_FILES.contains(&n))?;
-    remove_matching(&dir.join("figures"), figure)?;
-    remove_matching(&dir.join("snapshots"), |n| stem_indexed(n, ".npy") || stem_indexed(n, ".json"))?;
     // Each topography's folder, and the `plastic` one inside it for its plastic sweep.
     let with_plastic = |folders: Vec<PathBuf>| -> Vec<PathBuf> {
         folders.into_iter().flat_map(|f| [plastic_dir(f.clone(), true), f]).collect()
     };
+    let units = with_plastic(subfolders(&dir.join(SOLVES).join(TOPOGRAPHIES))?);
+    for folder in &units {
+        remove_matching(folder, |n| indexed(n, ".json"))?;
+    }
+    for folder in &units {
+        remove_matching(folder, |n| {
+            n.strip_prefix("warm-").is_some_and(|n| indexed(n, ".npy"))
+                || (n.starts_with("loads-") && n.ends_with(".lock"))
+        })?;
+    }
+    remove_matching(dir, |n| RESULT_FILES.contains(&n))?;
+    remove_matching(&dir.join("figures"), figure)?;
+    remove_matching(&dir.join("snapshots"), |n| stem_indexed(n, ".npy") || stem_indexed(n, ".json"))?;
     let pressure = with_plastic(subfolders(&dir.join("pressure"))?);
     for folder in &pressure {
         remove_matching(folder, |n| indexed(n, ".npy"))?;
-    }
-    let units = with_plastic(subfolders(&dir.join(SOLVES).join(TOPOGRAPHIES))?);
-    for folder in &units {
-        remove_matching(folder, |n| {
-            indexed(n, ".json")
-                || n.strip_prefix("warm-").is_some_and(|n| indexed(n, ".npy"))
-                || (n.starts_with("loads-") && n.ends_with(".lock"))
-        })?;
     }
     // Emptied folders go (a plastic one before its topography's); one still holding a file of
     // its owner's stays.
@@ -728,8 +739,7 @@ fn discard(dir: &Path) -> Result<()> {
     for folder in ["figures", "snapshots", "pressure", "solves/topographies"] {
         let _ = std::fs::remove_dir(dir.join(folder));
     }
-    let fingerprint = dir.join(SOLVES).join(FINGERPRINT);
-    std::fs::remove_file(&fingerprint).map_err(|e| Error::io(&fingerprint, e))
+    Ok(())
 }
 
 /// Remove the files of `dir` whose names `pick` chooses (none when `dir` is missing).
