@@ -122,6 +122,7 @@ fn input<'a>(
         resolution: &s.resolution,
         hold_time_loads: &[1e-4, 1e-3, 1e-2],
         log_density: false,
+        hardness_pa: None,
         maps,
         experiments,
         figures,
@@ -183,7 +184,7 @@ fn every_figure_movie_and_the_report() {
 
     // (name, width, height) of each figure.
     let figures = [
-        ("friction-drop", 1400, 850),
+        ("friction-drop", 1800, 850),
         ("static-dynamic-coefficients", 1400, 850),
         ("resolution", 1400, 850),
         ("hold-time", 1300, 850),
@@ -258,6 +259,23 @@ fn every_figure_movie_and_the_report() {
 }
 
 #[test]
+fn the_hardness_is_marked_on_the_pressure_distribution_when_set() {
+    let s = study();
+    let figures = [FigureKind::PressureDistribution];
+    let draw = |hardness: Option<f64>| {
+        let dir = tempfile::tempdir().unwrap();
+        let mut input = input(s, &s.maps, &[], &figures, &[]);
+        input.hardness_pa = hardness;
+        render(dir.path(), &input).unwrap();
+        std::fs::read_to_string(dir.path().join("figures/pressure-distribution.svg")).unwrap()
+    };
+    assert!(!draw(None).contains("hardness"));
+    // Far above every pressure of the maps: the stress axis reaches it.
+    let marked = draw(Some(12e9));
+    assert!(marked.contains("hardness H = 12 GPa"), "no hardness line in the legend");
+}
+
+#[test]
 fn missing_data_and_a_subset_leave_notes() {
     let s = study();
     // No experiments, no snapshot near 1 mN nor 100 mN, three figures asked for.
@@ -299,6 +317,7 @@ fn nothing_to_draw_is_no_failure() {
         resolution: &[],
         hold_time_loads: &[],
         log_density: false,
+        hardness_pa: None,
         maps: &[],
         experiments: &[],
         figures: &FigureKind::ALL,

@@ -174,7 +174,8 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
         Axis::dimensionless("friction drop μ_S/μ_D = F_S/(μ^D N)").range(y0, y1),
     )
     .title("Friction drop vs normal load")
-    .legend(LegendPosition::LowerLeft);
+    // Beside the axes: the bands span the height at low loads and the ticks line the top.
+    .legend_beside(480);
     panel.series = series;
     let experiments = if input.experiments.is_empty() {
         " No measured points were given.".to_string()
@@ -197,7 +198,7 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
          by more than one element.{experiments} Short ticks along the top mark the loads of the p(σ) figure.",
         if topographies == 1 { "y" } else { "ies" }
     );
-    Some((Figure::new(panel).with_size(1400, 850), caption))
+    Some((Figure::new(panel).with_size(1800, 850), caption))
 }
 
 /// The swept load nearest `target` in log scale, if within half a decade.

@@ -410,15 +410,37 @@ impl Panel {
             let (w, h) = (widths.iter().max().copied().unwrap_or(0) + 34 + 20, labelled.len() as i32 * line + 12);
             let (left, top) = (xr.start - base.0, yr.start - base.1);
             let (right, bottom) = (xr.end - base.0, yr.end - base.1);
+            let corner = |position: &SeriesLabelPosition| match position {
+                SeriesLabelPosition::UpperLeft => (left + 12, top + 12),
+                SeriesLabelPosition::LowerLeft => (left + 12, bottom - h - 12),
+                SeriesLabelPosition::LowerRight => (right - w - 12, bottom - h - 12),
+                _ => (right - w - 12, top + 12),
+            };
             let (x, y) = if self.legend_beside > 0 {
                 (right + 20, top)
             } else {
-                match position {
-                    SeriesLabelPosition::UpperLeft => (left + 12, top + 12),
-                    SeriesLabelPosition::LowerLeft => (left + 12, bottom - h - 12),
-                    SeriesLabelPosition::LowerRight => (right - w - 12, bottom - h - 12),
-                    _ => (right - w - 12, top + 12),
+                // The corner asked for, unless another hides less of the data.
+                let to_px = |p: (f64, f64)| {
+                    let (px, py) = chart.backend_coord(&p);
+                    ((px - base.0) as f64, (py - base.1) as f64)
+                };
+                let cover = |(x, y): (i32, i32)| {
+                    let rect = (x as f64, y as f64, (x + w) as f64, (y + h) as f64);
+                    self.series.iter().map(|s| hidden(s, rect, to_px, shown)).sum::<f64>()
+                };
+                let mut best = (corner(position), cover(corner(position)));
+                for other in [
+                    SeriesLabelPosition::UpperRight,
+                    SeriesLabelPosition::UpperLeft,
+                    SeriesLabelPosition::LowerRight,
+                    SeriesLabelPosition::LowerLeft,
+                ] {
+                    let c = cover(corner(&other));
+                    if c < best.1 {
+                        best = (corner(&other), c);
+                    }
                 }
+                best.0
             };
             if self.legend_beside == 0 {
                 area.draw(&Rectangle::new([(x, y), (x + w, y + h)], WHITE.mix(0.88).filled()))?;
@@ -432,6 +454,68 @@ impl Panel {
         }
         Ok(())
     }
+}
+
+/// How much of series `s` a legend box `rect` (left, top, right, bottom) would hide, in
+/// pixels of its area over 10 (a marker counts as its disc): `to_px` maps the axes' units to
+/// pixels, `shown` tells the points the axes can draw.
+fn hidden(
+    s: &Series,
+    rect: (f64, f64, f64, f64),
+    to_px: impl Fn((f64, f64)) -> (f64, f64),
+    shown: impl Fn(&(f64, f64)) -> bool,
+) -> f64 {
+    const STEP: f64 = 2.0;
+    let inside = |(x, y): (f64, f64)| x >= rect.0 && x <= rect.2 && y >= rect.1 && y <= rect.3;
+    let pixels = |points: &[(f64, f64)]| -> Vec<(f64, f64)> {
+        points.iter().copied().filter(|p| shown(p)).map(&to_px).collect()
+    };
+    let covered = match &s.shape {
+        Shape::Line { points, width, .. } => {
+            let px = pixels(points);
+            // Samples every STEP px along each segment, each standing for STEP px of the line.
+            let mut n = 0usize;
+            for seg in px.windows(2) {
+                let (a, b) = (seg[0], seg[1]);
+                let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) / STEP).ceil().max(1.0) as usize;
+                n += (0..steps)
+                    .filter(|&i| {
+                        let t = i as f64 / steps as f64;
+                        inside((a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t))
+                    })
+                    .count();
+            }
+            n += px.iter().filter(|p| inside(**p)).count().min(1);
+            n as f64 * STEP * *width as f64
+        }
+        Shape::Scatter { points, .. } => {
+            let r = style::MARKER_SIZE as f64;
+            pixels(points).iter().filter(|p| inside(**p)).count() as f64 * std::f64::consts::PI * r * r
+        }
+        Shape::Band { x, lower, upper } => {
+            let edge =
+                |y: &[f64]| -> Vec<(f64, f64)> { x.iter().copied().zip(y.iter().copied()).map(&to_px).collect() };
+            let (lo, hi) = (edge(lower), edge(upper));
+            let mut area = 0.0;
+            for i in 1..lo.len() {
+                let (x0, x1) = (lo[i - 1].0, lo[i].0);
+                if !(x0.is_finite() && x1.is_finite()) || x1 <= x0 {
+                    continue;
+                }
+                let mut xs = x0.max(rect.0);
+                while xs < x1.min(rect.2) {
+                    let t = (xs - x0) / (x1 - x0);
+                    let (a, b) = (hi[i - 1].1 + (hi[i].1 - hi[i - 1].1) * t, lo[i - 1].1 + (lo[i].1 - lo[i - 1].1) * t);
+                    area += (b.max(a).min(rect.3) - a.min(b).max(rect.1)).max(0.0) * STEP;
+                    xs += STEP;
+                }
+            }
+            // Translucent: a legend over a band hides less than over a line.
+            area * s.opacity
+        }
+        Shape::Span { .. } => 0.0,
+    };
+    covered / 10.0
 }
 
 /// Pieces of typeset text: base line, subscript or superscript.
@@ -768,6 +852,26 @@ pub fn tick_label(v: &f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_legend_box_hides_what_lies_under_it() {
+        let id = |p: (f64, f64)| p;
+        let all = |_: &(f64, f64)| true;
+        let rect = (0.0, 0.0, 100.0, 50.0);
+        // A 2 px line across the box: 100 px of it hidden, 200 px² over 10.
+        let across = Series::line(vec![(-50.0, 25.0), (150.0, 25.0)], BLACK).width(2);
+        let h = hidden(&across, rect, id, all);
+        assert!((h - 20.0).abs() <= 1.0, "{h}");
+        assert_eq!(hidden(&Series::line(vec![(0.0, 80.0), (100.0, 90.0)], BLACK), rect, id, all), 0.0);
+        // A band from y = 40 to 60 under the whole box: 100 × 10 px at a quarter's opacity.
+        let band = Series::band(vec![-10.0, 200.0], vec![40.0, 40.0], vec![60.0, 60.0], BLACK);
+        let h = hidden(&band, rect, id, all);
+        assert!((h - 25.0).abs() <= 1.0, "{h}");
+        // Markers count inside the box only.
+        let dots = Series::scatter(vec![(10.0, 10.0), (20.0, 20.0), (300.0, 20.0)], Marker::Circle, BLACK);
+        let disc = std::f64::consts::PI * (style::MARKER_SIZE as f64).powi(2) / 10.0;
+        assert!((hidden(&dots, rect, id, all) - 2.0 * disc).abs() < 1e-9);
+    }
 
     #[test]
     fn log_ticks_adapt_to_the_range() {

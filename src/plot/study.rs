@@ -83,7 +83,7 @@ pub(super) fn stem(kind: FigureKind) -> &'static str {
 }
 
 /// The snapshot nearest `target` [N] in log scale, if within [`NEAR_DECADES`].
-fn nearest<'a>(maps: &'a [MapSnapshot], target: f64) -> Option<&'a MapSnapshot> {
+fn nearest(maps: &[MapSnapshot], target: f64) -> Option<&MapSnapshot> {
     let distance = |m: &MapSnapshot| (m.load_n / target).log10().abs();
     maps.iter()
         .filter(|m| m.load_n > 0.0 && distance(m) <= NEAR_DECADES)
@@ -289,10 +289,11 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
     if maps.is_empty() || max <= 0.0 {
         return None;
     }
-    let (scale, unit) = super::prefixed(max, "Pa");
+    // The stress axis reaches the hardness when it is set, so that its line shows.
+    let (scale, unit) = super::prefixed(max.max(input.hardness_pa.unwrap_or(0.0)), "Pa");
     let density_axis = Axis::new("probability density p(σ)", &format!("1/{unit}"));
     let mut panel = Panel::new(
-        Axis::new("local normal stress σ", &unit).range(0.0, max * scale * 1.04),
+        Axis::new("local normal stress σ", &unit).range(0.0, max.max(input.hardness_pa.unwrap_or(0.0)) * scale * 1.04),
         if input.log_density { density_axis.log() } else { density_axis },
     )
     .title("Distribution of the local normal stress")
@@ -301,6 +302,7 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
     let smallest = maps.iter().map(|(_, m)| m.pressure.iter().filter(|p| **p > 0.0).count()).min().unwrap_or(0);
     let bins = ((smallest as f64).sqrt().round() as usize).clamp(12, 40);
     let width = max / bins as f64;
+    let mut top = 0.0f64;
     for (k, snap) in maps {
         let contact: Vec<f64> = snap.pressure.iter().copied().filter(|p| *p > 0.0).collect();
         let mut counts = vec![0usize; bins];
@@ -312,6 +314,7 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
         let mut outline = vec![(0.0, 0.0)];
         for (i, c) in counts.iter().enumerate() {
             let d = *c as f64 * norm / scale;
+            top = top.max(d);
             let (a, b) = (i as f64 * width * scale, (i + 1) as f64 * width * scale);
             outline.extend([(a, d), (b, d)]);
         }
@@ -321,6 +324,14 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
         }
         let label = format!("N = {} ({} elements)", load_label(snap.load_n), contact.len());
         panel.push(Series::line(outline, LOAD_COLOURS[k]).width(3).label(label));
+    }
+    if let Some(h) = input.hardness_pa {
+        let bottom = if input.log_density { top * 1e-4 } else { 0.0 };
+        panel.push(
+            Series::line(vec![(h * scale, bottom), (h * scale, top)], style::GREY)
+                .dashed()
+                .label(format!("hardness H = {} {unit}", crate::quantity::human(h * scale))),
+        );
     }
     let caption = "The probability density p(σ) of the local normal stress σ over the contact elements at the loads \
                    nearest 0.1, 1 and 10 mN (the paper's Fig. 3), as histograms on common bins: discrete at low \

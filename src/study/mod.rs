@@ -360,6 +360,8 @@ pub struct FigureInput<'a> {
     pub hold_time_loads: &'a [f64],
     /// p(σ) on a logarithmic density axis.
     pub log_density: bool,
+    /// The hardness [Pa] marked on p(σ), when the study sets one.
+    pub hardness_pa: Option<f64>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].
     pub maps: &'a [MapSnapshot],
     /// Measured points to overlay on the friction-drop figure (may be empty).

@@ -329,6 +329,7 @@ impl Study {
             resolution: &resolution,
             hold_time_loads: &hold_time_loads,
             log_density: self.config.output.log_density,
+            hardness_pa: self.config.hardness(),
             maps: &maps,
             experiments: &self.experiments,
             figures: &self.config.output.figures,

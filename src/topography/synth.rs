@@ -288,7 +288,7 @@ fn make_hermitian(row: &mut [Complex64]) {
     }
     let real = |c: Complex64| c.norm().copysign(c.re);
     row[0] = Complex64::new(real(row[0]), 0.0);
-    if ny % 2 == 0 {
+    if ny.is_multiple_of(2) {
         row[ny / 2] = Complex64::new(real(row[ny / 2]), 0.0);
     }
 }
