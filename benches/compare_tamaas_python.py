@@ -17,6 +17,7 @@ Prints a Markdown table and writes it, with the raw numbers, to benches/results/
 """
 import argparse
 import json
+import os
 import pathlib
 import time
 
@@ -96,7 +97,9 @@ def main():
     print(table)
     results = ROOT / "benches/results"
     results.mkdir(exist_ok=True)
-    stem = f"python-tamaas-{args.grid}"
+    # Per core (RAYON_NUM_THREADS=1, as the serial Tamaas wheel) apart from all cores.
+    threads = os.environ.get("RAYON_NUM_THREADS")
+    stem = f"python-tamaas-{args.grid}" + (f"-{threads}thread" if threads else "")
     (results / f"{stem}.md").write_text(table + "\n")
     (results / f"{stem}.json").write_text(json.dumps(
         {"cold": cold, "tamaas_sweep_seconds": tamaas_sweep, "asperity_sweep_seconds": asperity_sweep}, indent=1)
