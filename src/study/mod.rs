@@ -8,6 +8,7 @@
 
 pub mod config;
 pub mod run;
+pub mod shard;
 
 use std::path::Path;
 
