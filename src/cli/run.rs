@@ -1,7 +1,7 @@
 //! `asperity run`: the paper's numerical study, end to end.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -74,15 +74,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         return Ok(());
     }
     let start = Instant::now();
-    let (config, origin) = match &args.study {
-        Some(path) => (StudyConfig::from_file(path)?, path.display().to_string()),
-        None => (StudyConfig::default_study(), "the default study".to_string()),
-    };
-    let mut config = if args.quick { config.quick() } else { config };
-    if let Some(limits) = args.limits.given() {
-        config.limits.max_points = limits.max_points;
-    }
-    let study = Study::prepare(config, &origin)?.waiting(args.wait).sharded(args.shard);
+    let study = prepare(args.study.as_deref(), args.quick, &args.limits)?.waiting(args.wait).sharded(args.shard);
 
     let bar = super::progress_bar(0, "solving");
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
@@ -127,7 +119,9 @@ pub fn run(args: RunArgs) -> Result<()> {
             "shard {shard} of {topographies} topographies{grid} × {loads} loads: {share} solves, {solved} solved, \
              {resumed} resumed, in {seconds:.1} s"
         );
-        eprintln!("wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures");
+        eprintln!(
+            "wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures"
+        );
         return Ok(());
     }
     eprintln!(
@@ -139,6 +133,20 @@ pub fn run(args: RunArgs) -> Result<()> {
         eprintln!("wrote {} figures and {dir}/index.html", outcome.figures.len());
     }
     Ok(())
+}
+
+/// The study of a study file (or the default), at the --quick scale if asked, with the
+/// limits given; every input read and checked.
+pub fn prepare(path: Option<&Path>, quick: bool, limits: &super::LimitArgs) -> Result<Study> {
+    let (config, origin) = match path {
+        Some(path) => (StudyConfig::from_file(path)?, path.display().to_string()),
+        None => (StudyConfig::default_study(), "the default study".to_string()),
+    };
+    let mut config = if quick { config.quick() } else { config };
+    if let Some(limits) = limits.given() {
+        config.limits.max_points = limits.max_points;
+    }
+    Study::prepare(config, &origin)
 }
 
 /// `--shard I/N`.

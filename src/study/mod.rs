@@ -9,6 +9,7 @@
 pub mod config;
 pub mod run;
 pub mod shard;
+pub mod slurm;
 
 use std::path::Path;
 

@@ -234,6 +234,12 @@ impl Study {
         Study { shard, ..self }
     }
 
+    /// Make `dir` this study's without solving anything, as a run does first (for scripts
+    /// that run it later): new, or holding this study's solves; anything else is refused.
+    pub fn claim_dir(&self, dir: &Path) -> Result<()> {
+        self.claim(dir, false, &[]).map(drop)
+    }
+
     /// The study as it runs: paths absolute, loads explicit.
     pub fn config(&self) -> &StudyConfig {
         &self.config
@@ -596,7 +602,7 @@ impl Study {
     /// before it (kept by a killed run, or at the end of another run's piece), and when that
     /// map is gone (a `--fresh` cut short) the piece starts over. Each record says whether its
     /// solve started cold. The map of the piece's last load stays for whoever goes on from it.
-        fn sweep<R: Proceed>(
+    fn sweep<R: Proceed>(
         &self,
         dir: &Path,
         u: usize,
