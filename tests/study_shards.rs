@@ -272,7 +272,10 @@ fn a_study_on_slurm_as_three_shards_gives_the_unsharded_results() {
     let started = Instant::now();
     match Command::new("sinfo").args(["-h", "-o", "%T"]).output() {
         Ok(o) if o.status.success() && String::from_utf8_lossy(&o.stdout).contains("idle") => {}
-        Ok(o) => panic!("Slurm is not ready here (sinfo: {}): start it with tools/slurm-local.sh", stderr(&o).trim()),
+        Ok(o) => {
+            let why = stderr(&o).lines().next().unwrap_or("no node idle").to_string();
+            panic!("Slurm is not ready here (sinfo: {why}): start it with tools/slurm-local.sh")
+        }
         Err(e) => panic!("Slurm is not here (sinfo: {e}): start it with tools/slurm-local.sh"),
     }
     let tmp = tempfile::tempdir().unwrap();
