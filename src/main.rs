@@ -31,8 +31,6 @@ enum Command {
     /// Static and dynamic friction after each hold of a slide-hold-slide trace
     Shs(cli::shs::Args),
     Run(cli::run::RunArgs),
-    /// Slurm batch scripts running a study as a job array of shards, then assembling its
-    /// results; --submit submits them
     Slurm(cli::slurm::SlurmArgs),
 }
 
