@@ -31,6 +31,7 @@ enum Command {
     /// Static and dynamic friction after each hold of a slide-hold-slide trace
     Shs(cli::shs::Args),
     Run(cli::run::RunArgs),
+    Slurm(cli::slurm::SlurmArgs),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +51,7 @@ fn main() -> ExitCode {
         Command::Topo(args) => cli::topo::run(args),
         Command::Shs(args) => cli::shs::run(args),
         Command::Run(args) => cli::run::run(args),
+        Command::Slurm(args) => cli::slurm::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

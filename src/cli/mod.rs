@@ -5,6 +5,7 @@ pub mod onset;
 pub mod run;
 pub mod shs;
 pub mod slide;
+pub mod slurm;
 pub mod topo;
 pub mod topo_tools;
 

@@ -1,7 +1,7 @@
 //! `asperity run`: the paper's numerical study, end to end.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -9,6 +9,7 @@ use clap::Args;
 
 use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
+use asperity::study::shard::Shard;
 use asperity::Result;
 
 /// Seconds between progress lines when stderr is not a terminal.
@@ -56,6 +57,13 @@ pub struct RunArgs {
     /// When another run works in DIR on the same topographies, wait for it instead of refusing.
     #[arg(long, conflicts_with = "print_default")]
     wait: bool,
+    /// Solve only shard I of N (I from 1 to N): its share of the loads of every topography,
+    /// balanced by grid points × loads, each piece of a load chain starting cold. Shards run at
+    /// once into one DIR (also on several machines over a shared filesystem) and write only
+    /// their solves; a run without --shard afterwards writes the table and figures, solving
+    /// nothing twice.
+    #[arg(long, value_name = "I/N", value_parser = shard, conflicts_with_all = ["print_default", "fresh"])]
+    shard: Option<Shard>,
     #[command(flatten)]
     limits: super::LimitArgs,
 }
@@ -66,15 +74,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         return Ok(());
     }
     let start = Instant::now();
-    let (config, origin) = match &args.study {
-        Some(path) => (StudyConfig::from_file(path)?, path.display().to_string()),
-        None => (StudyConfig::default_study(), "the default study".to_string()),
-    };
-    let mut config = if args.quick { config.quick() } else { config };
-    if let Some(limits) = args.limits.given() {
-        config.limits.max_points = limits.max_points;
-    }
-    let study = Study::prepare(config, &origin)?.waiting(args.wait);
+    let study = prepare(args.study.as_deref(), args.quick, &args.limits)?.waiting(args.wait).sharded(args.shard);
 
     let bar = super::progress_bar(0, "solving");
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
@@ -111,17 +111,45 @@ pub fn run(args: RunArgs) -> Result<()> {
 
     let dir = args.out.display();
     let grid = study.config().contact.grid.map_or(String::new(), |(nx, ny)| format!(" on {nx}×{ny}"));
+    let seconds = start.elapsed().as_secs_f64();
+    let (topographies, loads) = (study.topographies().len(), study.loads().len());
+    if let Some(shard) = args.shard {
+        let (solved, resumed, share) = (outcome.solved, outcome.resumed, outcome.share);
+        eprintln!(
+            "shard {shard} of {topographies} topographies{grid} × {loads} loads: {share} solves, {solved} solved, \
+             {resumed} resumed, in {seconds:.1} s"
+        );
+        eprintln!(
+            "wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures"
+        );
+        return Ok(());
+    }
     eprintln!(
-        "{} topographies{grid} × {} loads: {} solved, {} resumed, in {:.1} s",
-        study.topographies().len(),
-        study.loads().len(),
-        outcome.solved,
-        outcome.resumed,
-        start.elapsed().as_secs_f64()
+        "{topographies} topographies{grid} × {loads} loads: {} solved, {} resumed, in {seconds:.1} s",
+        outcome.solved, outcome.resumed
     );
     eprintln!("wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml", outcome.rows.len());
     if !outcome.figures.is_empty() {
         eprintln!("wrote {} figures and {dir}/index.html", outcome.figures.len());
     }
     Ok(())
+}
+
+/// The study of a study file (or the default), at the --quick scale if asked, with the
+/// limits given; every input read and checked.
+pub fn prepare(path: Option<&Path>, quick: bool, limits: &super::LimitArgs) -> Result<Study> {
+    let (config, origin) = match path {
+        Some(path) => (StudyConfig::from_file(path)?, path.display().to_string()),
+        None => (StudyConfig::default_study(), "the default study".to_string()),
+    };
+    let mut config = if quick { config.quick() } else { config };
+    if let Some(limits) = limits.given() {
+        config.limits.max_points = limits.max_points;
+    }
+    Study::prepare(config, &origin)
+}
+
+/// `--shard I/N`.
+fn shard(s: &str) -> std::result::Result<Shard, String> {
+    s.parse()
 }

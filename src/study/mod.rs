@@ -8,6 +8,8 @@
 
 pub mod config;
 pub mod run;
+pub mod shard;
+pub mod slurm;
 
 use std::path::Path;
 

@@ -19,25 +19,34 @@
 //! - `figures/`, `index.html`: the figures and their report;
 //! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, and below
 //!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
-//!   solve (its rows for every law) and the last pressure map `warm-NN.npy` of an unfinished
-//!   sweep (float64, lossless). A killed run, run again into the same DIR, picks up at the
-//!   first missing record from that map: the solver depends only on the pressure it starts
-//!   from, so the results equal an uninterrupted run's (apart from the timings). Topography
-//!   names appear only as folder names there (and under `pressure/`), so no name collides
-//!   with the run's own files.
+//!   solve (its rows for every law, and whether the solve started cold) and the last pressure
+//!   map `warm-NN.npy` of an unfinished chain (float64, lossless). A killed run, run again into
+//!   the same DIR, picks up at the first missing record from that map: the solver depends only
+//!   on the pressure it starts from, so the results equal an uninterrupted run's (apart from
+//!   the timings). Topography names appear only as folder names there (and under
+//!   `pressure/`), so no name collides with the run's own files.
 //!
-//! One writer per unit of work: a unit is a topography with its chain of loads, locked by
-//! `solves/topographies/<topography>/loads-AA-BB.lock` while it is solved. Every process
+//! Units of work are pieces of a sweep's chain of loads: a whole chain, or with a
+//! [shard](super::shard) its share of the chains. A piece starts cold at its first load. A
+//! shard writes its solves only (records, snapshots, maps); a run without a shard solves what
+//! is missing, going on from the map a piece that ended before a gap kept, and writes the
+//! table and figures.
+//!
+//! One writer per unit of work: a piece is locked by
+//! `solves/topographies/<topography>/loads-AA-BB.lock` (AA, BB its first and last load; a
+//! plastic sweep's in its `plastic/`) while it is solved, and taken only when no other
+//! process holds an overlapping piece. Every process
 //! working in DIR holds `solves/study.lock` shared; claiming DIR (checking or writing the
-//! fingerprint, `fresh` discarding the earlier solves, which needs it exclusive) happens under
-//! `solves/claim.lock`, and the results, figures and report are written under
-//! `solves/results.lock`. The locks are advisory (`flock`) and released by the kernel when a
-//! process ends, so a killed run never leaves a stale one.
+//! fingerprint, taking the pieces' locks, `fresh` discarding the earlier solves, which needs
+//! the study's lock exclusive) happens under `solves/claim.lock`, and the results, figures
+//! and report are written under `solves/results.lock`. The locks are advisory (`flock`) and
+//! released by the kernel when a process ends, so a killed run never leaves a stale one.
 //!
 //! Every file is written atomically. The library prints nothing: progress goes to a callback.
 
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -46,6 +55,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
+use super::shard::{self, Piece, Shard};
 use super::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, COARSENING, FIGURE_LOADS_N};
 use crate::contact::{self, ContactSolver, Proceed, SolverOptions};
 use crate::error::{Error, Result};
@@ -88,6 +98,8 @@ pub struct Study {
     experiments: Vec<ShsPoint>,
     /// Wait for work another process holds, instead of refusing it.
     wait: bool,
+    /// Solve only this shard's share, and write no table or figures.
+    shard: Option<Shard>,
 }
 
 /// The locks a run holds while it works in DIR.
@@ -108,8 +120,11 @@ pub enum Progress<'a> {
 /// What a run did.
 #[derive(Debug)]
 pub struct Outcome {
+    /// Every row; none for a shard, which writes its solves only.
     pub rows: Vec<Row>,
-    /// Solves run now, and solves found finished by an earlier run.
+    /// The solves of this run's share: all of the study's, or a shard's.
+    pub share: usize,
+    /// Of those, solves run now, and solves found finished by an earlier run.
     pub solved: usize,
     pub resumed: usize,
     /// Figures and report written.
@@ -122,6 +137,10 @@ pub struct Outcome {
 #[derive(Serialize, Deserialize)]
 struct SolveRecord {
     load_n: f64,
+    /// Whether the solve started from no pressure (the first of its piece of the load
+    /// chain), not from the solution of the load before it.
+    #[serde(default)]
+    cold: bool,
     solve: SolveFacts,
     /// One row per law, in the study's order.
     rows: Vec<Row>,
@@ -198,6 +217,7 @@ impl Study {
             loads,
             experiments,
             wait: false,
+            shard: None,
         })
     }
 
@@ -205,6 +225,19 @@ impl Study {
     /// refusing (the default).
     pub fn waiting(self, wait: bool) -> Study {
         Study { wait, ..self }
+    }
+
+    /// Solve only `shard`'s share of the work ([`shard::assign`]): its solve records, and no
+    /// table, figures or report (a run without a shard writes them, solving only what is
+    /// missing).
+    pub fn sharded(self, shard: Option<Shard>) -> Study {
+        Study { shard, ..self }
+    }
+
+    /// Make `dir` this study's without solving anything, as a run does first (for scripts
+    /// that run it later): new, or holding this study's solves; anything else is refused.
+    pub fn claim_dir(&self, dir: &Path) -> Result<()> {
+        self.claim(dir, false, &[]).map(drop)
     }
 
     /// The study as it runs: paths absolute, loads explicit.
@@ -262,28 +295,37 @@ impl Study {
         fresh: bool,
         progress: &(dyn Fn(Progress) -> R + Sync),
     ) -> Result<Outcome> {
-        let _claim = self.claim(dir, fresh)?;
-
         let sweeps = self.sweeps();
-        let total = sweeps.len() * self.loads.len();
-        let finished: Vec<usize> = sweeps.iter().map(|&(u, plastic)| self.finished(dir, u, plastic)).collect();
-        let resumed: usize = finished.iter().sum();
-        if !progress(Progress::Start { total, done: resumed }).proceed() {
+        let pieces = self.pieces();
+        let _claim = self.claim(dir, fresh, &pieces)?;
+
+        let share: usize = pieces.iter().map(|p| p.loads.len()).sum();
+        let recorded = |p: &Piece| {
+            let (u, plastic) = sweeps[p.sweep];
+            let solves = self.solves_dir(dir, u, plastic);
+            p.loads.clone().filter(|k| solves.join(record_name(*k)).is_file()).count()
+        };
+        let resumed: usize = pieces.iter().map(recorded).sum();
+        if !progress(Progress::Start { total: share, done: resumed }).proceed() {
             return Err(self.interrupted());
         }
         let solved = AtomicUsize::new(0);
-        // Each worker takes the next sweep in order: the study's own first, the cheap coarse
-        // ones filling in at the end.
+        // Each worker takes the next piece in order: the study's own sweeps first, the cheap
+        // coarse ones filling in at the end.
         let next = AtomicUsize::new(0);
-        let workers = rayon::current_num_threads().min(sweeps.len()).max(1);
+        let workers = rayon::current_num_threads().min(pieces.len()).max(1);
         (0..workers).into_par_iter().try_for_each(|_| loop {
             let k = next.fetch_add(1, Ordering::Relaxed);
-            if k >= sweeps.len() {
+            if k >= pieces.len() {
                 return Ok(());
             }
-            let (u, plastic) = sweeps[k];
-            self.sweep(dir, u, plastic, finished[k], progress, &solved)?;
+            let (u, plastic) = sweeps[pieces[k].sweep];
+            self.sweep(dir, u, plastic, pieces[k].loads.clone(), progress, &solved)?;
         })?;
+        let solved = solved.into_inner();
+        if self.shard.is_some() {
+            return Ok(Outcome { rows: Vec::new(), share, solved, resumed, figures: Vec::new(), warnings: Vec::new() });
+        }
 
         let _results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
         output::remove_stale_temporaries(dir)?;
@@ -338,7 +380,7 @@ impl Study {
         };
         let figures = crate::plot::study::render(dir, &input)?;
         let warnings = super::warnings(&rows);
-        Ok(Outcome { rows, solved: solved.into_inner(), resumed, figures, warnings })
+        Ok(Outcome { rows, share, solved, resumed, figures, warnings })
     }
 
     /// The study as run, as a study file.
@@ -363,8 +405,9 @@ impl Study {
 
     /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
     /// `fresh`), or what a start killed before its fingerprint leaves. Anything else is
-    /// refused. Returns the locks of the run: the study's, shared, and every unit's.
-    fn claim(&self, dir: &Path, fresh: bool) -> Result<Claim> {
+    /// refused. Returns the locks of the run: the study's, shared, and every piece's of
+    /// `pieces`.
+    fn claim(&self, dir: &Path, fresh: bool, pieces: &[Piece]) -> Result<Claim> {
         let fingerprint = self.fingerprint()?;
         // Before anything is created in it.
         self.check_dir(dir)?;
@@ -404,28 +447,32 @@ impl Study {
                 lock.share()?
             }
         };
-        let text = self.study_file()?;
-        output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
-        let last = self.loads.len() - 1;
-        let units = (0..self.units())
-            .map(|t| {
-                // One lock per topography (or coarser copy) covers its elastic and plastic sweeps.
-                let unit = self.solves_dir(dir, t, false);
+        let sweeps = self.sweeps();
+        let first_mode = self.config.contact.plastic.modes()[0];
+        let units = pieces
+            .iter()
+            .map(|piece| {
+                let (u, plastic) = sweeps[piece.sweep];
+                let unit = self.solves_dir(dir, u, plastic);
                 std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
-                let (label, folder, ..) = self.unit(t);
-                let what = format!("topography \"{label}\"");
-                let lock = self.lock(&unit.join(format!("loads-00-{last:02}.lock")), Access::Exclusive, dir, &what)?;
-                // This unit's own folders, now that no one else writes there.
-                let pressure = dir.join("pressure").join(folder);
-                for folder in [plastic_dir(unit.clone(), true), unit, plastic_dir(pressure.clone(), true), pressure] {
-                    output::remove_stale_temporaries(&folder)?;
-                }
-                if t == 0 {
-                    output::remove_stale_temporaries(&dir.join("snapshots"))?;
+                let (label, folder, ..) = self.unit(u);
+                let what = format!("topography \"{label}\"{}", if plastic { " (plastic)" } else { "" });
+                let lock = self.lock_loads(&unit, piece.loads.clone(), dir, &what)?;
+                // A whole chain's folders are this run's alone now: what a killed run left
+                // there goes (a piece shares them with the other pieces' writers).
+                if piece.loads.len() == self.loads.len() {
+                    let pressure = plastic_dir(dir.join("pressure").join(folder), plastic);
+                    output::remove_stale_temporaries(&unit)?;
+                    output::remove_stale_temporaries(&pressure)?;
+                    if u == 0 && plastic == first_mode {
+                        output::remove_stale_temporaries(&dir.join("snapshots"))?;
+                    }
                 }
                 Ok(lock)
             })
             .collect::<Result<Vec<_>>>()?;
+        let text = self.study_file()?;
+        output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
         Ok(Claim { _study: study, _units: units })
     }
 
@@ -442,6 +489,26 @@ impl Study {
                 ),
             )
         })
+    }
+
+    /// Lock loads `loads` of the sweep whose records are in `folder`: by its own lock file
+    /// `loads-AA-BB.lock` (AA, BB its first and last load), once no other process holds the
+    /// lock of a piece that overlaps it. Only claims take these locks, under the claim lock, so
+    /// no new one appears meanwhile.
+    fn lock_loads(&self, folder: &Path, loads: Range<usize>, dir: &Path, what: &str) -> Result<Lock> {
+        let own = format!("loads-{:02}-{:02}.lock", loads.start, loads.end - 1);
+        let lock = self.lock(&folder.join(&own), Access::Exclusive, dir, what)?;
+        let entries = std::fs::read_dir(folder).map_err(|e| Error::io(folder, e))?;
+        for entry in entries {
+            let name = entry.map_err(|e| Error::io(folder, e))?.file_name();
+            let Some(name) = name.to_str() else { continue };
+            if let Some((first, last)) = lock_range(name) {
+                if name != own && first < loads.end && last >= loads.start {
+                    drop(self.lock(&folder.join(name), Access::Exclusive, dir, what)?);
+                }
+            }
+        }
+        Ok(lock)
     }
 
     /// Refuse a `dir` that is a file, or holds neither a study's solves nor only what a start
@@ -473,7 +540,9 @@ impl Study {
             }
             Ok(true)
         };
-        if only(dir, &[SOLVES])? && only(&solves, &[CLAIM_LOCK, STUDY_LOCK])? {
+        // A claim writes the fingerprint before anything else and never removes it: what it
+        // wrote while this looked is a study's.
+        if (only(dir, &[SOLVES])? && only(&solves, &[CLAIM_LOCK, STUDY_LOCK])?) || solves.join(FINGERPRINT).is_file() {
             return Ok(());
         }
         Err(Error::invalid("--out", format!("{} is not empty and holds no study: choose another --out", dir.display())))
@@ -506,6 +575,14 @@ impl Study {
         })
     }
 
+    /// This run's pieces of work ([`shard::assign`]): every sweep's whole chain, or a shard's
+    /// share. Indices into [`Study::sweeps`].
+    fn pieces(&self) -> Vec<Piece> {
+        let points: Vec<usize> = self.sweeps().iter().map(|&(u, _)| self.unit(u).2.heights.len()).collect();
+        let shard = self.shard.unwrap_or(Shard { index: 1, count: 1 });
+        shard::assign(&points, self.loads.len(), shard.count).swap_remove(shard.index - 1)
+    }
+
     /// The sweeps of the run, (unit, plastic): every topography in each kind of solve listed,
     /// the coarser copies of the resolution figure in the first kind only.
     fn sweeps(&self) -> Vec<(usize, bool)> {
@@ -520,39 +597,32 @@ impl Study {
         plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(self.unit(u).1), plastic)
     }
 
-    /// How many of sweep `u`'s loads have their record: the sweep resumes after them.
-    fn finished(&self, dir: &Path, u: usize, plastic: bool) -> usize {
-        let solves = self.solves_dir(dir, u, plastic);
-        let n = self.loads.len();
-        let done = (0..n).take_while(|k| solves.join(format!("{k:02}.json")).is_file()).count();
-        // A sweep goes on from its last pressure map; without it (a `--fresh` cut short) it
-        // starts over.
-        if done == 0 || done == n || solves.join(format!("warm-{:02}.npy", done - 1)).is_file() {
-            done
-        } else {
-            0
-        }
-    }
-
-    /// Sweep `u` over the loads from index `first` on, elastic or plastic.
+    /// Solve the loads `loads` of sweep `u` (elastic or plastic) that have no record yet, in
+    /// increasing order, each from the solution of the load before it (warm start). The
+    /// piece's first load starts cold; a gap in its records goes on from the map of the load
+    /// before it (kept by a killed run, or at the end of another run's piece), and when that
+    /// map is gone (a `--fresh` cut short) the piece starts over. Each record says whether its
+    /// solve started cold. The map of the piece's last load stays for whoever goes on from it.
     fn sweep<R: Proceed>(
         &self,
         dir: &Path,
         u: usize,
         plastic: bool,
-        first: usize,
+        loads: Range<usize>,
         progress: &(dyn Fn(Progress) -> R + Sync),
         solved: &AtomicUsize,
     ) -> Result<()> {
-        let n = self.loads.len();
-        if first == n {
-            return Ok(());
+        let solves = self.solves_dir(dir, u, plastic);
+        let record = |k: usize| solves.join(record_name(k));
+        let warm = |k: usize| solves.join(format!("warm-{k:02}.npy"));
+        let recorded: Vec<bool> = loads.clone().map(|k| record(k).is_file()).collect();
+        let is_recorded = |k: usize| loads.contains(&k) && recorded[k - loads.start];
+        if recorded.iter().all(|&r| r) {
+            return self.tidy(&solves, loads);
         }
         let (label, _, topo, name) = self.unit(u);
         let main = u < self.topographies.len();
-        let solves = self.solves_dir(dir, u, plastic);
         std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
-        let warm = |k: usize| solves.join(format!("warm-{k:02}.npy"));
         let shape = topo.heights.dim();
         let size = topo.physical_size.expect("built with a physical size");
         let pixel = (size.0 / shape.1 as f64, size.1 / shape.0 as f64);
@@ -568,12 +638,6 @@ impl Study {
             options,
         )?;
         solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
-        if first > 0 {
-            let path = warm(first - 1);
-            let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
-            let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(&path, r))?;
-            solver.warm_start(pressure.as_slice().ok_or_else(|| Error::file(&path, "not a row-major array"))?)?;
-        }
         let maps = plastic_dir(dir.join("pressure").join(name), plastic);
         let keep_maps = self.config.output.pressure_maps && main;
         if keep_maps {
@@ -581,7 +645,26 @@ impl Study {
         }
         let shown = u == 0 && plastic == self.config.contact.plastic.modes()[0];
         let snapshots = if shown { self.snapshot_indices() } else { Vec::new() };
-        for (k, &load) in self.loads.iter().enumerate().skip(first) {
+        let mut todo: Vec<usize> = loads.clone().filter(|&k| !is_recorded(k)).collect();
+        if todo.iter().any(|&k| k > loads.start && is_recorded(k - 1) && !warm(k - 1).is_file()) {
+            todo = loads.clone().collect();
+        }
+        // The load whose solution the solver holds.
+        let mut held = None;
+        for k in todo {
+            let load = self.loads[k];
+            let cold = if k > 0 && held == Some(k - 1) {
+                false
+            } else if k > loads.start && warm(k - 1).is_file() {
+                let path = warm(k - 1);
+                let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
+                let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(&path, r))?;
+                solver.warm_start(pressure.as_slice().ok_or_else(|| Error::file(&path, "not a row-major array"))?)?;
+                false
+            } else {
+                solver.reset();
+                true
+            };
             let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
             let report = solver.solve(load, |_, _| ()).map_err(context)?;
             let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
@@ -601,17 +684,16 @@ impl Study {
                 std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
                 snap.save(&dir, &self.snapshot_stem(k))?;
             }
-            if k + 1 < n {
+            // The map the next load goes on from, should this run stop before it (or this piece
+            // end there).
+            if k + 1 < self.loads.len() && !is_recorded(k + 1) {
                 output::write_npy(&warm(k), &pressure)?;
             }
-            output::write_json(
-                &solves.join(format!("{k:02}.json")),
-                &SolveRecord { load_n: load, solve: facts, rows },
-            )?;
-            if k > 0 {
-                let old = warm(k - 1);
-                std::fs::remove_file(&old).or_else(|e| if old.exists() { Err(Error::io(&old, e)) } else { Ok(()) })?;
+            output::write_json(&record(k), &SolveRecord { load_n: load, cold, solve: facts, rows })?;
+            if k > loads.start {
+                remove_if_present(&warm(k - 1))?;
             }
+            held = Some(k);
             solved.fetch_add(1, Ordering::Relaxed);
             let answer = progress(Progress::Solved {
                 topography: &label,
@@ -621,6 +703,18 @@ impl Study {
             });
             if !answer.proceed() {
                 return Err(self.interrupted());
+            }
+        }
+        self.tidy(&solves, loads)
+    }
+
+    /// Remove the maps of `loads` in `solves` that no solve needs any more, those of loads
+    /// whose next load is recorded (a run killed between a record and that removal leaves
+    /// one).
+    fn tidy(&self, solves: &Path, loads: Range<usize>) -> Result<()> {
+        for k in loads.start..loads.end.saturating_sub(1) {
+            if solves.join(record_name(k + 1)).is_file() {
+                remove_if_present(&solves.join(format!("warm-{k:02}.npy")))?;
             }
         }
         Ok(())
@@ -637,7 +731,7 @@ impl Study {
             let solves = self.solves_dir(dir, u, plastic);
             let records = (0..self.loads.len())
                 .map(|k| {
-                    let path = solves.join(format!("{k:02}.json"));
+                    let path = solves.join(record_name(k));
                     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
                     let record: SolveRecord =
                         serde_json::from_str(&text).map_err(|e| Error::file(&path, e.to_string()))?;
@@ -741,6 +835,25 @@ fn discard(dir: &Path) -> Result<()> {
         let _ = std::fs::remove_dir(dir.join(folder));
     }
     Ok(())
+}
+
+/// The name of load `k`'s solve record in its sweep's folder.
+fn record_name(k: usize) -> String {
+    format!("{k:02}.json")
+}
+
+/// The first and last load of a piece's lock file `loads-AA-BB.lock`.
+fn lock_range(name: &str) -> Option<(usize, usize)> {
+    let (first, last) = name.strip_prefix("loads-")?.strip_suffix(".lock")?.split_once('-')?;
+    Some((first.parse().ok()?, last.parse().ok()?))
+}
+
+/// Remove the file `path`; a missing one is no error.
+fn remove_if_present(path: &Path) -> Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
+        _ => Ok(()),
+    }
 }
 
 /// Remove the files of `dir` whose names `pick` chooses (none when `dir` is missing).

@@ -1,0 +1,136 @@
+//! `asperity slurm`: a study as a Slurm job array of shards and a job that assembles them.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use clap::Args;
+
+use asperity::study::slurm::SlurmJob;
+use asperity::{Error, Result};
+
+/// Write Slurm batch scripts that run a study on a cluster: a job array of N tasks, task I
+/// running `asperity run STUDY --out DIR --shard I/N`, and a job that assembles the table,
+/// figures and report once every task has succeeded (`asperity run STUDY --out DIR`, which
+/// solves nothing twice). With --submit, submits both (the second with
+/// --dependency=afterok:<the array's id>) and prints the job ids.
+///
+/// The scripts go into DIR/slurm/ (shards.sh, assemble.sh; the jobs' logs beside them); DIR
+/// becomes the study's first, as `asperity run` makes it, so a DIR holding something else is
+/// refused. They run this very asperity binary, by its absolute path, and the study and DIR
+/// by theirs: the nodes must see them at the same paths (a shared filesystem).
+#[derive(Args)]
+pub struct SlurmArgs {
+    /// Study file (TOML) [default: the embedded default study].
+    study: Option<PathBuf>,
+    /// Number of shards N: array tasks 1 to N.
+    #[arg(long, value_name = "N", value_parser = shards)]
+    shards: usize,
+    /// Output directory of the study, on a filesystem the nodes share.
+    #[arg(long, value_name = "DIR", default_value = "results")]
+    out: PathBuf,
+    /// The study at the --quick scale (as `asperity run --quick`).
+    #[arg(long)]
+    quick: bool,
+    /// Slurm partition of every job.
+    #[arg(long, value_name = "P")]
+    partition: Option<String>,
+    /// Time limit of each job, in Slurm's forms (minutes, H:MM:SS, D-HH:MM…).
+    #[arg(long, value_name = "T")]
+    time: Option<String>,
+    /// CPUs per job (the solver runs as many threads) [default: Slurm's].
+    #[arg(long, value_name = "C", value_parser = cpus)]
+    cpus: Option<usize>,
+    /// Memory per job, in Slurm's form (4G, 500M) [default: Slurm's].
+    #[arg(long, value_name = "M")]
+    mem: Option<String>,
+    /// Submit the jobs with sbatch, and print their ids.
+    #[arg(long)]
+    submit: bool,
+    #[command(flatten)]
+    limits: super::LimitArgs,
+}
+
+pub fn run(args: SlurmArgs) -> Result<()> {
+    let study = super::run::prepare(args.study.as_deref(), args.quick, &args.limits)?;
+    let absolute = |p: &Path| -> Result<PathBuf> {
+        let cwd = std::env::current_dir().map_err(|e| Error::io(".", e))?;
+        Ok(cwd.join(p))
+    };
+    let dir = absolute(&args.out)?;
+    let mut run_args = Vec::new();
+    if let Some(path) = &args.study {
+        run_args.push(text(&std::fs::canonicalize(path).map_err(|e| Error::io(path, e))?)?);
+    }
+    run_args.extend(["--out".to_string(), text(&dir)?]);
+    if args.quick {
+        run_args.push("--quick".into());
+    }
+    if let Some(limits) = args.limits.given() {
+        run_args.extend(["--max-points".to_string(), limits.max_points.to_string()]);
+    }
+    let binary = std::env::current_exe().map_err(|e| Error::invalid("slurm", format!("the asperity binary: {e}")))?;
+    let job = SlurmJob {
+        binary,
+        run_args,
+        dir: dir.clone(),
+        shards: args.shards,
+        partition: args.partition,
+        time: args.time,
+        mem: args.mem,
+        cpus: args.cpus,
+    };
+    // Checked before DIR is touched.
+    job.shards_script()?;
+    study.claim_dir(&dir)?;
+    let (shards, assemble) = job.write()?;
+    eprintln!("wrote {} ({} array tasks) and {}", shards.display(), args.shards, assemble.display());
+    if !args.submit {
+        eprintln!(
+            "submit: id=$(sbatch --parsable {}) && sbatch --dependency=afterok:${{id%%;*}} {}",
+            shards.display(),
+            assemble.display()
+        );
+        return Ok(());
+    }
+    let array = sbatch(&shards, &[])?;
+    let assembling = sbatch(&assemble, &[&format!("--dependency=afterok:{array}")])?;
+    println!("shards job {array} (array 1-{})", args.shards);
+    println!("assembling job {assembling} (after every shard succeeded)");
+    Ok(())
+}
+
+/// Submit `script` with sbatch (and `options`); the job's id.
+fn sbatch(script: &Path, options: &[&str]) -> Result<String> {
+    let o = Command::new("sbatch").arg("--parsable").args(options).arg(script).output().map_err(|e| {
+        Error::invalid("--submit", format!("sbatch: {e} (the scripts are written: submit them by hand)"))
+    })?;
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    // `--parsable` prints "id" or "id;cluster".
+    let id = stdout.trim().split(';').next().unwrap_or_default();
+    if !o.status.success() || id.is_empty() || !id.bytes().all(|b| b.is_ascii_digit()) {
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        let why = stderr.lines().find(|l| !l.trim().is_empty()).unwrap_or("no job id").trim().to_string();
+        return Err(Error::invalid("--submit", format!("sbatch {}: {why}", script.display())));
+    }
+    Ok(id.to_string())
+}
+
+fn text(path: &Path) -> Result<String> {
+    path.to_str().map(String::from).ok_or_else(|| Error::file(path, "not UTF-8: cannot go in a script"))
+}
+
+/// `--shards N`: at least 1.
+fn shards(s: &str) -> std::result::Result<usize, String> {
+    match super::count::<usize>(s)? {
+        0 => Err("the number of shards must be at least 1".into()),
+        n => Ok(n),
+    }
+}
+
+/// `--cpus C`: at least 1.
+fn cpus(s: &str) -> std::result::Result<usize, String> {
+    match super::count::<usize>(s)? {
+        0 => Err("a job needs at least 1 CPU".into()),
+        n => Ok(n),
+    }
+}

@@ -1,0 +1,316 @@
+//! A study split into shards (`asperity run --shard I/N`) run at once into one DIR, then
+//! assembled by a run without a shard, gives the unsharded run's results; and the same through
+//! a real Slurm (`asperity slurm --submit`, the ignored test that `.ci/run` runs after starting
+//! one with `tools/slurm-local.sh`).
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// Two balls, elastic and plastic, with the resolution figure's coarser copies: 8 sweeps.
+const STUDY: &str = r#"
+[[topography]]
+name = "ball-1"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 1, roughness = { hurst = 0.8, rms_height_m = "22 nm", rolloff_wavelength_m = "5 µm" }, cap = { radius_m = "1.5 mm" } }
+
+[[topography]]
+name = "ball-2"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 2, roughness = { hurst = 0.8, rms_height_m = "22 nm", rolloff_wavelength_m = "5 µm" }, cap = { radius_m = "1.5 mm" } }
+
+[material]
+youngs = "130 GPa"
+poisson = 0.26
+hardness = "12 GPa"
+
+[contact]
+boundary = "periodic"
+tolerance = 1e-8
+max_iterations = 20000
+plastic = [false, true]
+
+[loads]
+min = "0.1 mN"
+max = "100 mN"
+count = 9
+
+[output]
+figures = ["friction-drop", "resolution"]
+"#;
+
+/// The study's solver tolerance.
+const TOLERANCE: f64 = 1e-8;
+/// Sweeps: 2 balls × (elastic, plastic) + 2 balls × 2 coarser copies (elastic).
+const SWEEPS: usize = 8;
+const ROWS: usize = 2 * 2 * 9 * 2;
+
+fn asperity(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(dir).output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn succeeds(o: &Output) {
+    assert!(o.status.success(), "{}", stderr(o));
+}
+
+/// The shards 1..=n of the study run at once as processes into `out`; their outputs in order.
+fn shards_at_once(dir: &Path, out: &str, n: usize) -> Vec<Output> {
+    let children: Vec<_> = (1..=n)
+        .map(|i| {
+            Command::new(env!("CARGO_BIN_EXE_asperity"))
+                .args(["run", "study.toml", "--out", out, "--shard", &format!("{i}/{n}")])
+                .current_dir(dir)
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    children.into_iter().map(|c| c.wait_with_output().unwrap()).collect()
+}
+
+/// A results table by column: (header, values).
+fn columns(path: &Path) -> Vec<(String, Vec<String>)> {
+    let mut reader = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    header.iter().enumerate().map(|(i, h)| (h.clone(), rows.iter().map(|r| r[i].to_string()).collect())).collect()
+}
+
+/// Compare two results tables column by column: every column equal but the timings and the
+/// iteration counts, numbers within `relative` (a piece of a load chain that starts cold
+/// converges to the warm-started solution within the solver's tolerance, not bit for bit).
+/// Returns the largest relative difference of a number.
+fn same_results(sharded: &Path, whole: &Path, relative: f64) -> f64 {
+    let (a, b) = (columns(sharded), columns(whole));
+    assert_eq!(a.iter().map(|c| &c.0).collect::<Vec<_>>(), b.iter().map(|c| &c.0).collect::<Vec<_>>());
+    let mut worst = 0.0f64;
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        assert_eq!(x.len(), y.len(), "{name}");
+        if name == "seconds" || name == "iterations" {
+            continue;
+        }
+        for (row, (u, v)) in x.iter().zip(y).enumerate() {
+            if u == v {
+                continue;
+            }
+            // Counts, names and flags are equal; only real numbers may differ, and little.
+            let (p, q): (f64, f64) = match (u.parse::<i64>(), u.parse(), v.parse()) {
+                (Err(_), Ok(p), Ok(q)) => (p, q),
+                _ => panic!("{name}, row {row}: {u} sharded against {v} whole"),
+            };
+            let d = (p - q).abs() / p.abs().max(q.abs());
+            assert!(d <= relative, "{name}, row {row}: {u} sharded against {v} whole ({d:.1e} apart)");
+            worst = worst.max(d);
+        }
+    }
+    worst
+}
+
+/// The records of `out` whose solve started cold.
+fn cold_records(out: &Path) -> usize {
+    let mut cold = 0;
+    let mut folders = vec![out.join("solves/topographies")];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == "json") {
+                let record: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+                cold += usize::from(record["cold"].as_bool().unwrap());
+            }
+        }
+    }
+    cold
+}
+
+#[test]
+fn three_shards_at_once_then_assembled_give_the_unsharded_results() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("study.toml"), STUDY).unwrap();
+    let whole = asperity(dir, &["run", "study.toml", "--out", "whole"]);
+    succeeds(&whole);
+    assert_eq!(cold_records(&dir.join("whole")), SWEEPS);
+
+    // Started at once into a new DIR: every one claims it.
+    let shards = shards_at_once(dir, "sharded", 3);
+    let mut solved = 0;
+    for (i, o) in shards.iter().enumerate() {
+        succeeds(o);
+        let e = stderr(o);
+        let summary =
+            e.lines().find(|l| l.starts_with(&format!("shard {}/3 ", i + 1))).unwrap_or_else(|| panic!("{e}"));
+        solved += summary.split(" solved").next().unwrap().rsplit(' ').next().unwrap().parse::<usize>().unwrap();
+        assert!(e.contains("wrote the solve records only"), "{e}");
+    }
+    assert_eq!(solved, SWEEPS * 9);
+    assert!(!dir.join("sharded/results.csv").exists() && !dir.join("sharded/figures").exists());
+    // Each sweep's first load, and at most one more per cut between shards, started cold.
+    let cold = cold_records(&dir.join("sharded"));
+    assert!((SWEEPS..=SWEEPS + 2).contains(&cold), "{cold} cold starts");
+
+    // The run without a shard solves nothing and writes the table and figures.
+    let o = asperity(dir, &["run", "study.toml", "--out", "sharded"]);
+    succeeds(&o);
+    assert!(stderr(&o).contains(": 0 solved, 72 resumed"), "{}", stderr(&o));
+    assert!(dir.join("sharded/figures/friction-drop.png").is_file());
+    assert_eq!(columns(&dir.join("sharded/results.csv"))[0].1.len(), ROWS);
+    // Within 100 times the solver's tolerance (measured: 2e-8 on the peak pressure, 1.5e-9 on
+    // the friction drop); a wrong load or topography would be off by far more.
+    let worst = same_results(&dir.join("sharded/results.csv"), &dir.join("whole/results.csv"), 100.0 * TOLERANCE);
+    assert!(worst > 0.0, "a cold start gave the warm-started numbers bit for bit: is the piece cold?");
+    same_results(&dir.join("sharded/resolution.csv"), &dir.join("whole/resolution.csv"), 100.0 * TOLERANCE);
+    // No map is left once every chain is done.
+    let warm = walk(&dir.join("sharded/solves")).into_iter().filter(|n| n.starts_with("warm-")).count();
+    assert_eq!(warm, 0);
+}
+
+fn walk(dir: &Path) -> Vec<String> {
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            names.extend(walk(&path));
+        } else {
+            names.push(path.file_name().unwrap().to_string_lossy().into_owned());
+        }
+    }
+    names
+}
+
+#[test]
+fn a_missing_shard_is_solved_by_the_assembling_run_and_overlapping_pieces_exclude_each_other() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("study.toml"), STUDY).unwrap();
+    let mut shares = Vec::new();
+    for shard in ["1/3", "3/3"] {
+        let o = asperity(dir, &["run", "study.toml", "--out", "out", "--shard", shard]);
+        succeeds(&o);
+        let e = stderr(&o);
+        shares.push(e.split(" solves,").next().unwrap().rsplit(' ').next().unwrap().parse::<usize>().unwrap());
+    }
+    // A piece of another split, held by "another process" (this test): a run that needs those
+    // loads is refused, naming the topography, until it goes.
+    let unit = dir.join("out/solves/topographies/ball-1/loads-03-05.lock");
+    let held = std::fs::File::create(&unit).unwrap();
+    held.lock().unwrap();
+    let o = asperity(dir, &["run", "study.toml", "--out", "out"]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("out is busy") && e.contains("topography \"ball-1\"") && e.lines().count() == 1, "{e}");
+    drop(held);
+
+    let o = asperity(dir, &["run", "study.toml", "--out", "out"]);
+    succeeds(&o);
+    let e = stderr(&o);
+    let missing = SWEEPS * 9 - shares.iter().sum::<usize>();
+    assert!(e.contains(&format!(": {missing} solved, {} resumed", SWEEPS * 9 - missing)), "{e}");
+    succeeds(&asperity(dir, &["run", "study.toml", "--out", "whole"]));
+    same_results(&dir.join("out/results.csv"), &dir.join("whole/results.csv"), 100.0 * TOLERANCE);
+}
+
+#[test]
+fn shards_racing_into_a_new_dir_all_claim_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // Few loads and no figures: the claims are what races.
+    let study = STUDY.replace("count = 9", "count = 2").replace("[\"friction-drop\", \"resolution\"]", "[]");
+    std::fs::write(dir.join("study.toml"), study).unwrap();
+    for round in 0..6 {
+        let out = format!("race-{round}");
+        for o in shards_at_once(dir, &out, 4) {
+            succeeds(&o);
+        }
+        let o = asperity(dir, &["run", "study.toml", "--out", &out]);
+        succeeds(&o);
+        assert!(stderr(&o).contains(": 0 solved, 8 resumed"), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn bad_shards_are_refused_in_one_line_naming_the_option() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("study.toml"), STUDY).unwrap();
+    for bad in ["0/3", "4/3", "1/0", "x", "-1/3", "2"] {
+        let o = asperity(dir, &["run", "study.toml", "--out", "out", "--shard", bad]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        let e = stderr(&o);
+        assert!(e.starts_with("error: --shard: ") && e.lines().count() == 1, "{bad}: {e}");
+    }
+    let o = asperity(dir, &["run", "study.toml", "--out", "out", "--shard", "1/2", "--fresh"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!dir.join("out").exists());
+    for (args, says) in [(&["--shards", "0"][..], "--shards"), (&["--shards", "2", "--time", "1 h"], "--time")] {
+        let o = asperity(dir, &[&["slurm", "study.toml", "--out", "out"][..], args].concat());
+        assert!(!o.status.success());
+        let e = stderr(&o);
+        assert!(e.starts_with(&format!("error: {says}: ")) && e.lines().count() == 1, "{e}");
+        assert!(!dir.join("out").exists());
+    }
+}
+
+/// `scontrol show job ID`'s JobState of every job (or array task) `id` names.
+fn job_states(id: &str) -> Vec<String> {
+    let o = Command::new("scontrol").args(["show", "job", id]).output().unwrap();
+    assert!(o.status.success(), "scontrol show job {id}: {}", stderr(&o));
+    String::from_utf8_lossy(&o.stdout)
+        .split_whitespace()
+        .filter_map(|w| w.strip_prefix("JobState="))
+        .map(String::from)
+        .collect()
+}
+
+/// Through a real Slurm: `.ci/run` starts one (tools/slurm-local.sh) and runs this test.
+#[test]
+#[ignore = "needs a running Slurm: .ci/run starts one with tools/slurm-local.sh"]
+fn a_study_on_slurm_as_three_shards_gives_the_unsharded_results() {
+    let started = Instant::now();
+    match Command::new("sinfo").args(["-h", "-o", "%T"]).output() {
+        Ok(o) if o.status.success() && String::from_utf8_lossy(&o.stdout).contains("idle") => {}
+        Ok(o) => {
+            let why = stderr(&o).lines().next().unwrap_or("no node idle").to_string();
+            panic!("Slurm is not ready here (sinfo: {why}): start it with tools/slurm-local.sh")
+        }
+        Err(e) => panic!("Slurm is not here (sinfo: {e}): start it with tools/slurm-local.sh"),
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("study.toml"), STUDY).unwrap();
+    succeeds(&asperity(dir, &["run", "study.toml", "--out", "whole"]));
+
+    let o = asperity(dir, &["slurm", "study.toml", "--shards", "3", "--out", "cluster", "--time", "10", "--submit"]);
+    succeeds(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    let ids: Vec<&str> = stdout.lines().filter_map(|l| l.split("job ").nth(1)?.split(' ').next()).collect();
+    assert_eq!(ids.len(), 2, "{stdout}");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    for id in &ids {
+        loop {
+            let states = job_states(id);
+            if states.iter().all(|s| s == "COMPLETED") {
+                break;
+            }
+            let failed = states
+                .iter()
+                .any(|s| !["PENDING", "RUNNING", "CONFIGURING", "COMPLETING", "COMPLETED"].contains(&s.as_str()));
+            let logs: Vec<String> =
+                walk(&dir.join("cluster/slurm")).into_iter().filter(|n| n.ends_with(".log")).collect();
+            assert!(!failed, "job {id}: {states:?} (logs: {logs:?} in {})", dir.join("cluster/slurm").display());
+            assert!(Instant::now() < deadline, "job {id} not done after 5 minutes: {states:?}");
+            std::thread::sleep(Duration::from_millis(500));
+        }
+    }
+    let assembled = std::fs::read_to_string(dir.join("cluster/slurm/assemble.log")).unwrap();
+    assert!(assembled.contains(": 0 solved, 72 resumed"), "{assembled}");
+    for i in 1..=3 {
+        let log = std::fs::read_to_string(dir.join(format!("cluster/slurm/shard-{i}.log"))).unwrap();
+        assert!(log.contains(&format!("shard {i}/3 ")) && log.contains("solve records only"), "{log}");
+    }
+    same_results(&dir.join("cluster/results.csv"), &dir.join("whole/results.csv"), 100.0 * TOLERANCE);
+    eprintln!("the Slurm study took {:.1} s", started.elapsed().as_secs_f64());
+}
