@@ -492,9 +492,12 @@ impl ContactSolver {
             Some(hardness) => self.solve_saturated(hardness, load, &mut proceed),
             None => self.solve_elastic(load, &mut proceed),
         };
-        if self.uniform.is_some() {
+        if report.is_ok() {
             // Converged in full contact at the start (a flat surface): the set is stored.
             self.materialise();
+        } else {
+            // A failed solve is no warm start.
+            self.uniform = None;
         }
         if self.pressure_field.is_empty() {
             self.pressure_field = large_buffer(self.ny * self.nx, 0.0);
