@@ -50,14 +50,17 @@ fn refine(p: &[f64], m: usize) -> Vec<f64> {
     out
 }
 
+/// One level's solve: grid side, iterations, FFT pairs, solver seconds.
+type Level = (usize, usize, f64, f64);
+
 /// Solve on the n² grid, started from `levels` coarser solves (down to 128²). Returns the
 /// pressure and, per level, (grid, iterations, FFT pairs, solver seconds).
-fn solve(h: &[f64], n: usize, load: f64, levels: usize) -> (Vec<f64>, Vec<(usize, usize, f64, f64)>) {
+fn solve(h: &[f64], n: usize, load: f64, levels: usize) -> (Vec<f64>, Vec<Level>) {
     let e_star = Material::SILICON.plane_strain_modulus();
     let options = SolverOptions::default();
     let mut solver = ContactSolver::new(h, (n, n), (SIZE, SIZE), e_star, Boundary::Periodic, options).expect("solver");
     let mut log = Vec::new();
-    if levels > 0 && n % 2 == 0 && n / 2 >= 128 {
+    if levels > 0 && n.is_multiple_of(2) && n / 2 >= 128 {
         let (coarse, coarse_log) = solve(&coarsen(h, n), n / 2, load, levels - 1);
         log = coarse_log;
         solver.warm_start(&refine(&coarse, n / 2)).expect("warm start");
