@@ -50,6 +50,10 @@ const SUMS: usize = 10;
 /// column passes (a few axpys per spectrum row) rather than computed by FFT.
 const DIRECT_ROWS: usize = 8;
 
+/// A row of pending changes keeps room for this many between iterations; more is given back
+/// once their transform is taken (the first steps of a cold start clip most of the grid).
+const RETAINED_CHANGES: usize = 256;
+
 /// How the transform of the pending changes D is at hand.
 #[derive(Clone, Copy, PartialEq)]
 enum ChangeTransform {
@@ -256,6 +260,10 @@ pub struct ContactSolver {
     /// c: the shift of the contact points' stored gaps, u − h − c.
     reference: f64,
     contact: ContactSet,
+    /// A cold start's contact set, kept implicit: every point at this pressure [Pa], search
+    /// direction zero (`contact` is empty meanwhile). Stored, it would be the solve's largest
+    /// array; the first step builds the points it keeps directly.
+    uniform: Option<f64>,
     /// The next contact set, built while the current one is read.
     next: ContactSet,
     /// D: the projection's changes not yet applied to the displacement, per row.
@@ -352,6 +360,7 @@ impl ContactSolver {
             scale: 1.0,
             reference: 0.0,
             contact: ContactSet::default(),
+            uniform: None,
             next: ContactSet::default(),
             pending: vec![Vec::new(); ny],
             change_transform: ChangeTransform::None,
@@ -467,6 +476,7 @@ impl ContactSolver {
             pressure.iter().enumerate().filter(|(_, p)| **p > 0.0).map(|(i, p)| (i as u32, *p)).unzip();
         c.row_start = (0..=ny).map(|y| c.index.partition_point(|&i| (i as usize) < y * nx)).collect();
         c.direction = vec![0.0; c.index.len()];
+        self.uniform = None;
     }
 
     /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
@@ -482,6 +492,13 @@ impl ContactSolver {
             Some(hardness) => self.solve_saturated(hardness, load, &mut proceed),
             None => self.solve_elastic(load, &mut proceed),
         };
+        if report.is_ok() {
+            // Converged in full contact at the start (a flat surface): the set is stored.
+            self.materialise();
+        } else {
+            // A failed solve is no warm start.
+            self.uniform = None;
+        }
         if self.pressure_field.is_empty() {
             self.pressure_field = large_buffer(self.ny * self.nx, 0.0);
             if report.is_ok() {
@@ -508,8 +525,14 @@ impl ContactSolver {
         let p_mean = load / (self.size.0 * self.size.1);
         let total = p_mean * n as f64;
         let norm = n as f64 * p_mean * if self.h_rms > 0.0 { self.h_rms } else { 1.0 };
-        if !self.warm || self.contact.len() == 0 {
-            self.start_uniform(p_mean);
+        if !self.warm || self.contact.len() == 0 && self.uniform.is_none() {
+            self.contact = ContactSet::default();
+            self.uniform = Some(p_mean);
+        }
+        if let Some(p) = self.uniform {
+            // As a stored set of n equal pressures would be summed and rescaled.
+            let sum: f64 = std::iter::repeat_n(p, n).sum();
+            self.uniform = Some(p * (total / sum));
         }
         let sum: f64 = self.contact.pressure.iter().sum();
         self.contact.pressure.iter_mut().for_each(|p| *p *= total / sum);
@@ -570,6 +593,7 @@ impl ContactSolver {
             let (along, curvature, cross) = self.transform_direction(&shifts, beta);
             if curvature.is_nan() || curvature <= 0.0 {
                 // t = 0: the gap is flat on the contact set; only the projection has work left.
+                self.materialise();
                 (shifts, residual) = self.refresh(p_mean, norm);
                 applications += 1.0;
                 if residual > self.options.tolerance {
@@ -585,7 +609,7 @@ impl ContactSolver {
             }
             let step = (along + self.scale * cross) / curvature;
             applications += 1.0;
-            (shifts, residual) = self.step(&shifts, step, total, p_mean, norm)?;
+            (shifts, residual) = self.step(&shifts, beta, step, total, p_mean, norm)?;
             exact = false;
             if !progress(iterations, residual) {
                 return Err(self.interrupted(load));
@@ -613,14 +637,16 @@ impl ContactSolver {
         self.pending.iter().all(Vec::is_empty)
     }
 
-    /// Every point in contact at the mean pressure.
-    fn start_uniform(&mut self, p_mean: f64) {
-        let n = self.ny * self.nx;
-        let c = &mut self.contact;
-        c.index = (0..n as u32).collect();
-        c.row_start = (0..=self.ny).map(|y| y * self.nx).collect();
-        c.pressure = vec![p_mean; n];
-        c.direction = vec![0.0; n];
+    /// Store the implicit uniform contact set, if that is what the solver holds.
+    fn materialise(&mut self) {
+        if let Some(p) = self.uniform.take() {
+            let n = self.ny * self.nx;
+            let c = &mut self.contact;
+            c.index = (0..n as u32).collect();
+            c.row_start = (0..=self.ny).map(|y| y * self.nx).collect();
+            c.pressure = vec![p; n];
+            c.direction = vec![0.0; n];
+        }
     }
 
     /// Recompute the displacement from the pressure (u = K p, σ = 1, nothing pending) and
@@ -628,16 +654,23 @@ impl ContactSolver {
     fn refresh(&mut self, p_mean: f64, norm: f64) -> (Shifts, f64) {
         let (ny, nx) = (self.ny, self.nx);
         let (fft, kernel, spectrum, work) = self.operator.parts();
-        let c = &self.contact;
+        let (c, uniform) = (&self.contact, self.uniform);
         fft.forward_rows(
             ny,
             work,
             (0, &c.pressure[..]),
             |(first, p), mid| {
+                if uniform.is_some() {
+                    return ((first, p), (mid, p));
+                }
                 let (a, b) = p.split_at(c.row_start[mid] - c.row_start[first]);
                 ((first, a), (mid, b))
             },
             |(first, p), y, line| {
+                if let Some(p) = uniform {
+                    line[..nx].fill(p);
+                    return true;
+                }
                 let base = c.row_start[*first];
                 for j in c.rows(y) {
                     line[c.index[j] as usize - y * nx] = p[j - base];
@@ -671,15 +704,20 @@ impl ContactSolver {
     fn store_contact_gaps(&mut self) -> Shifts {
         let (u, h) = (&self.displacement, &self.heights);
         let c = &self.contact;
-        let count = c.len() as f64;
-        let gap_mean = c.index.iter().map(|&i| u[i as usize] - h[i as usize]).sum::<f64>() / count;
-        let direction_mean = c.direction.iter().sum::<f64>() / count;
+        // The contact points' indices, in raster order.
+        let points = || -> Box<dyn Iterator<Item = usize> + '_> {
+            match self.uniform {
+                Some(_) => Box::new(0..u.len()),
+                None => Box::new(c.index.iter().map(|&i| i as usize)),
+            }
+        };
+        let count = points().count() as f64;
+        let gap_mean = points().map(|i| u[i] - h[i]).sum::<f64>() / count;
+        let direction_mean = if self.uniform.is_some() { 0.0 } else { c.direction.iter().sum::<f64>() / count };
         self.reference = gap_mean;
-        let gap_norm = c
-            .index
-            .iter()
-            .map(|&i| {
-                let g = u[i as usize] - h[i as usize] - gap_mean;
+        let gap_norm = points()
+            .map(|i| {
+                let g = u[i] - h[i] - gap_mean;
                 g * g
             })
             .sum();
@@ -689,14 +727,16 @@ impl ContactSolver {
     /// The residual of the module documentation for the current state, on a full pass.
     fn residual(&mut self, s: &Shifts, p_mean: f64, norm: f64) -> f64 {
         let (nx, sigma, gap_mean) = (self.nx, self.scale, s.gap_mean);
-        let (u, h, c) = (&self.displacement, &self.heights, &self.contact);
+        let (u, h, c, uniform) = (&self.displacement, &self.heights, &self.contact, self.uniform);
         self.row_sums.par_iter_mut().enumerate().for_each(|(y, acc)| {
             let (mut complementarity, mut penetration) = (0.0, 0.0);
-            let mut j = c.row_start[y];
+            let mut j = c.row_start.get(y).copied().unwrap_or(0);
             for x in 0..nx {
                 let i = y * nx + x;
                 let g = sigma * u[i] - h[i] - gap_mean;
-                if j < c.row_start[y + 1] && c.index[j] as usize == i {
+                if let Some(p) = uniform {
+                    complementarity += p * g.abs();
+                } else if j < c.row_start[y + 1] && c.index[j] as usize == i {
                     complementarity += c.pressure[j] * g.abs();
                     j += 1;
                 } else if g < 0.0 {
@@ -739,9 +779,6 @@ impl ContactSolver {
             return;
         }
         let (fft, _, _, work) = self.operator.parts();
-        if self.change_spectrum.is_empty() {
-            self.change_spectrum = fft.make_spectrum();
-        }
         fft.forward_rows(
             self.ny,
             work,
@@ -755,6 +792,19 @@ impl ContactSolver {
                 !row.is_empty()
             },
         );
+        // The changes are in the transform's buffer now (and the contact set has them): the rows
+        // that held many give their room back before their spectrum takes its own.
+        let mut released = false;
+        for r in self.pending.iter_mut().filter(|r| r.capacity() > RETAINED_CHANGES) {
+            *r = Vec::new();
+            released = true;
+        }
+        if released {
+            give_back_freed_memory();
+        }
+        if self.change_spectrum.is_empty() {
+            self.change_spectrum = fft.make_spectrum();
+        }
         fft.forward_columns(work, &mut self.change_spectrum, |_, _| (), &mut []);
         self.change_transform = ChangeTransform::Dense;
     }
@@ -768,25 +818,37 @@ impl ContactSolver {
         let (fft, kernel, spectrum, work) = self.operator.parts();
         let (grid_ny, grid_nx) = fft.shape();
         let c = &mut self.contact;
-        let (index, row_start, reference) = (&c.index, &c.row_start, self.reference);
+        let (index, row_start, reference, uniform) = (&c.index, &c.row_start, self.reference, self.uniform.is_some());
         let (u, h) = (&self.displacement, &self.heights);
+        let search = Search { reference, excess, offset, beta, mean: s.direction_mean };
         fft.forward_rows(
             ny,
             work,
             (0, &mut c.direction[..], &mut self.row_sums[..]),
             |(first, t, sums), mid| {
-                let (ta, tb) = t.split_at_mut(row_start[mid] - row_start[first]);
+                let at = if uniform { 0 } else { row_start[mid] - row_start[first] };
+                let (ta, tb) = t.split_at_mut(at);
                 let (sa, sb) = sums.split_at_mut(mid - first);
                 ((first, ta, sa), (mid, tb, sb))
             },
             |(first, t, sums), y, line| {
-                let base = row_start[*first];
                 let (mut along, mut total) = (0.0, 0.0);
+                if uniform {
+                    // Every point, with t = 0 before; the first step computes t again.
+                    for (x, v) in line[..nx].iter_mut().enumerate() {
+                        let i = y * nx + x;
+                        let (g, tj) = search.at(u[i], h[i], 0.0);
+                        *v = tj;
+                        along += g * tj;
+                        total += tj;
+                    }
+                    sums[y - *first][..2].copy_from_slice(&[along, total]);
+                    return true;
+                }
+                let base = row_start[*first];
                 for j in row_start[y]..row_start[y + 1] {
                     let i = index[j] as usize;
-                    // The gap as the pass that set the reference wrote it, then shifted.
-                    let g = (u[i] - h[i] - reference) + excess * u[i] + offset;
-                    let tj = g + beta * (t[j - base] - s.direction_mean);
+                    let (g, tj) = search.at(u[i], h[i], t[j - base]);
                     t[j - base] = tj;
                     line[i - y * nx] = tj;
                     along += g * tj;
@@ -835,8 +897,34 @@ impl ContactSolver {
     /// projection, whose changes become the next D; the load restored by the next σ. Returns
     /// the shifts for the next iteration and the residual of the state the step started from
     /// (with the gap it could see).
-    fn step(&mut self, s: &Shifts, step: f64, total: f64, p_mean: f64, norm: f64) -> Result<(Shifts, f64)> {
+    fn step(&mut self, s: &Shifts, beta: f64, step: f64, total: f64, p_mean: f64, norm: f64) -> Result<(Shifts, f64)> {
         let (ny, nx, sigma, gap_mean) = (self.ny, self.nx, self.scale, s.gap_mean);
+        let uniform = self.uniform;
+        let search = Search {
+            reference: self.reference,
+            excess: sigma - 1.0,
+            offset: self.reference - gap_mean,
+            beta,
+            mean: s.direction_mean,
+        };
+        if let Some(p) = uniform {
+            // The points the step keeps, counted first: the new set is built directly.
+            self.next = ContactSet::default();
+            let (u, h) = (&self.displacement, &self.heights);
+            let kept: Vec<usize> = (0..ny)
+                .into_par_iter()
+                .map(|y| (y * nx..(y + 1) * nx).filter(|&i| p - step * search.at(u[i], h[i], 0.0).1 > 0.0).count())
+                .collect();
+            let c = &mut self.contact;
+            c.row_start = std::iter::once(0)
+                .chain(kept.iter().scan(0, |a, k| {
+                    *a += k;
+                    Some(*a)
+                }))
+                .collect();
+            let m = c.row_start[ny];
+            (c.index, c.pressure, c.direction) = (vec![0; m], vec![0.0; m], vec![0.0; m]);
+        }
         let (fft, kernel, spectrum, work) = self.operator.parts();
         let grid_ny = fft.shape().0;
         let (mode, change_spectrum) = (self.change_transform, &self.change_spectrum);
@@ -857,6 +945,11 @@ impl ContactSolver {
                 }
             }
         });
+        if self.contact.len() > self.ny * self.nx / 16 {
+            // The first steps of a cold start: the changes' spectrum gives its room to the
+            // contact sets and changes this step builds (it is allocated again when needed).
+            self.change_spectrum = Vec::new();
+        }
         let h = &self.heights;
         let (row_start, rows) = self.contact.split_rows();
         fft.inverse_rows(
@@ -881,6 +974,29 @@ impl ContactSolver {
                 // the next contact set, g = u − h − ḡ with the new u.
                 let mut a = [0.0; SUMS];
                 let (mut j, end) = (row_start[y], row_start[y + 1]);
+                if let Some(p) = uniform {
+                    // Every point was in contact, at pressure p, direction t as computed again.
+                    for x in 0..nx {
+                        let g_old = sigma * u[x] - h[x] - gap_mean;
+                        let (_, t) = search.at(u[x], h[x], 0.0);
+                        let un = sigma * u[x] + line[x];
+                        u[x] = un;
+                        let g = un - h[x] - gap_mean;
+                        let i = y * nx + x;
+                        a[0] += p * g_old.abs();
+                        let q = p - step * t;
+                        if q > 0.0 {
+                            let k = j - base;
+                            (rows.index[k], rows.pressure[k], rows.direction[k]) = (i as u32, q, t);
+                            member(&mut a, q, g, un, t);
+                            j += 1;
+                        } else {
+                            changed.push(Change { index: i as u32, delta: -q, entering: false });
+                        }
+                    }
+                    sums[y - *first] = a;
+                    return;
+                }
                 for x in 0..nx {
                     let g_old = sigma * u[x] - h[x] - gap_mean;
                     let un = sigma * u[x] + line[x];
@@ -915,7 +1031,7 @@ impl ContactSolver {
         if load.is_nan() || load <= 0.0 {
             return Err(Error::invalid("contact solver", "broke down: the projection left no pressure"));
         }
-        if !self.pending_is_empty() {
+        if self.uniform.take().is_none() && !self.pending_is_empty() {
             self.rebuild_contact_set();
         }
         self.scale = total / load;
@@ -959,6 +1075,10 @@ impl ContactSolver {
             new.row_start.push(new.row_start[y] + size);
         }
         let n = new.row_start[self.ny];
+        if new.index.capacity() > 2 * n {
+            // Room of a set much larger than this one: allocate afresh rather than keep it.
+            (new.index, new.pressure, new.direction) = Default::default();
+        }
         for v in [&mut new.pressure, &mut new.direction] {
             v.resize(n, 0.0);
         }
@@ -966,7 +1086,7 @@ impl ContactSolver {
         let (row_start, rows) = new.split_rows();
         merge_rows(0..self.ny, rows, row_start, old, pending);
         std::mem::swap(&mut self.contact, &mut self.next);
-        if self.next.index.capacity() > 4 * self.contact.len() {
+        if self.next.index.capacity() > 2 * self.contact.len() {
             // The set shrank a lot (the first steps of a cold start): give its old room back.
             self.next = ContactSet::default();
         }
@@ -1041,6 +1161,32 @@ fn merge_rows(
     }
 }
 
+/// How an iteration computes the search direction at a contact point.
+#[derive(Clone, Copy)]
+struct Search {
+    /// c, the stored gaps' reference [m].
+    reference: f64,
+    /// σ − 1.
+    excess: f64,
+    /// c − ḡ [m].
+    offset: f64,
+    /// β, the conjugation.
+    beta: f64,
+    /// t̄, the previous direction's mean over the contact set [m].
+    mean: f64,
+}
+
+impl Search {
+    /// The gap g − ḡ and the new direction t ← g − ḡ + β (t − t̄) at a point of displacement u
+    /// and height h whose previous direction was t [m].
+    fn at(&self, u: f64, h: f64, t: f64) -> (f64, f64) {
+        // σu − h − ḡ = (u − h − c) + (σ − 1)u + (c − ḡ): the gap as the pass that set the
+        // reference wrote it, then shifted.
+        let g = (u - h - self.reference) + self.excess * u + self.offset;
+        (g, g + self.beta * (t - self.mean))
+    }
+}
+
 /// Count a point of the next contact set into a row's sums (see [`ContactSolver::step`]):
 /// pressure q, gap g, displacement u, direction t.
 fn member(a: &mut [f64; SUMS], q: f64, g: f64, u: f64, t: f64) {
@@ -1052,6 +1198,16 @@ fn member(a: &mut [f64; SUMS], q: f64, g: f64, u: f64, t: f64) {
     a[7] += u;
     a[8] += u * u;
     a[9] += t;
+}
+
+/// Return the heap's free pages to the system: many small rows freed at once stay resident
+/// in the allocator's arenas otherwise (glibc keeps what lies below the top of an arena).
+fn give_back_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: malloc_trim only releases free memory of the allocator; it touches no live block.
+    unsafe {
+        libc::malloc_trim(0);
+    }
 }
 
 /// Sum per-row partial sums in row order (deterministic).
