@@ -273,9 +273,7 @@ impl TangentialInfluence {
         // Offset of padded index i along an axis of padded length p, box b, window n; None
         // where no pair of points in the box is that far apart.
         let offset = |i: usize, p: usize, b: usize, n: usize| -> Option<usize> {
-            if p == n {
-                Some(i)
-            } else if i < b {
+            if p == n || i < b {
                 Some(i)
             } else if i > p - b {
                 Some(n - (p - i))
