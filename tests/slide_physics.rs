@@ -79,6 +79,53 @@ fn free_cerruti_far_field_is_the_point_force() {
     }
 }
 
+#[test]
+fn box_operator_is_the_window_operator_inside_the_box() {
+    // Tractions inside a box of the window: the box operator (padded grid, or the periodic
+    // grid along an axis where the box is more than half the window) gives the displacements
+    // of the whole window's operator at every point of the box.
+    let (ny, nx, l) = (48, 64, 6.4e-6);
+    let size = (l, l * ny as f64 / nx as f64);
+    let c = ShearCompliance::of(&[SI]);
+    for (boundary, (by, bx), (y0, x0)) in [
+        (Boundary::Periodic, (9, 13), (20, 30)),
+        (Boundary::Periodic, (30, 7), (5, 50)),
+        (Boundary::Free, (9, 13), (31, 2)),
+    ] {
+        let mut whole = match boundary {
+            Boundary::Periodic => TangentialInfluence::periodic(ny, nx, size, c),
+            Boundary::Free => TangentialInfluence::free(ny, nx, size, c),
+        };
+        let mut part = TangentialInfluence::window((ny, nx), size, c, boundary, (by, bx));
+        let (sy, sx) = part.shape();
+        assert!(sy <= ny && sx <= nx && (sy, sx) != (ny, nx), "{boundary:?} {by}×{bx}: shape {sy}×{sx}");
+        let (y0, x0) = (y0.min(ny - sy), x0.min(nx - sx));
+        let value = |i: usize, j: usize, k: usize| 1e6 * (((i * 31 + j * 17 + k * 7) % 23) as f64 - 11.0);
+        let (mut qx, mut qy) = (vec![0.0; ny * nx], vec![0.0; ny * nx]);
+        let (mut px, mut py) = (vec![0.0; sy * sx], vec![0.0; sy * sx]);
+        for i in 0..by {
+            for j in 0..bx {
+                qx[(y0 + i) * nx + x0 + j] = value(i, j, 0);
+                qy[(y0 + i) * nx + x0 + j] = value(i, j, 1);
+                px[i * sx + j] = value(i, j, 0);
+                py[i * sx + j] = value(i, j, 1);
+            }
+        }
+        let (mut ux, mut uy) = (vec![0.0; ny * nx], vec![0.0; ny * nx]);
+        whole.apply([&qx, &qy], [&mut ux, &mut uy]);
+        let (mut vx, mut vy) = (vec![0.0; sy * sx], vec![0.0; sy * sx]);
+        part.apply([&px, &py], [&mut vx, &mut vy]);
+        let scale = ux.iter().chain(&uy).fold(0.0f64, |m, u| m.max(u.abs()));
+        for i in 0..by {
+            for j in 0..bx {
+                let (w, b) = ((y0 + i) * nx + x0 + j, i * sx + j);
+                assert!((ux[w] - vx[b]).abs() < 1e-10 * scale, "{boundary:?} u_x at ({i},{j}): {} vs {}", ux[w], vx[b]);
+                assert!((uy[w] - vy[b]).abs() < 1e-10 * scale, "{boundary:?} u_y at ({i},{j}): {} vs {}", uy[w], vy[b]);
+            }
+        }
+    }
+}
+
 /// A Hertz contact on a free boundary: elastic sphere (radius R) on a rigid flat.
 struct Hertz {
     pressure: Vec<f64>,

@@ -231,6 +231,80 @@ impl TangentialInfluence {
         Self::with_kernels(ny, nx, fft, kernel)
     }
 
+    /// The operator restricted to a box of (by, bx) points of an (ny, nx) window of size
+    /// (lx, ly) [m]: exact for tractions and displacements inside the box, on a grid no larger
+    /// than the box's offsets need. Free boundary: the free operator of the box itself.
+    /// Periodic: the window's periodic kernel in real space, kept for the offsets inside the
+    /// box and convolved on a zero-padded grid along each axis where the box is at most half
+    /// the window (along the others the window's own periodic grid). A contact set much
+    /// smaller than the window then costs transforms of its own size.
+    pub fn window(
+        (ny, nx): (usize, usize),
+        (lx, ly): (f64, f64),
+        c: ShearCompliance,
+        boundary: Boundary,
+        (by, bx): (usize, usize),
+    ) -> Self {
+        assert!(by >= 1 && bx >= 1 && by <= ny && bx <= nx, "box {by}×{bx} in a {ny}×{nx} window");
+        let (dx, dy) = (lx / nx as f64, ly / ny as f64);
+        if boundary == Boundary::Free {
+            // The padded grid of the box must be at least 2 wide for the real transform.
+            let bx = bx.max(2).min(nx);
+            return Self::free(by, bx, (bx as f64 * dx, by as f64 * dy), c);
+        }
+        // Padded length along an axis, or None when the window's periodic grid is as small.
+        let padded = |b: usize, n: usize| Some(fast_length(2 * b)).filter(|&p| p < n);
+        let (py, px) = (padded(by, ny), padded(bx, nx));
+        if py.is_none() && px.is_none() {
+            return Self::periodic(ny, nx, (lx, ly), c);
+        }
+        let (gy, gx) = (py.unwrap_or(ny), px.unwrap_or(nx));
+        let (box_y, box_x) = (if py.is_some() { by } else { ny }, if px.is_some() { bx } else { nx });
+        // The periodic kernel in real space: responses to a unit traction at the origin.
+        let mut full = Self::periodic(ny, nx, (lx, ly), c);
+        let mut unit = vec![0.0; ny * nx];
+        unit[0] = 1.0;
+        let zero = vec![0.0; ny * nx];
+        let (mut g_xx, mut g_xy, mut g_yx, mut g_yy) =
+            (vec![0.0; ny * nx], vec![0.0; ny * nx], vec![0.0; ny * nx], vec![0.0; ny * nx]);
+        full.apply([&unit, &zero], [&mut g_xx, &mut g_yx]);
+        full.apply([&zero, &unit], [&mut g_xy, &mut g_yy]);
+        drop(full);
+        // Offset of padded index i along an axis of padded length p, box b, window n; None
+        // where no pair of points in the box is that far apart.
+        let offset = |i: usize, p: usize, b: usize, n: usize| -> Option<usize> {
+            if p == n || i < b {
+                Some(i)
+            } else if i > p - b {
+                Some(n - (p - i))
+            } else {
+                None
+            }
+        };
+        let mut coefficients = [vec![0.0; gy * gx], vec![0.0; gy * gx], vec![0.0; gy * gx]];
+        for i in 0..gy {
+            let Some(oy) = offset(i, gy, box_y, ny) else { continue };
+            for j in 0..gx {
+                let Some(ox) = offset(j, gx, box_x, nx) else { continue };
+                let (k, w) = (i * gx + j, oy * nx + ox);
+                coefficients[0][k] = g_xx[w];
+                // The cross kernel is symmetric (xy = yx); average the two round-offs.
+                coefficients[1][k] = 0.5 * (g_xy[w] + g_yx[w]);
+                coefficients[2][k] = g_yy[w];
+            }
+        }
+        let fft = Fft2::new(gy, gx);
+        let mut spectrum = fft.make_spectrum();
+        let mut work = fft.make_work();
+        let norm = 1.0 / (gy * gx) as f64;
+        // Even (xx, yy) and odd in each offset (xy) kernels: real spectra.
+        let kernel = coefficients.map(|coefficient| {
+            fft.forward(&coefficient, gy, gx, &mut spectrum, &mut work);
+            spectrum.iter().map(|s| s.re * norm).collect()
+        });
+        Self::with_kernels(box_y, box_x, fft, kernel)
+    }
+
     fn with_kernels(ny: usize, nx: usize, fft: Fft2, values: [Vec<f64>; 3]) -> Self {
         let kernel = values.map(|v| {
             let mut k = large_buffer(v.len(), 0.0);
@@ -267,6 +341,21 @@ impl TangentialInfluence {
         fft.inverse(sx, ux, *ny, *nx, work);
         fft.inverse(sy, uy, *ny, *nx, work);
     }
+}
+
+/// The smallest length ≥ n whose only prime factors are 2, 3, 5 and 7 (fast transforms).
+fn fast_length(n: usize) -> usize {
+    (n.max(2)..)
+        .find(|&m| {
+            let mut r = m;
+            for f in [2, 3, 5, 7] {
+                while r % f == 0 {
+                    r /= f;
+                }
+            }
+            r == 1
+        })
+        .expect("a 7-smooth number follows every n")
 }
 
 /// ∫∫ f over the rectangle [−a, a] × [−b, b] seen from (x, y), from a primitive F of f in

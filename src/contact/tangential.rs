@@ -33,8 +33,11 @@ use rayon::prelude::*;
 use super::influence::{Boundary, ShearCompliance, TangentialInfluence};
 use crate::error::{Error, Result};
 
+/// Contact points per parallel task: below this, threads cost more than they save.
+const CHUNK: usize = 4096;
+
 /// Iterations without a new best residual after which the solve changes method.
-const STALL: usize = 50;
+const STALL: usize = 10;
 
 /// Settings of the tangential solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +74,8 @@ pub struct TangentialSolver {
     options: TangentialOptions,
     /// Flat index y·nx + x of each contact point (p > 0), raster order.
     points: Vec<usize>,
+    /// The same points' flat indices in the operator's box.
+    local: Vec<usize>,
     /// Normal pressure p [Pa] at each contact point.
     pressure: Vec<f64>,
     /// Shear traction q [Pa] at each contact point.
@@ -123,12 +128,16 @@ impl TangentialSolver {
         if points.is_empty() {
             return Err(Error::invalid("pressure map", "no contact: every pressure is zero"));
         }
-        let operator = match boundary {
-            Boundary::Periodic => TangentialInfluence::periodic(ny, nx, size, compliance),
-            Boundary::Free => TangentialInfluence::free(ny, nx, size, compliance),
-        };
+        // The operator works on the contact set's bounding box only (exactly: see
+        // TangentialInfluence::window); its points are indexed in the box.
+        let (y0, y1) = points.iter().fold((ny, 0), |(a, b), &i| (a.min(i / nx), b.max(i / nx)));
+        let (x0, x1) = points.iter().fold((nx, 0), |(a, b), &i| (a.min(i % nx), b.max(i % nx)));
+        let operator = TangentialInfluence::window((ny, nx), size, compliance, boundary, (y1 - y0 + 1, x1 - x0 + 1));
+        let (by, bx) = operator.shape();
+        let (y0, x0) = (y0.min(ny - by), x0.min(nx - bx));
+        let local = points.iter().map(|&i| (i / nx - y0) * bx + (i % nx - x0)).collect();
         let m = points.len();
-        let grid = || [vec![0.0; ny * nx], vec![0.0; ny * nx]];
+        let grid = || [vec![0.0; by * bx], vec![0.0; by * bx]];
         Ok(TangentialSolver {
             shape,
             size,
@@ -136,6 +145,7 @@ impl TangentialSolver {
             options,
             pressure: points.iter().map(|&i| pressure[i]).collect(),
             points,
+            local,
             traction: vec![[0.0; 2]; m],
             displacement: vec![[0.0; 2]; m],
             direction: vec![[0.0; 2]; m],
@@ -194,8 +204,8 @@ impl TangentialSolver {
 
     /// u = K q on the contact points, from scratch.
     fn refresh(&mut self) {
-        let TangentialSolver { operator, points, field_in, field_out, traction, displacement, .. } = self;
-        Self::apply_to(operator, points, field_in, field_out, traction, displacement);
+        let TangentialSolver { operator, local, field_in, field_out, traction, displacement, .. } = self;
+        Self::apply_to(operator, local, field_in, field_out, traction, displacement);
     }
 
     /// `out = K v` on the contact points.
@@ -214,7 +224,7 @@ impl TangentialSolver {
         }
         let [ox, oy] = field_out;
         operator.apply([&field_in[0], &field_in[1]], [ox, oy]);
-        out.par_iter_mut().zip(points.par_iter()).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
+        out.par_iter_mut().zip(points.par_iter()).with_min_len(CHUNK).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
     }
 
     /// Solve for the targets `target` b_i [m] and bounds `bound` g_i [Pa] (one per contact
@@ -246,6 +256,7 @@ impl TangentialSolver {
                 .zip(self.displacement.par_iter())
                 .zip(target.par_iter().zip(bound.par_iter()))
                 .zip(self.product.par_iter_mut().zip(self.on_bound.par_iter_mut()))
+                .with_min_len(CHUNK)
                 .map(|(((q, u), (b, g)), (d, was))| {
                     let r = [u[0] - b[0], u[1] - b[1]];
                     let qn = q[0].hypot(q[1]);
@@ -315,6 +326,7 @@ impl TangentialSolver {
                 .par_iter_mut()
                 .zip(self.product.par_iter())
                 .zip(self.traction.par_iter().zip(self.on_bound.par_iter()))
+                .with_min_len(CHUNK)
                 .for_each(|((t, d), (q, held))| {
                     *t = [d[0] + beta * t[0], d[1] + beta * t[1]];
                     if *held {
@@ -327,8 +339,8 @@ impl TangentialSolver {
                     }
                 });
             {
-                let TangentialSolver { operator, points, field_in, field_out, direction, product, .. } = self;
-                Self::apply_to(operator, points, field_in, field_out, direction, product);
+                let TangentialSolver { operator, local, field_in, field_out, direction, product, .. } = self;
+                Self::apply_to(operator, local, field_in, field_out, direction, product);
             }
             applications += 1;
             // Exact line search along t: τ = (u − b)·t / tᵀKt.
@@ -337,6 +349,7 @@ impl TangentialSolver {
                 .par_iter()
                 .zip(self.product.par_iter())
                 .zip(self.displacement.par_iter().zip(target.par_iter()))
+                .with_min_len(CHUNK)
                 .map(|((t, w), (u, b))| ((u[0] - b[0]) * t[0] + (u[1] - b[1]) * t[1], t[0] * w[0] + t[1] * w[1]))
                 .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
             if !(tkt > 0.0) {
@@ -344,7 +357,7 @@ impl TangentialSolver {
                 continue;
             }
             let tau = rt / tkt;
-            self.traction.par_iter_mut().zip(self.direction.par_iter()).for_each(|(q, t)| {
+            self.traction.par_iter_mut().zip(self.direction.par_iter()).with_min_len(CHUNK).for_each(|(q, t)| {
                 q[0] -= tau * t[0];
                 q[1] -= tau * t[1];
             });
@@ -354,7 +367,7 @@ impl TangentialSolver {
                 applications += 1;
                 exact = true;
             } else {
-                self.displacement.par_iter_mut().zip(self.product.par_iter()).for_each(|(u, w)| {
+                self.displacement.par_iter_mut().zip(self.product.par_iter()).with_min_len(CHUNK).for_each(|(u, w)| {
                     u[0] -= tau * w[0];
                     u[1] -= tau * w[1];
                 });
@@ -378,6 +391,7 @@ impl TangentialSolver {
             .zip(self.displacement.par_iter())
             .zip(self.previous_traction.par_iter_mut().zip(self.previous_displacement.par_iter_mut()))
             .zip(self.direction.par_iter_mut().zip(target.par_iter().zip(bound.par_iter())))
+            .with_min_len(CHUNK)
             .for_each(|(((q, u), (qp, up)), (y, (b, g)))| {
                 *y = [q[0] + beta * (q[0] - qp[0]), q[1] + beta * (q[1] - qp[1])];
                 let ky = [u[0] + beta * (u[0] - up[0]), u[1] + beta * (u[1] - up[1])];
@@ -396,6 +410,7 @@ impl TangentialSolver {
             .direction
             .par_iter()
             .zip(self.traction.par_iter().zip(self.previous_traction.par_iter()))
+            .with_min_len(CHUNK)
             .map(|(y, (q, qp))| (y[0] - q[0]) * (q[0] - qp[0]) + (y[1] - q[1]) * (q[1] - qp[1]))
             .sum();
         if uphill > 0.0 {
@@ -413,8 +428,8 @@ impl TangentialSolver {
         for _ in 0..40 {
             let norm = v.iter().map(|x| x[0] * x[0] + x[1] * x[1]).sum::<f64>().sqrt();
             v.iter_mut().for_each(|x| *x = [x[0] / norm, x[1] / norm]);
-            let TangentialSolver { operator, points, field_in, field_out, .. } = self;
-            Self::apply_to(operator, points, field_in, field_out, &v, &mut w);
+            let TangentialSolver { operator, local, field_in, field_out, .. } = self;
+            Self::apply_to(operator, local, field_in, field_out, &v, &mut w);
             *applications += 1;
             estimate = v.iter().zip(&w).map(|(a, b)| a[0] * b[0] + a[1] * b[1]).sum::<f64>();
             std::mem::swap(&mut v, &mut w);
@@ -428,6 +443,7 @@ fn project(traction: &mut [[f64; 2]], bound: &[f64]) -> bool {
     traction
         .par_iter_mut()
         .zip(bound.par_iter())
+        .with_min_len(CHUNK)
         .map(|(q, g)| {
             let qn = q[0].hypot(q[1]);
             if qn > *g {

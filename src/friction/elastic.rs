@@ -22,9 +22,11 @@ use crate::error::{Error, Result};
 /// Displacement steps up to the stuck estimate of the peak, μ_s N / k_t.
 const STEPS: usize = 64;
 /// The stretch around the largest force is repeated this many times, each with steps this
-/// many times finer.
-const REFINEMENTS: usize = 3;
-const REFINE: usize = 8;
+/// many times finer: the peak located to 1/(64·4⁶) of μ_s N / k_t.
+const REFINEMENTS: usize = 6;
+const REFINE: usize = 4;
+/// Steps of a force ramp up to its stuck estimate Q / k_t.
+const RAMP_STEPS: usize = 64;
 /// Steps after which a path that has not reached total sliding is an error.
 const MAX_STEPS: usize = 100 * STEPS;
 /// Solves of one cascade after which it is an error.
@@ -80,6 +82,18 @@ impl SlipLaw {
                     let ((s0, m0), (s1, m1)) = (points[i - 1], points[i]);
                     m0 + (m1 - m0) * (slip - s0) / (s1 - s0)
                 }
+            }
+        }
+    }
+
+    /// The largest coefficient a point can have from now on, having slipped `slip` [m]
+    /// (`slipped` whether at all): no later force exceeds the sum of these bounds.
+    fn ceiling(&self, slip: f64, slipped: bool) -> f64 {
+        match &self.weakening {
+            Weakening::Instant | Weakening::Linear(_) => self.mu(slip, slipped),
+            Weakening::Curve(points) => {
+                let later = points.iter().filter(|(s, _)| *s > slip).map(|p| p.1);
+                later.fold(self.mu(slip, slipped), f64::max)
             }
         }
     }
@@ -322,6 +336,14 @@ impl<'a> Path<'a> {
         Snapshot { point, traction: q.to_vec(), classes }
     }
 
+    /// The largest tangential force any later state can carry [N]: Σ μ_max p a.
+    fn ceiling(&self) -> f64 {
+        let st = &self.state;
+        let p = self.solver.pressure();
+        let sum: f64 = (0..p.len()).map(|i| self.law.ceiling(st.path[i], st.slipped[i]) * p[i]).sum();
+        sum * self.solver.pixel_area()
+    }
+
     /// Whether the interface slides as a whole and nothing changes any more.
     fn sliding(&self, point: &SlidePoint) -> bool {
         point.stick_points == 0
@@ -335,7 +357,8 @@ fn at_bound(q: [f64; 2], g: f64) -> bool {
 }
 
 /// The sliding onset of the contact set of `solver` under `law`: displacement-controlled path
-/// to total sliding, the largest force located to 1/8³ of the first steps.
+/// to total sliding (or until no later state can exceed the largest force seen), the largest
+/// force located to 1/4⁶ of the first steps.
 pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<ElasticOnset> {
     let area = solver.pixel_area();
     let normal_force: f64 = solver.pressure().iter().sum::<f64>() * area;
@@ -375,7 +398,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
                 curve.push(first);
             }
             curve.push(point);
-            if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) || (until.is_none() && path.sliding(&point)) {
+            if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) {
+                return Ok(());
+            }
+            // The path ends at total sliding, or once no later state can exceed the largest
+            // force seen.
+            let largest = best.as_ref().map_or(0.0, |(s, _)| s.point.force_n);
+            if until.is_none() && (path.sliding(&point) || path.ceiling() <= largest) {
                 return Ok(());
             }
         }
@@ -436,7 +465,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
     let law = SlipLaw { mu_s: mu, mu_d: mu, weakening: Weakening::Instant };
     let mut path = Path::new(solver, &law);
     let k = path.stuck_stiffness()?;
-    let h = force / k / STEPS as f64;
+    let h = force / k / RAMP_STEPS as f64;
     let mut none = |_: &Path, _: SlidePoint| {};
     // Step until the force passes `force`, then bisect that last step from the state before it.
     let mut before = path.state.clone();
