@@ -46,6 +46,58 @@ const STALL: usize = 50;
 /// Partial sums kept per grid row.
 const SUMS: usize = 10;
 
+/// The iteration count of a solve: its limit, its breakdown on a non-finite residual, and
+/// when its residual stalls (no new best for more than `stall` iterations).
+pub(crate) struct Iterations {
+    solver: &'static str,
+    max_iterations: usize,
+    tolerance: f64,
+    stall: usize,
+    done: usize,
+    best: f64,
+    best_at: usize,
+}
+
+impl Iterations {
+    /// `solver` names the solver in its errors; `tolerance` is the residual it aims at.
+    pub(crate) fn new(solver: &'static str, max_iterations: usize, tolerance: f64, stall: usize) -> Self {
+        Iterations { solver, max_iterations, tolerance, stall, done: 0, best: f64::INFINITY, best_at: 0 }
+    }
+
+    /// Iterations done.
+    pub(crate) fn done(&self) -> usize {
+        self.done
+    }
+
+    /// Counts one more iteration after `residual`, which has not converged: an error if it is
+    /// not finite or the limit is reached; `true` when the residual has stalled (the count
+    /// towards the next stall then starts again).
+    pub(crate) fn next(&mut self, residual: f64) -> Result<bool> {
+        if !residual.is_finite() {
+            return Err(Error::invalid(
+                self.solver,
+                format!("broke down at iteration {} (non-finite residual)", self.done),
+            ));
+        }
+        if self.done == self.max_iterations {
+            return Err(Error::NotConverged {
+                solver: self.solver,
+                iterations: self.done,
+                residual,
+                tolerance: self.tolerance,
+            });
+        }
+        self.done += 1;
+        if residual < self.best {
+            (self.best, self.best_at) = (residual, self.done);
+        } else if self.done - self.best_at > self.stall {
+            self.best_at = self.done;
+            return Ok(true);
+        }
+        Ok(false)
+    }
+}
+
 /// Up to this many grid rows with changes, their transform is summed directly inside the
 /// column passes (a few axpys per spectrum row) rather than computed by FFT.
 const DIRECT_ROWS: usize = 8;
@@ -541,20 +593,11 @@ impl ContactSolver {
         // Whether `residual` was measured on a displacement recomputed from scratch.
         let mut exact = true;
         let mut applications = 1.0;
-        let mut iterations = 0;
+        let mut iterations =
+            Iterations::new("contact solver", self.options.max_iterations, self.options.tolerance, STALL);
         let mut conjugate = false;
         let mut gap_norm_old = 1.0;
-        // Best residual so far and when it was reached: a stalled search restarts from the
-        // steepest descent direction.
-        let (mut best, mut best_at) = (f64::INFINITY, 0);
         loop {
-            if !residual.is_finite() {
-                self.warm = false;
-                return Err(Error::invalid(
-                    "contact solver",
-                    format!("broke down at iteration {iterations} (non-finite residual)"),
-                ));
-            }
             if residual <= self.options.tolerance {
                 if exact {
                     break;
@@ -565,20 +608,9 @@ impl ContactSolver {
                 applications += 1.0;
                 continue;
             }
-            if iterations == self.options.max_iterations {
-                self.warm = false;
-                return Err(Error::NotConverged {
-                    solver: "contact solver",
-                    iterations,
-                    residual,
-                    tolerance: self.options.tolerance,
-                });
-            }
-            iterations += 1;
-            if residual < best {
-                (best, best_at) = (residual, iterations);
-            } else if iterations - best_at > STALL {
-                (conjugate, best_at) = (false, iterations);
+            // A stalled search restarts from the steepest descent direction.
+            if iterations.next(residual).inspect_err(|_| self.warm = false)? {
+                conjugate = false;
             }
             // Unlike Polonsky & Keer, conjugacy is kept when points enter the contact set:
             // resetting it there makes load sweeps, where the set keeps growing, converge like
@@ -602,7 +634,7 @@ impl ContactSolver {
                     applications += 1.0;
                 }
                 exact = true;
-                if !progress(iterations, residual) {
+                if !progress(iterations.done(), residual) {
                     return Err(self.interrupted(load));
                 }
                 continue;
@@ -611,7 +643,7 @@ impl ContactSolver {
             applications += 1.0;
             (shifts, residual) = self.step(&shifts, beta, step, total, p_mean, norm)?;
             exact = false;
-            if !progress(iterations, residual) {
+            if !progress(iterations.done(), residual) {
                 return Err(self.interrupted(load));
             }
         }
@@ -619,7 +651,7 @@ impl ContactSolver {
         Ok(SolveReport {
             load,
             mean_pressure: p_mean,
-            iterations,
+            iterations: iterations.done(),
             residual,
             operator_applications: applications,
             seconds: start.elapsed().as_secs_f64(),

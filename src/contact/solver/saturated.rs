@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{sum_rows, ContactSolver, SolveReport, STALL};
+use super::{sum_rows, ContactSolver, Iterations, SolveReport, STALL};
 use crate::error::{Error, Result};
 use crate::fft::large_buffer;
 
@@ -70,9 +70,10 @@ impl ContactSolver {
         self.operator.apply(&p, &mut self.displacement);
         restore_load(&mut p, hardness, total, nx, &self.displacement, h);
 
-        let (mut iterations, mut applications) = (0, 0.0);
+        let mut iterations =
+            Iterations::new("contact solver", self.options.max_iterations, self.options.tolerance, STALL);
+        let mut applications = 0.0;
         let (mut conjugate, mut gap_norm_old) = (false, 1.0);
-        let (mut best, mut best_at) = (f64::INFINITY, 0);
         let residual = loop {
             self.operator.apply(&p, &mut self.displacement);
             applications += 1.0;
@@ -98,34 +99,14 @@ impl ContactSolver {
                 .collect();
             let [complementarity, gap_norm, opening, penetration] = sum_rows(&sums);
             let residual = (complementarity + opening + p_mean * penetration) / norm;
-            if iterations > 0 && !progress(iterations, residual) {
-                self.warm = false;
+            if iterations.done() > 0 && !progress(iterations.done(), residual) {
                 return Err(self.interrupted(load));
-            }
-            if !residual.is_finite() {
-                self.warm = false;
-                return Err(Error::invalid(
-                    "contact solver",
-                    format!("broke down at iteration {iterations} (non-finite residual)"),
-                ));
             }
             if residual <= self.options.tolerance {
                 break residual;
             }
-            if iterations == self.options.max_iterations {
-                self.warm = false;
-                return Err(Error::NotConverged {
-                    solver: "contact solver",
-                    iterations,
-                    residual,
-                    tolerance: self.options.tolerance,
-                });
-            }
-            iterations += 1;
-            if residual < best {
-                (best, best_at) = (residual, iterations);
-            } else if iterations - best_at > STALL {
-                (conjugate, best_at) = (false, iterations);
+            if iterations.next(residual).inspect_err(|_| self.warm = false)? {
+                conjugate = false;
             }
             let beta = if conjugate && gap_norm_old > 0.0 { gap_norm / gap_norm_old } else { 0.0 };
             gap_norm_old = gap_norm;
@@ -204,7 +185,7 @@ impl ContactSolver {
         Ok(SolveReport {
             load,
             mean_pressure: p_mean,
-            iterations,
+            iterations: iterations.done(),
             residual,
             operator_applications: applications,
             seconds: start.elapsed().as_secs_f64(),
