@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
+use asperity::contact::{self, Boundary, ContactSolver, SolverOptions};
 use asperity::output::{self, StagedDir};
 use asperity::topography::io::{self, ReadOptions};
 use asperity::topography::prepare::{compound_with, Preparation};
@@ -13,7 +13,7 @@ use asperity::topography::synth::{Cap, CapShape};
 use asperity::{Error, Result};
 
 use super::topo_tools::PrepareArgs;
-use super::ReadArgs;
+use super::{MaterialArgs, ReadArgs};
 
 /// Press a rigid rough surface on an elastic half-space (boundary integral method,
 /// Polonsky–Keer conjugate gradient at imposed load) and write the pressure maps.
@@ -51,19 +51,8 @@ pub struct ContactArgs {
     /// give a list (0.1mN,1mN).
     #[arg(long, value_name = "N", required = true, value_delimiter = ',', allow_negative_numbers = true, value_parser = super::force)]
     load: Vec<f64>,
-    /// Young's modulus of the elastic body [Pa, or with a unit: 130GPa] (default: silicon).
-    #[arg(long, value_name = "E", default_value_t = Material::SILICON.youngs, allow_negative_numbers = true, value_parser = super::pressure)]
-    youngs: f64,
-    /// Poisson's ratio of the elastic body, in (−1, 0.5) (default: silicon).
-    #[arg(long, value_name = "NU", default_value_t = Material::SILICON.poisson, allow_negative_numbers = true)]
-    poisson: f64,
-    /// Young's modulus of a second elastic body [Pa]; with --poisson2, the two combine as
-    /// 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2. Without it the counter-body is rigid.
-    #[arg(long, value_name = "E2", requires = "poisson2", allow_negative_numbers = true, value_parser = super::pressure)]
-    youngs2: Option<f64>,
-    /// Poisson's ratio of the second elastic body.
-    #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
-    poisson2: Option<f64>,
+    #[command(flatten)]
+    material: MaterialArgs,
     /// Elastic–perfectly-plastic contact: cap the pressure at --hardness (0 ≤ p ≤ H); where it
     /// is reached the surface yields (penetrates) instead of loading further.
     #[arg(long)]
@@ -137,11 +126,7 @@ struct LoadEntry {
 pub fn run(args: ContactArgs) -> Result<()> {
     // Every check before any long work.
     contact::check_loads(&args.load)?;
-    let body = Material::new(args.youngs, args.poisson, "--youngs/--poisson")?;
-    let e_star = match (args.youngs2, args.poisson2) {
-        (Some(e2), Some(nu2)) => contact::combined_modulus(&body, &Material::new(e2, nu2, "--youngs2/--poisson2")?),
-        _ => body.plane_strain_modulus(),
-    };
+    let (_, e_star) = args.material.bodies()?;
     let path = &args.read.file;
     let mut surface = prepare(&args)?;
     let size = contact::contact_size(&surface)?;

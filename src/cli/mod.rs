@@ -15,9 +15,11 @@ use std::process::ExitCode;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 
+use asperity::contact::{combined_modulus, Material};
 use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
+use asperity::Result;
 
 /// SIGINT and SIGTERM remove the temporaries in flight (`.asperity-*.partial`) and end the
 /// process with 130 and 143 (locks go with the process); SIGPIPE, a reader such as `head` that
@@ -156,6 +158,40 @@ impl ReadArgs {
             height_unit: self.height_unit.clone(),
             limits: self.limits.limits(),
         }
+    }
+}
+
+/// The elastic bodies in contact: the options of every command that solves a contact.
+#[derive(Args)]
+pub struct MaterialArgs {
+    /// Young's modulus of the elastic body [Pa, or with a unit: 130GPa] (default: silicon).
+    #[arg(long, value_name = "E", default_value_t = Material::SILICON.youngs, allow_negative_numbers = true, value_parser = pressure)]
+    youngs: f64,
+    /// Poisson's ratio of the elastic body, in (−1, 0.5) (default: silicon).
+    #[arg(long, value_name = "NU", default_value_t = Material::SILICON.poisson, allow_negative_numbers = true)]
+    poisson: f64,
+    /// Young's modulus of a second elastic body [Pa]; with --poisson2, the two combine as
+    /// 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2. Without it the counter-body is rigid.
+    #[arg(long, value_name = "E2", requires = "poisson2", allow_negative_numbers = true, value_parser = pressure)]
+    youngs2: Option<f64>,
+    /// Poisson's ratio of the second elastic body.
+    #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
+    poisson2: Option<f64>,
+}
+
+impl MaterialArgs {
+    /// The bodies (one on a rigid counter-body, else two) and their effective modulus E* [Pa].
+    pub fn bodies(&self) -> Result<(Vec<Material>, f64)> {
+        let mut bodies = vec![Material::new(self.youngs, self.poisson, "--youngs/--poisson")?];
+        if let (Some(e2), Some(nu2)) = (self.youngs2, self.poisson2) {
+            bodies.push(Material::new(e2, nu2, "--youngs2/--poisson2")?);
+        }
+        let e_star = match bodies[..] {
+            [a, b] => combined_modulus(&a, &b),
+            [a] => a.plane_strain_modulus(),
+            _ => unreachable!("one or two bodies"),
+        };
+        Ok((bodies, e_star))
     }
 }
 

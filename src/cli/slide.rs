@@ -8,7 +8,7 @@ use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
 use asperity::contact::{
-    self, Boundary, ContactSolver, Material, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
+    self, Boundary, ContactSolver, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
     elastic_onset, law_from_curve, parse_curve, ramp_force, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork,
@@ -19,7 +19,7 @@ use asperity::output::{self, StagedDir};
 use asperity::topography::io;
 use asperity::{Error, Result};
 
-use super::ReadArgs;
+use super::{MaterialArgs, ReadArgs};
 
 /// Sliding onset with elastic interaction: the body is displaced rigidly along x, quasi-
 /// statically, and the shear tractions on the contact points follow from the elastic
@@ -68,19 +68,8 @@ pub struct SlideArgs {
     /// partial-slip state, instead of the path to sliding.
     #[arg(long, value_name = "Q", allow_negative_numbers = true, value_parser = super::force)]
     tangential_force: Option<f64>,
-    /// Young's modulus of the elastic body [Pa, or with a unit: 130GPa] (default: silicon).
-    #[arg(long, value_name = "E", default_value_t = Material::SILICON.youngs, allow_negative_numbers = true, value_parser = super::pressure)]
-    youngs: f64,
-    /// Poisson's ratio of the elastic body, in (−1, 0.5) (default: silicon).
-    #[arg(long, value_name = "NU", default_value_t = Material::SILICON.poisson, allow_negative_numbers = true)]
-    poisson: f64,
-    /// Young's modulus of a second elastic body [Pa] (with --poisson2); without it the
-    /// counter-body is rigid.
-    #[arg(long, value_name = "E2", requires = "poisson2", allow_negative_numbers = true, value_parser = super::pressure)]
-    youngs2: Option<f64>,
-    /// Poisson's ratio of the second elastic body.
-    #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
-    poisson2: Option<f64>,
+    #[command(flatten)]
+    material: MaterialArgs,
     /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
     #[arg(long)]
     free: bool,
@@ -182,15 +171,7 @@ struct RampReport {
 
 pub fn run(args: SlideArgs) -> Result<()> {
     let law = law(&args)?;
-    let mut bodies = vec![Material::new(args.youngs, args.poisson, "--youngs/--poisson")?];
-    if let (Some(e2), Some(nu2)) = (args.youngs2, args.poisson2) {
-        bodies.push(Material::new(e2, nu2, "--youngs2/--poisson2")?);
-    }
-    let e_star = match bodies[..] {
-        [a, b] => contact::combined_modulus(&a, &b),
-        [a] => a.plane_strain_modulus(),
-        _ => unreachable!("one or two bodies"),
-    };
+    let (bodies, e_star) = args.material.bodies()?;
     if let Some(q) = args.tangential_force {
         if !(q > 0.0 && q.is_finite()) {
             return Err(Error::invalid("--tangential-force", format!("must be positive and finite, got {q} N")));
