@@ -8,6 +8,7 @@ use asperity::output::{write_json, write_npy, StagedDir};
 use asperity::quantity::human;
 use asperity::{Error, Result};
 use ndarray::Array2;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 /// Static friction coefficient, friction drop and the critical, pre-sliding and subcritical
@@ -280,11 +281,17 @@ pub fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
     Ok(pressure)
 }
 
-fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> Result<Input> {
+/// The path of `DIR/contact.json`, written by `asperity contact`, and what `T` reads of it.
+pub fn read_contact_json<T: DeserializeOwned>(dir: &Path, limits: &Limits) -> Result<(PathBuf, T)> {
     let json_path = dir.join("contact.json");
     let text = limits.read_text(&json_path)?;
-    let contact: ContactResult =
+    let contact =
         serde_json::from_str(&text).map_err(|e| Error::file(&json_path, format!("not a contact result: {e}")))?;
+    Ok((json_path, contact))
+}
+
+fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> Result<Input> {
+    let (json_path, contact): (_, ContactResult) = read_contact_json(dir, limits)?;
     let [ny, nx] = contact.grid;
     let [lx, ly] = contact.physical_size_m;
     if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0 && nx > 0 && ny > 0) {

@@ -357,10 +357,7 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
 }
 
 fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limits: &Limits) -> Result<Normal> {
-    let json_path = dir.join("contact.json");
-    let text = limits.read_text(&json_path)?;
-    let contact: ContactResult =
-        serde_json::from_str(&text).map_err(|e| Error::file(&json_path, format!("not a contact result: {e}")))?;
+    let (json_path, contact): (_, ContactResult) = super::onset::read_contact_json(dir, limits)?;
     let [ny, nx] = contact.grid;
     let [lx, ly] = contact.physical_size_m;
     if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0 && nx >= 2 && ny >= 2) {
