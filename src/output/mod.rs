@@ -65,18 +65,39 @@ pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
 /// Remove the temporaries a killed process left in `dir` (not below it). Only for a folder
 /// whose writers the caller has locked out.
 pub fn remove_stale_temporaries(dir: &Path) -> Result<()> {
-    let entries = match std::fs::read_dir(dir) {
-        Ok(entries) => entries,
+    remove_matching(dir, Entries::Any, |name| is_temporary(name.as_ref()))
+}
+
+/// Which entries of a folder [`remove_matching`] may remove.
+#[derive(Clone, Copy, PartialEq)]
+pub enum Entries {
+    /// Regular files only.
+    Files,
+    /// Any entry, a folder with all it holds (a symbolic link is removed, not followed).
+    Any,
+}
+
+/// Remove the `entries` of `dir` (not below it) whose names `pick` chooses; none when `dir` is
+/// missing.
+pub fn remove_matching(dir: &Path, entries: Entries, pick: impl Fn(&str) -> bool) -> Result<()> {
+    let listing = match std::fs::read_dir(dir) {
+        Ok(listing) => listing,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         Err(e) => return Err(Error::io(dir, e)),
     };
-    for entry in entries {
+    for entry in listing {
         let entry = entry.map_err(|e| Error::io(dir, e))?;
-        if is_temporary(&entry.file_name()) {
-            let path = entry.path();
-            let removed = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
-            removed.map_err(|e| Error::io(&path, e))?;
+        if !entry.file_name().to_str().is_some_and(&pick) {
+            continue;
         }
+        let path = entry.path();
+        let kind = entry.file_type().map_err(|e| Error::io(&path, e))?;
+        let removed = match entries {
+            Entries::Files if !kind.is_file() => continue,
+            Entries::Any if kind.is_dir() => std::fs::remove_dir_all(&path),
+            _ => std::fs::remove_file(&path),
+        };
+        removed.map_err(|e| Error::io(&path, e))?;
     }
     Ok(())
 }
@@ -172,5 +193,27 @@ mod tests {
         let staged = StagedDir::new(&dir.path().join("out"), "test").unwrap();
         let out = staged.commit().unwrap();
         assert_eq!(fs::metadata(&out).unwrap().permissions().mode() & 0o777, 0o777 & !umask);
+    }
+
+    #[test]
+    fn remove_matching_takes_only_the_chosen_kind() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        fs::write(d.join("00.json"), "").unwrap();
+        fs::write(d.join("notes.txt"), "mine").unwrap();
+        fs::create_dir_all(d.join("01.json/inside")).unwrap();
+        fs::create_dir(d.join("kept")).unwrap();
+        std::os::unix::fs::symlink("kept", d.join("02.json")).unwrap();
+        let json = |n: &str| n.ends_with(".json");
+        remove_matching(d, Entries::Files, json).unwrap();
+        let mut names: Vec<_> = fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
+        names.sort();
+        assert_eq!(names, ["01.json", "02.json", "kept", "notes.txt"]);
+        // Any kind: the folder with what it holds, the link but not where it points.
+        remove_matching(d, Entries::Any, json).unwrap();
+        let mut names: Vec<_> = fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
+        names.sort();
+        assert_eq!(names, ["kept", "notes.txt"]);
+        remove_matching(&d.join("missing"), Entries::Any, json).unwrap();
     }
 }

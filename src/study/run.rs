@@ -61,7 +61,7 @@ use crate::contact::{self, ContactSolver, Proceed, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::limits::Limits;
-use crate::output::{self, Access, Lock};
+use crate::output::{self, Access, Entries, Lock};
 use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
@@ -811,20 +811,22 @@ fn discard(dir: &Path) -> Result<()> {
     };
     let units = with_plastic(subfolders(&dir.join(SOLVES).join(TOPOGRAPHIES))?);
     for folder in &units {
-        remove_matching(folder, |n| indexed(n, ".json"))?;
+        output::remove_matching(folder, Entries::Files, |n| indexed(n, ".json"))?;
     }
     for folder in &units {
-        remove_matching(folder, |n| {
+        output::remove_matching(folder, Entries::Files, |n| {
             n.strip_prefix("warm-").is_some_and(|n| indexed(n, ".npy"))
                 || (n.starts_with("loads-") && n.ends_with(".lock"))
         })?;
     }
-    remove_matching(dir, |n| RESULT_FILES.contains(&n))?;
-    remove_matching(&dir.join("figures"), figure)?;
-    remove_matching(&dir.join("snapshots"), |n| stem_indexed(n, ".npy") || stem_indexed(n, ".json"))?;
+    output::remove_matching(dir, Entries::Files, |n| RESULT_FILES.contains(&n))?;
+    output::remove_matching(&dir.join("figures"), Entries::Files, figure)?;
+    output::remove_matching(&dir.join("snapshots"), Entries::Files, |n| {
+        stem_indexed(n, ".npy") || stem_indexed(n, ".json")
+    })?;
     let pressure = with_plastic(subfolders(&dir.join("pressure"))?);
     for folder in &pressure {
-        remove_matching(folder, |n| indexed(n, ".npy"))?;
+        output::remove_matching(folder, Entries::Files, |n| indexed(n, ".npy"))?;
     }
     // Emptied folders go (a plastic one before its topography's); one still holding a file of
     // its owner's stays.
@@ -854,23 +856,6 @@ fn remove_if_present(path: &Path) -> Result<()> {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
         _ => Ok(()),
     }
-}
-
-/// Remove the files of `dir` whose names `pick` chooses (none when `dir` is missing).
-fn remove_matching(dir: &Path, pick: impl Fn(&str) -> bool) -> Result<()> {
-    let entries = match std::fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(Error::io(dir, e)),
-    };
-    for entry in entries {
-        let entry = entry.map_err(|e| Error::io(dir, e))?;
-        let is_file = entry.file_type().map_err(|e| Error::io(entry.path(), e))?.is_file();
-        if is_file && entry.file_name().to_str().is_some_and(&pick) {
-            std::fs::remove_file(entry.path()).map_err(|e| Error::io(entry.path(), e))?;
-        }
-    }
-    Ok(())
 }
 
 /// The folders in `dir` (none when `dir` is missing).
