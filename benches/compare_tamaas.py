@@ -29,30 +29,12 @@ import time
 import numpy as np
 import tamaas as tm
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-SIZE = 31.13e-6
-LOADS = [1e-4, 1e-3, 1e-2, 1e-1]
-YOUNGS, POISSON = 130e9, 0.26
-TOLERANCE = 1e-10
+from tamaas_common import LOADS, ROOT, SIZE, SURFACE, TOLERANCE, tamaas_model, tamaas_solve, write_results
 
 
 def run(cmd, **kw):
     print("+", " ".join(map(str, cmd)), file=sys.stderr, flush=True)
     return subprocess.run([str(c) for c in cmd], check=True, cwd=ROOT, **kw)
-
-
-def tamaas_solve(model, solver, load):
-    t = time.perf_counter()
-    solver.solve(load / SIZE**2)
-    return time.perf_counter() - t, np.array(model.traction).copy()
-
-
-def tamaas_model(h, n):
-    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [SIZE, SIZE], [n, n])
-    model.E, model.nu = YOUNGS, POISSON
-    solver = tm.PolonskyKeerRey(model, h, TOLERANCE)
-    solver.max_iter = 100_000
-    return model, solver
 
 
 def main():
@@ -61,8 +43,8 @@ def main():
     run(["cargo", "build", "--release", "--quiet"])
     work = pathlib.Path(tempfile.mkdtemp(prefix="asperity-bench-"))
     surface = work / "surface.npy"
-    run([ROOT / "target/release/asperity", "topo", "generate", "--size", SIZE, "--grid", n, "--hurst", 0.8,
-         "--rms", 22e-9, "--rolloff", 5e-6, "--sphere-radius", 1.5e-3, "--seed", 1, surface])
+    options = [x for k, v in SURFACE.items() for x in ("--" + k.replace("_", "-"), v)]
+    run([ROOT / "target/release/asperity", "topo", "generate", "--size", SIZE, "--grid", n, *options, surface])
     h = np.load(surface)
     print(f"surface: {n}², {h.std() * 1e9:.1f} nm RMS", file=sys.stderr)
 
@@ -73,7 +55,7 @@ def main():
 
     cold = []
     for k, load in enumerate(LOADS):
-        model, solver = tamaas_model(h, n)
+        model, solver = tamaas_model(h)
         seconds, p = tamaas_solve(model, solver, load)
         mine = np.load(work / f"asperity-{k:03}.npy")
         cold.append({
@@ -82,7 +64,7 @@ def main():
             "contact_points": int((p > 0).sum()),
         })
         print(f"tamaas cold {load} N: {seconds:.1f} s", file=sys.stderr, flush=True)
-    model, solver = tamaas_model(h, n)
+    model, solver = tamaas_model(h)
     start = time.perf_counter()
     sweep = [tamaas_solve(model, solver, load)[0] for load in LOADS]
     tamaas_sweep = time.perf_counter() - start
@@ -106,14 +88,8 @@ def main():
         f"| sweep of 4 | {tamaas_sweep:.2f} s | {ours['sweep_seconds']:.2f} s | "
         f"{tamaas_sweep / ours['sweep_seconds']:.1f}× | {iterations} | "
         f"{ours['sweep_seconds'] / iterations / pair:.2f} | | |")
-    table = "\n".join(lines)
-    print(table)
-    results = ROOT / "benches/results"
-    results.mkdir(exist_ok=True)
-    stem = f"contact-vs-tamaas-{n}"
-    (results / f"{stem}.md").write_text(table + "\n")
-    (results / f"{stem}.json").write_text(json.dumps(
-        {"asperity": ours, "tamaas": {"cold": cold, "sweep_seconds": tamaas_sweep, "sweep": sweep}}, indent=1) + "\n")
+    write_results(f"contact-vs-tamaas-{n}", "\n".join(lines),
+                  {"asperity": ours, "tamaas": {"cold": cold, "sweep_seconds": tamaas_sweep, "sweep": sweep}})
 
 
 if __name__ == "__main__":

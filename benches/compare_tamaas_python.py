@@ -16,35 +16,14 @@ Needs the package (`bash .ci/test` installs it into target/python) and `pip inst
 Prints a Markdown table and writes it, with the raw numbers, to benches/results/.
 """
 import argparse
-import json
 import os
-import pathlib
 import time
 
 import numpy as np
 import tamaas as tm
 
 import asperity as ap
-
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-SIZE = 31.13e-6
-LOADS = [1e-4, 1e-3, 1e-2, 1e-1]
-YOUNGS, POISSON = 130e9, 0.26
-TOLERANCE = 1e-10
-
-
-def tamaas_model(h):
-    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [SIZE, SIZE], list(h.shape))
-    model.E, model.nu = YOUNGS, POISSON
-    solver = tm.PolonskyKeerRey(model, h, TOLERANCE)
-    solver.max_iter = 100_000
-    return model, solver
-
-
-def tamaas_solve(model, solver, load):
-    start = time.perf_counter()
-    solver.solve(load / SIZE**2)
-    return time.perf_counter() - start, np.array(model.traction).copy()
+from tamaas_common import LOADS, POISSON, SIZE, SURFACE, TOLERANCE, YOUNGS, tamaas_model, tamaas_solve, write_results
 
 
 def main():
@@ -52,7 +31,7 @@ def main():
     parser.add_argument("--grid", type=int, default=1500)
     args = parser.parse_args()
     tm.set_log_level(tm.LogLevel.warning)
-    t = ap.generate(size=SIZE, grid=args.grid, hurst=0.8, rms=22e-9, rolloff=5e-6, sphere_radius=1.5e-3, seed=1)
+    t = ap.generate(size=SIZE, grid=args.grid, **SURFACE)
     h = np.array(t.heights)  # Tamaas wants a writeable array: a copy
 
     cold = []
@@ -93,17 +72,11 @@ def main():
     lines.append(
         f"| sweep of {len(LOADS)} | {tamaas_sweep:.2f} s | {asperity_sweep:.2f} s | "
         f"{tamaas_sweep / asperity_sweep:.1f}× | {sum(s.iterations for s in sweep)} | | |")
-    table = "\n".join(lines)
-    print(table)
-    results = ROOT / "benches/results"
-    results.mkdir(exist_ok=True)
     # Per core (RAYON_NUM_THREADS=1, as the serial Tamaas wheel) apart from all cores.
     threads = os.environ.get("RAYON_NUM_THREADS")
     stem = f"python-tamaas-{args.grid}" + (f"-{threads}thread" if threads else "")
-    (results / f"{stem}.md").write_text(table + "\n")
-    (results / f"{stem}.json").write_text(json.dumps(
-        {"cold": cold, "tamaas_sweep_seconds": tamaas_sweep, "asperity_sweep_seconds": asperity_sweep}, indent=1)
-        + "\n")
+    write_results(stem, "\n".join(lines),
+                  {"cold": cold, "tamaas_sweep_seconds": tamaas_sweep, "asperity_sweep_seconds": asperity_sweep})
 
 
 if __name__ == "__main__":
