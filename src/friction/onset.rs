@@ -173,6 +173,33 @@ pub struct ClassShare {
     pub friction_fraction: f64,
 }
 
+impl ClassShare {
+    /// The share of a class of `count` elements that carry `normal` [N] of the normal load
+    /// `totals.0` [N] and `friction` [N] of the friction force `totals.1` [N].
+    pub fn new(count: usize, normal: f64, friction: f64, totals: (f64, f64)) -> ClassShare {
+        ClassShare { count, normal_fraction: normal / totals.0, friction_fraction: friction / totals.1 }
+    }
+
+    /// The share of the elements of `class` among `elements` (class, normal force [N],
+    /// friction force [N]), their forces summed in the order given; `totals` as for
+    /// [`ClassShare::new`].
+    pub fn tally<C: PartialEq>(
+        elements: impl IntoIterator<Item = (C, f64, f64)>,
+        class: C,
+        totals: (f64, f64),
+    ) -> ClassShare {
+        let (mut count, mut normal, mut friction) = (0, 0.0, 0.0);
+        for (c, n, f) in elements {
+            if c == class {
+                count += 1;
+                normal += n;
+                friction += f;
+            }
+        }
+        ClassShare::new(count, normal, friction, totals)
+    }
+}
+
 /// The onset of sliding of an interface under equal load sharing.
 ///
 /// The imposed tangential force is shared equally by the stuck elements; a slipped element
@@ -263,21 +290,14 @@ impl Onset {
             static_coefficient,
             critical_index: g.start,
             critical_normal_force: g.n,
-            critical: ClassShare {
-                count: g.count,
-                normal_fraction: scaled(g.n) * g.count as f64 / total,
-                friction_fraction: stuck_shear * g.count as f64 / fs,
-            },
-            pre_sliding: ClassShare {
-                count: g.start,
-                normal_fraction: g.prefix / n_total,
-                friction_fraction: law.mu_d * scaled(g.prefix) / fs,
-            },
-            subcritical: ClassShare {
-                count: subcritical_count,
-                normal_fraction: subcritical_normal / n_total,
-                friction_fraction: stuck_shear * subcritical_count as f64 / fs,
-            },
+            critical: ClassShare::new(g.count, scaled(g.n) * g.count as f64, stuck_shear * g.count as f64, (total, fs)),
+            pre_sliding: ClassShare::new(g.start, g.prefix, law.mu_d * scaled(g.prefix), (n_total, fs)),
+            subcritical: ClassShare::new(
+                subcritical_count,
+                subcritical_normal,
+                stuck_shear * subcritical_count as f64,
+                (n_total, fs),
+            ),
         }
     }
 
@@ -387,6 +407,30 @@ mod tests {
         assert_eq!(o.critical_index, 0);
         assert_eq!((o.critical.count, o.pre_sliding.count, o.subcritical.count), (7, 0, 0));
         assert_eq!((o.critical.normal_fraction, o.critical.friction_fraction), (1.0, 1.0));
+    }
+
+    #[test]
+    fn shares_tallied_element_by_element_are_the_closed_forms() {
+        let forces = [0.3, 1.0, 2.0, 2.0, 2.1, 2.3, 2.6, 3.1, 2.4, 0.9, 2.5];
+        let o = onset(&forces, &law(0.5, 0.3));
+        assert!(o.pre_sliding.count > 0 && o.critical.count == 2 && o.subcritical.count > 0);
+        // At the critical state a slipped element carries mu_d · n, a stuck one s*.
+        let elements = forces.iter().map(|&n| {
+            let class = o.class_of(n);
+            (class, n, if class == ElementClass::PreSliding { 0.3 * n } else { o.critical_shear() })
+        });
+        let totals = (o.normal_force, o.static_force);
+        for (class, closed) in [
+            (ElementClass::PreSliding, o.pre_sliding),
+            (ElementClass::Critical, o.critical),
+            (ElementClass::Subcritical, o.subcritical),
+        ] {
+            let t = ClassShare::tally(elements.clone(), class, totals);
+            let near = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
+            assert_eq!(t.count, closed.count, "{class:?}");
+            assert!(near(t.normal_fraction, closed.normal_fraction), "{class:?}: {t:?} vs {closed:?}");
+            assert!(near(t.friction_fraction, closed.friction_fraction), "{class:?}: {t:?} vs {closed:?}");
+        }
     }
 
     // Two elements n1 < n2: F_0 = 2 mu_s n1 (both stuck, the weaker at mu_s) and
