@@ -35,7 +35,7 @@ fn pressure_map() -> Array2<f64> {
     Array2::from_shape_fn((12, 10), |(i, j)| {
         let k = (i * 10 + j) as u64;
         let h = k.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
-        if h % 3 == 0 {
+        if h.is_multiple_of(3) {
             0.0
         } else {
             1e8 + (h % 1000) as f64 * 1.9e6

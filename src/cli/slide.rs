@@ -390,7 +390,7 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limi
         })?,
     };
     let path = dir.join(&entry.pressure_file);
-    let pressure = super::onset::read_pressure(&path, &limits)?;
+    let pressure = super::onset::read_pressure(&path, limits)?;
     if pressure.dim() != (ny, nx) {
         let (a, b) = pressure.dim();
         return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));

@@ -189,7 +189,7 @@ impl TangentialInfluence {
             let q = q2.sqrt();
             // The cross term is odd in each component: zero on the Nyquist lines, where the
             // sign of the wavevector is undefined.
-            let nyquist = (nx % 2 == 0 && kx == nx / 2) || (ny % 2 == 0 && ky == ny as i64 / 2);
+            let nyquist = (nx.is_multiple_of(2) && kx == nx / 2) || (ny.is_multiple_of(2) && ky == ny as i64 / 2);
             kernel[0].push((c.a - c.b * qx * qx / q2) / q * norm);
             kernel[1].push(if nyquist { 0.0 } else { -c.b * qx * qy / q2 / q * norm });
             kernel[2].push((c.a - c.b * qy * qy / q2) / q * norm);
