@@ -15,15 +15,20 @@
 //! frictional contact conditions: a stuck point (|q_i| < g_i) follows the target (u_i = b_i);
 //! a slipping point carries |q_i| = g_i, with the slip increment b_i − u_i along q_i.
 //!
-//! The solve is a projected conjugate gradient in the manner of Polonsky & Keer: the search
-//! direction is the gradient u − b, with its outward radial part removed at points on their
-//! bound; the step length is the exact minimiser along it; the new traction is projected onto
-//! the disks |q_i| ≤ g_i. Conjugacy is kept while the set of points on their bound stays the
-//! same. One application of K (two FFT pairs) per iteration, a second one when the projection
-//! changed the traction (points sliding along their bound). Should it stall (it can, when the
-//! set of points on their bound keeps changing), the solve finishes with the accelerated
-//! projected gradient (FISTA with adaptive restart), slower but sure to converge, one
-//! application per iteration.
+//! The solve is MPRGP (Dostál's modified proportioning with reduced gradient projections)
+//! carried over from boxes to disks: conjugate gradient steps on the points below their bound
+//! and on the turning of the tractions held on it (a turn costs, besides K's energy, the
+//! bound's curvature, the slip over the bound: the Lagrangian's Hessian); expansion steps
+//! (as far as the bounds allow, then a projected gradient step of fixed length 1.9/‖K‖) that
+//! put many points on their bounds at once; proportioning steps that release points whose
+//! gradient pulls them off their bounds, taken when that part of the gradient outweighs the
+//! free part. One application of K (two FFT pairs) per iteration, a second one after an
+//! expansion or a release that needed projecting: 1.05–1.1 applications per iteration on the
+//! sliding paths of `slide`, against 1.4 for the projected conjugate gradient of Polonsky &
+//! Keer that stalled whenever the set of points on their bound changed. Should the turning of
+//! many tractions at once keep it from progressing (no new best residual in 25 iterations),
+//! the solve finishes with the accelerated projected gradient (FISTA with adaptive restart),
+//! slower but sure to converge.
 //!
 //! Convergence: the projected gradient's norm relative to the target's, both over the contact
 //! points, below the tolerance, on a displacement that is exact (recomputed from scratch).
@@ -31,13 +36,18 @@
 use rayon::prelude::*;
 
 use super::influence::{Boundary, ShearCompliance, TangentialInfluence};
+use super::solver::Iterations;
 use crate::error::{Error, Result};
 
 /// Contact points per parallel task: below this, threads cost more than they save.
 const CHUNK: usize = 4096;
 
 /// Iterations without a new best residual after which the solve changes method.
-const STALL: usize = 10;
+const STALL: usize = 25;
+
+/// Proportioning constant Γ: a proportioning step is taken when the chopped gradient exceeds Γ
+/// times the (reduced) free gradient.
+const GAMMA: f64 = 1.0;
 
 /// Settings of the tangential solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,11 +97,11 @@ pub struct TangentialSolver {
     /// Dense grids for the operator: input (x, y), output (x, y).
     field_in: [Vec<f64>; 2],
     field_out: [Vec<f64>; 2],
-    /// Whether each point was on its bound in the last iteration.
-    on_bound: Vec<bool>,
     /// The accelerated projected gradient's previous iterate and its displacement.
     previous_traction: Vec<[f64; 2]>,
     previous_displacement: Vec<[f64; 2]>,
+    /// The bound's curvature term per point for the current conjugate directions [m/Pa].
+    curvature: Vec<f64>,
     /// The largest eigenvalue of K on the contact set [m/Pa], once needed.
     lipschitz: Option<f64>,
 }
@@ -152,9 +162,9 @@ impl TangentialSolver {
             product: vec![[0.0; 2]; m],
             field_in: grid(),
             field_out: grid(),
-            on_bound: vec![false; m],
             previous_traction: vec![[0.0; 2]; m],
             previous_displacement: vec![[0.0; 2]; m],
+            curvature: vec![0.0; m],
             lipschitz: None,
         })
     }
@@ -238,151 +248,224 @@ impl TangentialSolver {
             self.displacement.fill([0.0; 2]);
             return Ok(TangentialReport { iterations: 0, applications: 0, residual: 0.0 });
         }
-        project(&mut self.traction, bound);
-        self.refresh();
-        let mut applications = 1;
-        let mut iterations = 0;
-        let mut conjugate = false;
+        let mut applications = 0;
+        // The displacement of the last solve is exact for its traction: recompute it only
+        // where the new bounds cut the traction.
+        if project(&mut self.traction, bound) {
+            self.refresh();
+            applications += 1;
+        }
+        // The fixed step ᾱ ∈ (0, 2/‖K‖] of the expansion steps; not needed without bounds.
+        let step = if bound.iter().all(|g| g.is_infinite()) {
+            0.0
+        } else {
+            if self.lipschitz.is_none() {
+                self.lipschitz = Some(self.largest_eigenvalue(&mut applications));
+            }
+            1.9 / self.lipschitz.expect("estimated above")
+        };
+        let mut count =
+            Iterations::new("tangential solver", self.options.max_iterations, self.options.tolerance, STALL);
+        let mut exact = true;
+        // Whether the search direction starts afresh from the free gradient.
+        let mut restart = true;
         let mut accelerated = false;
         let mut momentum = 1.0;
-        let mut exact = true;
-        let mut norm_old = 1.0;
-        let (mut best, mut best_at) = (f64::INFINITY, 0);
         loop {
-            // Projected gradient d, and whether the set of points on their bound changed.
-            let (norm, changed) = self
+            let (free, chopped, reduced) = self
                 .traction
                 .par_iter()
                 .zip(self.displacement.par_iter())
                 .zip(target.par_iter().zip(bound.par_iter()))
-                .zip(self.product.par_iter_mut().zip(self.on_bound.par_iter_mut()))
                 .with_min_len(CHUNK)
-                .map(|(((q, u), (b, g)), (d, was))| {
-                    let r = [u[0] - b[0], u[1] - b[1]];
-                    let qn = q[0].hypot(q[1]);
-                    let now = qn >= g * (1.0 - 1e-12);
-                    *d = r;
-                    if now {
-                        let n = [q[0] / qn, q[1] / qn];
-                        let radial = r[0] * n[0] + r[1] * n[1];
-                        if radial < 0.0 {
-                            *d = [r[0] - radial * n[0], r[1] - radial * n[1]];
-                        }
-                    }
-                    let changed = now != *was;
-                    *was = now;
-                    (d[0] * d[0] + d[1] * d[1], changed)
+                .map(|((q, u), (b, g))| {
+                    let (phi, beta) = gradient_parts(*q, *u, *b, *g);
+                    (dot(phi, phi), dot(beta, beta), dot(reduced_free_gradient(*q, phi, *g, step), phi))
                 })
-                .reduce(|| (0.0, false), |a, b| (a.0 + b.0, a.1 || b.1));
-            let residual = norm.sqrt() / scale;
-            if !residual.is_finite() {
-                return Err(Error::invalid(
-                    "tangential solver",
-                    format!("broke down at iteration {iterations} (non-finite residual)"),
-                ));
-            }
+                .reduce(|| (0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+            let residual = (free + chopped).sqrt() / scale;
             if residual <= self.options.tolerance {
                 if exact {
-                    return Ok(TangentialReport { iterations, applications, residual });
+                    return Ok(TangentialReport { iterations: count.done(), applications, residual });
                 }
                 // Converged on the displacement updated step by step: check from scratch.
                 self.refresh();
                 applications += 1;
                 exact = true;
+                restart = true;
                 continue;
             }
-            if iterations == self.options.max_iterations {
-                return Err(Error::NotConverged {
-                    solver: "tangential solver",
-                    iterations,
-                    residual,
-                    tolerance: self.options.tolerance,
-                });
-            }
-            iterations += 1;
-            if residual < best {
-                (best, best_at) = (residual, iterations);
-            } else if iterations - best_at > STALL && !accelerated {
-                // The projected conjugate gradient stalls on some active-set changes: finish
-                // with the accelerated projected gradient, which cannot.
+            if count.next(residual)? && !accelerated && step > 0.0 {
+                // Should the turning of many tractions at once keep it from converging, the
+                // solve finishes with the accelerated projected gradient, which cannot stall.
                 accelerated = true;
-                if self.lipschitz.is_none() {
-                    self.lipschitz = Some(self.largest_eigenvalue(&mut applications));
-                }
                 self.previous_traction.copy_from_slice(&self.traction);
                 self.previous_displacement.copy_from_slice(&self.displacement);
-                momentum = 1.0;
             }
             if accelerated {
-                self.accelerated_step(target, bound, &mut momentum);
+                self.accelerated_step(target, bound, step / 1.9, &mut momentum);
                 applications += 1;
                 exact = true;
                 continue;
             }
-            let beta = if conjugate && !changed { norm / norm_old } else { 0.0 };
-            norm_old = norm;
-            // At points held on their bound the direction keeps no outward part either.
-            self.direction
-                .par_iter_mut()
-                .zip(self.product.par_iter())
-                .zip(self.traction.par_iter().zip(self.on_bound.par_iter()))
-                .with_min_len(CHUNK)
-                .for_each(|((t, d), (q, held))| {
-                    *t = [d[0] + beta * t[0], d[1] + beta * t[1]];
-                    if *held {
-                        let qn = q[0].hypot(q[1]);
-                        let n = [q[0] / qn, q[1] / qn];
-                        let radial = t[0] * n[0] + t[1] * n[1];
-                        if radial < 0.0 {
-                            *t = [t[0] - radial * n[0], t[1] - radial * n[1]];
-                        }
-                    }
-                });
-            {
-                let TangentialSolver { operator, local, field_in, field_out, direction, product, .. } = self;
-                Self::apply_to(operator, local, field_in, field_out, direction, product);
-            }
-            applications += 1;
-            // Exact line search along t: τ = (u − b)·t / tᵀKt.
-            let (rt, tkt) = self
-                .direction
-                .par_iter()
-                .zip(self.product.par_iter())
-                .zip(self.displacement.par_iter().zip(target.par_iter()))
-                .with_min_len(CHUNK)
-                .map(|((t, w), (u, b))| ((u[0] - b[0]) * t[0] + (u[1] - b[1]) * t[1], t[0] * w[0] + t[1] * w[1]))
-                .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
-            if !(tkt > 0.0) {
-                conjugate = false;
+            if chopped > GAMMA * GAMMA * reduced {
+                // Proportioning step: release the points whose gradient pulls them off their
+                // bounds, with the exact step length.
+                self.set_direction(target, bound, |parts| parts.1);
+                self.curvature.fill(0.0);
+                self.apply_direction();
+                applications += 1;
+                restart = true;
+                let pw = self.direction_energy();
+                if pw.is_nan() || pw <= 0.0 {
+                    continue;
+                }
+                self.move_along(chopped / pw);
+                exact = false;
+                if project(&mut self.traction, bound) {
+                    self.refresh();
+                    applications += 1;
+                    exact = true;
+                }
                 continue;
             }
-            let tau = rt / tkt;
-            self.traction.par_iter_mut().zip(self.direction.par_iter()).with_min_len(CHUNK).for_each(|(q, t)| {
-                q[0] -= tau * t[0];
-                q[1] -= tau * t[1];
-            });
-            exact = false;
-            if project(&mut self.traction, bound) {
+            if restart {
+                // Conjugate gradients on the free points and on the turning of the tractions
+                // held on their bounds; a turn costs, besides K's energy, the bound's
+                // curvature: the Lagrangian's Hessian there is K + (slip / bound).
+                self.set_direction(target, bound, |parts| parts.0);
+                self.curvature
+                    .par_iter_mut()
+                    .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
+                    .zip(target.par_iter().zip(bound.par_iter()))
+                    .with_min_len(CHUNK)
+                    .for_each(|((c, (q, u)), (b, g))| *c = turning(*q, *u, *b, *g));
+                restart = false;
+            }
+            self.apply_direction();
+            applications += 1;
+            let pw = self.direction_energy();
+            if pw.is_nan() || pw <= 0.0 {
+                restart = true;
+                continue;
+            }
+            let rp: f64 = self
+                .direction
+                .par_iter()
+                .zip(self.displacement.par_iter().zip(target.par_iter()))
+                .with_min_len(CHUNK)
+                .map(|(p, (u, b))| dot([u[0] - b[0], u[1] - b[1]], *p))
+                .sum();
+            let cg = rp / pw;
+            let feasible = self
+                .traction
+                .par_iter()
+                .zip(self.direction.par_iter().zip(bound.par_iter()))
+                .with_min_len(CHUNK)
+                .map(|(q, (p, g))| feasible_step(*q, *p, *g))
+                .reduce(|| f64::INFINITY, f64::min);
+            if cg <= feasible {
+                // Conjugate gradient step: no free point reaches its bound; turned tractions
+                // are put back onto their bounds (a second-order change the displacement
+                // misses until the next exact recomputation).
+                self.move_along(cg);
+                project(&mut self.traction, bound);
+                exact = false;
+                let gamma = self
+                    .traction
+                    .par_iter()
+                    .zip(self.displacement.par_iter())
+                    .zip(target.par_iter().zip(bound.par_iter()))
+                    .zip(self.product.par_iter().zip(self.direction.par_iter().zip(self.curvature.par_iter())))
+                    .with_min_len(CHUNK)
+                    .map(|(((q, u), (b, g)), (w, (p, c)))| {
+                        let phi = gradient_parts(*q, *u, *b, *g).0;
+                        dot(phi, [w[0] + c * p[0], w[1] + c * p[1]])
+                    })
+                    .sum::<f64>()
+                    / pw;
+                self.direction
+                    .par_iter_mut()
+                    .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
+                    .zip(target.par_iter().zip(bound.par_iter()))
+                    .with_min_len(CHUNK)
+                    .for_each(|((p, (q, u)), (b, g))| {
+                        let phi = gradient_parts(*q, *u, *b, *g).0;
+                        *p = tangent_if_held([phi[0] - gamma * p[0], phi[1] - gamma * p[1]], *q, *g);
+                    });
+            } else {
+                // Expansion step: as far as the bounds allow, then a projected gradient step
+                // of fixed length on the free gradient, which can put many points on their
+                // bounds at once.
+                self.move_along(feasible);
+                self.traction
+                    .par_iter_mut()
+                    .zip(self.displacement.par_iter())
+                    .zip(target.par_iter().zip(bound.par_iter()))
+                    .with_min_len(CHUNK)
+                    .for_each(|((q, u), (b, g))| {
+                        let q0 = onto_disk(*q, *g);
+                        let phi = gradient_parts(q0, *u, *b, *g).0;
+                        *q = onto_disk([q0[0] - step * phi[0], q0[1] - step * phi[1]], *g);
+                    });
                 self.refresh();
                 applications += 1;
                 exact = true;
-            } else {
-                self.displacement.par_iter_mut().zip(self.product.par_iter()).with_min_len(CHUNK).for_each(|(u, w)| {
-                    u[0] -= tau * w[0];
-                    u[1] -= tau * w[1];
-                });
+                restart = true;
             }
-            conjugate = true;
         }
     }
-}
 
-impl TangentialSolver {
+    /// direction ← one of the gradient's parts (free, chopped) at every point.
+    fn set_direction(
+        &mut self,
+        target: &[[f64; 2]],
+        bound: &[f64],
+        part: impl Fn(([f64; 2], [f64; 2])) -> [f64; 2] + Sync,
+    ) {
+        self.direction
+            .par_iter_mut()
+            .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
+            .zip(target.par_iter().zip(bound.par_iter()))
+            .with_min_len(CHUNK)
+            .for_each(|((p, (q, u)), (b, g))| *p = part(gradient_parts(*q, *u, *b, *g)));
+    }
+
+    /// product ← K direction.
+    fn apply_direction(&mut self) {
+        let TangentialSolver { operator, local, field_in, field_out, direction, product, .. } = self;
+        Self::apply_to(operator, local, field_in, field_out, direction, product);
+    }
+
+    /// pᵀ(K + C)p of the direction, once its product Kp is known (C the curvature terms).
+    fn direction_energy(&self) -> f64 {
+        self.direction
+            .par_iter()
+            .zip(self.product.par_iter().zip(self.curvature.par_iter()))
+            .with_min_len(CHUNK)
+            .map(|(p, (w, c))| dot(*p, *w) + c * dot(*p, *p))
+            .sum()
+    }
+
+    /// q ← q − α p and u ← u − α K p.
+    fn move_along(&mut self, alpha: f64) {
+        self.traction
+            .par_iter_mut()
+            .zip(self.displacement.par_iter_mut())
+            .zip(self.direction.par_iter().zip(self.product.par_iter()))
+            .with_min_len(CHUNK)
+            .for_each(|((q, u), (p, w))| {
+                q[0] -= alpha * p[0];
+                q[1] -= alpha * p[1];
+                u[0] -= alpha * w[0];
+                u[1] -= alpha * w[1];
+            });
+    }
+
     /// One step of the accelerated projected gradient (FISTA with adaptive restart, step
     /// 1/L): from the extrapolated point y = q + β(q − q_prev), q ← P(y − (Ky − b)/L). Ky is
     /// combined from the stored displacements, so a step costs one application of K.
-    fn accelerated_step(&mut self, target: &[[f64; 2]], bound: &[f64], momentum: &mut f64) {
-        let step = 1.0 / self.lipschitz.expect("estimated before the first step");
+    fn accelerated_step(&mut self, target: &[[f64; 2]], bound: &[f64], step: f64, momentum: &mut f64) {
         let next = 0.5 * (1.0 + (1.0 + 4.0 * *momentum * *momentum).sqrt());
         let beta = (*momentum - 1.0) / next;
         *momentum = next;
@@ -455,4 +538,87 @@ fn project(traction: &mut [[f64; 2]], bound: &[f64]) -> bool {
             }
         })
         .reduce(|| false, |a, b| a || b)
+}
+
+/// A traction within this fraction of its bound is on it.
+const ON_BOUND: f64 = 1e-12;
+
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+/// The gradient r = u − b at one point split into its free part φ (the whole gradient at a
+/// point below its bound; on it, the part along the bound, which turns the traction) and its
+/// chopped part β (on the bound, the radial part that pulls the traction into its disk).
+fn gradient_parts(q: [f64; 2], u: [f64; 2], b: [f64; 2], g: f64) -> ([f64; 2], [f64; 2]) {
+    let r = [u[0] - b[0], u[1] - b[1]];
+    let qn = q[0].hypot(q[1]);
+    if qn < g * (1.0 - ON_BOUND) {
+        return (r, [0.0; 2]);
+    }
+    let n = [q[0] / qn, q[1] / qn];
+    let radial = dot(r, n);
+    let along = [r[0] - radial * n[0], r[1] - radial * n[1]];
+    // The descent −r points into the disk where the radial part is positive.
+    (along, if radial > 0.0 { [radial * n[0], radial * n[1]] } else { [0.0; 2] })
+}
+
+/// q projected onto the disk |q| ≤ g.
+fn onto_disk(q: [f64; 2], g: f64) -> [f64; 2] {
+    let qn = q[0].hypot(q[1]);
+    if qn > g {
+        [q[0] * g / qn, q[1] * g / qn]
+    } else {
+        q
+    }
+}
+
+/// The reduced free gradient: the part of a step of length ᾱ along −φ that the bound lets
+/// through, per unit step (φ itself where the whole step fits).
+fn reduced_free_gradient(q: [f64; 2], phi: [f64; 2], g: f64, step: f64) -> [f64; 2] {
+    if step == 0.0 || phi == [0.0; 2] {
+        return phi;
+    }
+    let z = onto_disk([q[0] - step * phi[0], q[1] - step * phi[1]], g);
+    [(q[0] - z[0]) / step, (q[1] - z[1]) / step]
+}
+
+/// The largest α with |q − α p| ≤ g, for q inside its disk; unlimited on the bound, where p
+/// turns the traction along it.
+fn feasible_step(q: [f64; 2], p: [f64; 2], g: f64) -> f64 {
+    let pp = dot(p, p);
+    if pp == 0.0 || g.is_infinite() || q[0].hypot(q[1]) >= g * (1.0 - ON_BOUND) {
+        return f64::INFINITY;
+    }
+    let room = (g * g - dot(q, q)).max(0.0);
+    let qp = dot(q, p);
+    let root = (qp * qp + pp * room).sqrt();
+    // Two forms of the same root: each free of cancellation on its side.
+    if qp >= 0.0 {
+        (qp + root) / pp
+    } else {
+        room / (root - qp)
+    }
+}
+
+/// The bound's curvature term at a point held on it: the slip s = −r·n over the bound g
+/// [m/Pa]; zero below the bound or where the gradient pulls the point off it.
+fn turning(q: [f64; 2], u: [f64; 2], b: [f64; 2], g: f64) -> f64 {
+    let qn = q[0].hypot(q[1]);
+    if qn < g * (1.0 - ON_BOUND) {
+        return 0.0;
+    }
+    let slip = -dot([u[0] - b[0], u[1] - b[1]], [q[0] / qn, q[1] / qn]);
+    (slip / g).max(0.0)
+}
+
+/// p without its radial part where the traction is held on its bound.
+fn tangent_if_held(p: [f64; 2], q: [f64; 2], g: f64) -> [f64; 2] {
+    let qn = q[0].hypot(q[1]);
+    if qn < g * (1.0 - ON_BOUND) {
+        return p;
+    }
+    let n = [q[0] / qn, q[1] / qn];
+    let radial = dot(p, n);
+    [p[0] - radial * n[0], p[1] - radial * n[1]]
 }

@@ -208,6 +208,10 @@ struct Path<'a> {
     target: Vec<[f64; 2]>,
     bound: Vec<f64>,
     work: SlideWork,
+    /// The settled state before the current one, when the step between them had no cascade:
+    /// its displacement [m] and traction. The traction is affine in δ while no point changes
+    /// class, so the next step starts from the line through the two.
+    previous: Option<(f64, Vec<[f64; 2]>)>,
 }
 
 impl<'a> Path<'a> {
@@ -221,7 +225,15 @@ impl<'a> Path<'a> {
             path: vec![0.0; m],
             slipped: vec![false; m],
         };
-        Path { solver, law, state, target: vec![[0.0; 2]; m], bound: vec![0.0; m], work: SlideWork::default() }
+        Path {
+            solver,
+            law,
+            state,
+            target: vec![[0.0; 2]; m],
+            bound: vec![0.0; m],
+            work: SlideWork::default(),
+            previous: None,
+        }
     }
 
     fn solve(&mut self) -> Result<()> {
@@ -243,6 +255,7 @@ impl<'a> Path<'a> {
     }
 
     fn go_back(&mut self, state: &State) {
+        self.previous = None;
         self.state = state.clone();
         self.solver.set_traction(&state.traction);
     }
@@ -257,6 +270,17 @@ impl<'a> Path<'a> {
         for i in 0..p.len() {
             self.target[i] = [delta - st.slip[i][0], -st.slip[i][1]];
             self.bound[i] = self.law.mu(st.path[i], st.slipped[i]) * p[i];
+        }
+        if let Some((before, q0)) = &self.previous {
+            let t = (delta - st.delta) / (st.delta - before);
+            let guess: Vec<[f64; 2]> = st
+                .traction
+                .iter()
+                .zip(q0)
+                .map(|(q, q0)| [q[0] + t * (q[0] - q0[0]), q[1] + t * (q[1] - q0[1])])
+                .collect();
+            self.solver.set_traction(&guess);
+            self.work.applications += 1;
         }
         let mut slipped = st.slipped.clone();
         let mut rounds = 0;
@@ -302,7 +326,8 @@ impl<'a> Path<'a> {
             }
         }
         st.slipped = slipped;
-        st.traction.copy_from_slice(q);
+        let before = std::mem::replace(&mut st.traction, q.to_vec());
+        self.previous = (rounds == 1).then_some((st.delta, before));
         st.delta = delta;
         let settled = self.point(delta);
         Ok((first.unwrap_or(settled), settled))
