@@ -51,7 +51,7 @@ fn field(case: &serde_json::Value, name: &str, n: usize) -> Vec<f64> {
     let Some(file) = case.get(name) else { return vec![0.0; n * n] };
     let values = read(file.as_str().unwrap());
     if values.len() == n {
-        (0..n * n).map(|i| if (i / n) % 2 == 0 { values[i % n] } else { -values[i % n] }).collect()
+        (0..n * n).map(|i| if (i / n).is_multiple_of(2) { values[i % n] } else { -values[i % n] }).collect()
     } else {
         values
     }
