@@ -126,8 +126,9 @@ fn box_operator_is_the_window_operator_inside_the_box() {
     }
 }
 
-/// A Hertz contact on a free boundary: elastic sphere (radius R) on a rigid flat.
+/// A Hertz contact on a free boundary: elastic sphere (radius R) of `material` on a rigid flat.
 struct Hertz {
+    material: Material,
     pressure: Vec<f64>,
     n: usize,
     l: f64,
@@ -136,9 +137,9 @@ struct Hertz {
     p0: f64,
 }
 
-fn hertz(n: usize) -> Hertz {
+fn hertz(n: usize, material: Material) -> Hertz {
     let (l, radius): (f64, f64) = (10e-6, 1e-3);
-    let e_star = SI.plane_strain_modulus();
+    let e_star = material.plane_strain_modulus();
     let a = 0.3 * l;
     let load = 4.0 * e_star * a.powi(3) / (3.0 * radius);
     let dx = l / n as f64;
@@ -151,58 +152,109 @@ fn hertz(n: usize) -> Hertz {
     let mut solver =
         ContactSolver::new(&heights, (n, n), (l, l), e_star, Boundary::Free, SolverOptions::default()).unwrap();
     solver.solve(load, |_, _| {}).unwrap();
-    Hertz { pressure: solver.pressure().to_vec(), n, l, load, a, p0: 3.0 * load / (2.0 * PI * a * a) }
+    Hertz { material, pressure: solver.pressure().to_vec(), n, l, load, a, p0: 3.0 * load / (2.0 * PI * a * a) }
 }
 
+/// A partial-slip state of the Hertz contact against Cattaneo–Mindlin, as fractions: of a
+/// pixel (stick radius), of δ, and of the peak shear μ p0.
+#[derive(Debug)]
+struct Mindlin {
+    /// Stick radius (the radius of a disk of the stuck points' area) minus c [pixels].
+    stick_radius: f64,
+    /// Relative error of the displacement δ.
+    displacement: f64,
+    /// Largest |q − q_CM| (both components) on the pixels the stick circle r = c crosses
+    /// (centre within half a diagonal of it), and on all the others.
+    shear_on_circle: f64,
+    shear_off_circle: f64,
+    /// Root mean square of |q − q_CM| over the contact.
+    shear_rms: f64,
+    /// Largest |q_y| (zero in the closed form).
+    shear_y: f64,
+}
+
+/// Ramp the force to Q/μN = `ratio` under Coulomb friction μ and compare with Cattaneo–Mindlin:
+/// c = a(1 − Q/μN)^{1/3}, δ = 3μN(2 − ν)/(16 G a) [1 − (1 − Q/μN)^{2/3}], q_x = μ p0/a
+/// [√(a² − r²) − √(c² − r²)] (the second term inside the stick zone), q_y = 0. The first term,
+/// μ times the Hertz pressure, is taken with the normal solve's own pressure: that isolates the
+/// tangential solve from the normal solve's pixels at the contact edge.
+fn mindlin(h: &Hertz, solver: &mut TangentialSolver, mu: f64, ratio: f64) -> Mindlin {
+    let (g, nu) = (shear_modulus(&h.material), h.material.poisson);
+    let dx = h.l / h.n as f64;
+    let q = ratio * mu * h.load;
+    let (state, _) = ramp_force(solver, mu, q).unwrap();
+    assert!((state.point.force_n - q).abs() < 1e-5 * q);
+    let c = h.a * (1.0 - ratio).powf(1.0 / 3.0);
+    let stuck = state.classes.iter().filter(|k| **k == SlideClass::Stuck).count();
+    let delta = 3.0 * mu * h.load * (2.0 - nu) / (16.0 * g * h.a) * (1.0 - (1.0 - ratio).powf(2.0 / 3.0));
+    let peak = mu * h.p0;
+    let (mut on, mut off, mut sum, mut qy) = (0.0f64, 0.0f64, 0.0, 0.0f64);
+    for (k, &i) in solver.points().iter().enumerate() {
+        let (x, y) =
+            (((i % h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx, ((i / h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx);
+        let r2 = x * x + y * y;
+        let stick = mu * h.p0 / h.a * (c * c - r2).max(0.0).sqrt();
+        let [qx_num, qy_num] = state.traction[k];
+        let e = (qx_num - (mu * solver.pressure()[k] - stick)).hypot(qy_num) / peak;
+        if (r2.sqrt() - c).abs() < dx / 2f64.sqrt() {
+            on = on.max(e);
+        } else {
+            off = off.max(e);
+        }
+        sum += e * e;
+        qy = qy.max(qy_num.abs() / peak);
+    }
+    Mindlin {
+        stick_radius: ((stuck as f64 / PI).sqrt() * dx - c) / dx,
+        displacement: (state.point.displacement_m - delta) / delta,
+        shear_on_circle: on,
+        shear_off_circle: off,
+        shear_rms: (sum / solver.points().len() as f64).sqrt(),
+        shear_y: qy,
+    }
+}
+
+fn mindlin_solver(h: &Hertz) -> TangentialSolver {
+    let options = TangentialOptions { tolerance: 1e-9, ..Default::default() };
+    let compliance = ShearCompliance::of(&[h.material]);
+    TangentialSolver::new(&h.pressure, (h.n, h.n), (h.l, h.l), compliance, Boundary::Free, options).unwrap()
+}
+
+/// At ν = 0, where the closed form is exact (Cerruti's kernel is then isotropic: q_y = 0 and a
+/// circular stick zone; for ν ≠ 0 neither holds, Munisamy, Hills & Nowell 1994). Measured at
+/// 128² (a = 38.4 px), Q/μN = 0.25, 0.5, 0.75: stick radius 0.13, 0.13, 0.04 px off; δ 9e-5,
+/// 8e-6, 1e-5; shear off the stick circle 0.49, 0.65, 0.33 % of its peak, on the circle 2.3,
+/// 3.0, 1.4 %, RMS 0.28, 0.23, 0.15 %. The error on the circle is the closed form's square-root
+/// cusp falling inside a pixel whose class (stuck or slipping) is that of the whole pixel: the
+/// pixels above 2 % lie within 0.01 px outside c and are stuck. It does not fall with
+/// resolution (2.0, 2.7, 1.6 % at 192², 2.2, 2.3, 1.5 % at 256²; the RMS does: 0.13, 0.11,
+/// 0.09 % at 256²), so the 2 % of the peak holds off the circle and, on it, 3.5 %.
 #[test]
 fn cattaneo_mindlin_partial_slip() {
-    let h = hertz(192);
-    let mu = 0.3;
-    let g = shear_modulus(&SI);
-    let nu = SI.poisson;
-    let dx = h.l / h.n as f64;
-    let options = TangentialOptions { tolerance: 1e-9, ..Default::default() };
-    let mut solver =
-        TangentialSolver::new(&h.pressure, (h.n, h.n), (h.l, h.l), ShearCompliance::of(&[SI]), Boundary::Free, options)
-            .unwrap();
+    let h = hertz(128, Material { youngs: 130e9, poisson: 0.0 });
+    let mut solver = mindlin_solver(&h);
     for ratio in [0.25, 0.5, 0.75] {
-        let q = ratio * mu * h.load;
-        let (state, _) = ramp_force(&mut solver, mu, q).unwrap();
-        assert!((state.point.force_n - q).abs() < 1e-5 * q);
-        let c = h.a * (1.0 - ratio).powf(1.0 / 3.0);
-        // Stick radius: the radius of a disk of the stuck points' area.
-        let stuck = state.classes.iter().filter(|k| **k == SlideClass::Stuck).count();
-        let c_num = (stuck as f64 / PI).sqrt() * dx;
-        assert!((c_num - c).abs() < 2.0 * dx, "Q/μN {ratio}: stick radius {c_num:.4e} vs {c:.4e} (pixel {dx:.2e})");
-        let delta = 3.0 * mu * h.load * (2.0 - nu) / (16.0 * g * h.a) * (1.0 - (1.0 - ratio).powf(2.0 / 3.0));
-        let d = state.point.displacement_m;
-        assert!((d - delta).abs() < 0.02 * delta, "Q/μN {ratio}: δ {d:.5e} vs {delta:.5e}");
-        // Shear traction, Cattaneo–Mindlin: μ p0/a [√(a² − r²) − √(c² − r²)] (the second term
-        // inside the stick zone). Its first term, μ times the Hertz pressure, is also taken with
-        // the normal solve's own pressure: that isolates the tangential solve from the normal
-        // solve's pixels at the contact edge.
-        let (mut analytic, mut consistent): (f64, f64) = (0.0, 0.0);
-        for (k, &i) in solver.points().iter().enumerate() {
-            let (x, y) =
-                (((i % h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx, ((i / h.n) as f64 + 0.5 - h.n as f64 / 2.0) * dx);
-            let r2 = x * x + y * y;
-            let stick = mu * h.p0 / h.a * (c * c - r2).max(0.0).sqrt();
-            let hertz = mu * h.p0 / h.a * (h.a * h.a - r2).max(0.0).sqrt();
-            let q = state.traction[k][0];
-            analytic = analytic.max((q - (hertz - stick)).abs());
-            consistent = consistent.max((q - (mu * solver.pressure()[k] - stick)).abs());
-        }
-        let peak = mu * h.p0;
-        eprintln!(
-            "Q/μN {ratio}: c {c_num:.4e} vs {c:.4e}, δ {d:.5e} vs {delta:.5e}, shear error {:.4} of peak ({:.4} with the Hertz pressure)",
-            consistent / peak,
-            analytic / peak
-        );
-        // Measured at 192 pixels: 2.1 % (Q/μN 0.25), 2.6 % (0.5), on pixels next to the stick
-        // radius, where the closed form has its square-root cusp (2.4 % at 128 pixels for
-        // 0.25); the 2 % is not met at this resolution.
-        assert!(consistent < 0.03 * peak, "Q/μN {ratio}: shear error {:.4} of its peak", consistent / peak);
+        let m = mindlin(&h, &mut solver, 0.3, ratio);
+        eprintln!("ν = 0, Q/μN {ratio}: {m:?}");
+        assert!(m.stick_radius.abs() < 2.0, "Q/μN {ratio}: {m:?}");
+        assert!(m.displacement.abs() < 1e-3, "Q/μN {ratio}: {m:?}");
+        assert!(m.shear_off_circle < 0.01 && m.shear_on_circle < 0.035 && m.shear_rms < 0.005, "Q/μN {ratio}: {m:?}");
+        assert!(m.shear_y < 1e-9, "Q/μN {ratio}: {m:?}");
     }
+}
+
+/// Silicon's ν = 0.26: the closed form neglects q_y, which the solve finds at 2.2 % of the peak
+/// shear (Q/μN = 0.25, 128²; 3.1 and 3.7 % at 0.5 and 0.75), and assumes a circular stick zone;
+/// δ moves by 4e-5 (3e-4 and 5e-4 at 0.5 and 0.75, against 1e-6 to 9e-5 at ν = 0).
+#[test]
+fn cattaneo_mindlin_partial_slip_at_silicon_poisson_ratio() {
+    let h = hertz(128, SI);
+    let mut solver = mindlin_solver(&h);
+    let m = mindlin(&h, &mut solver, 0.3, 0.25);
+    eprintln!("ν = 0.26, Q/μN 0.25: {m:?}");
+    assert!(m.stick_radius.abs() < 2.0 && m.displacement.abs() < 0.02, "{m:?}");
+    assert!(m.shear_y > 0.01 && m.shear_y < 0.03, "{m:?}");
+    assert!(m.shear_off_circle < 0.03 && m.shear_on_circle < 0.035, "{m:?}");
 }
 
 fn instant(mu_s: f64, mu_d: f64) -> SlipLaw {
