@@ -450,17 +450,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
     // Stable: at one δ the force before its cascade stays ahead of the settled one.
     curve.sort_by(|a, b| a.displacement_m.total_cmp(&b.displacement_m));
     let (peak, _) = best.expect("a path has states");
-    let share = |class: SlideClass| {
-        let (mut count, mut n, mut f) = (0, 0.0, 0.0);
-        for ((c, q), p) in peak.classes.iter().zip(&peak.traction).zip(path.solver.pressure()) {
-            if *c == class {
-                count += 1;
-                n += p * area;
-                f += q[0] * area;
-            }
-        }
-        ClassShare { count, normal_fraction: n / normal_force, friction_fraction: f / peak.point.force_n }
-    };
+    let elements = peak
+        .classes
+        .iter()
+        .zip(&peak.traction)
+        .zip(path.solver.pressure())
+        .map(|((c, q), p)| (*c, p * area, q[0] * area));
+    let share = |class| ClassShare::tally(elements.clone(), class, (normal_force, peak.point.force_n));
     let (stuck, critical, slipped) =
         (share(SlideClass::Stuck), share(SlideClass::Critical), share(SlideClass::Slipped));
     Ok(ElasticOnset {
