@@ -279,7 +279,7 @@ fn one_element_follows_the_local_law() {
     let mut p = vec![0.0; n * n];
     p[5 * n + 9] = 2e9;
     let mut solver = periodic_solver(&p, n, l);
-    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4)).unwrap();
+    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
     let area = (l / n as f64).powi(2);
     assert!((onset.static_force - 0.6 * 2e9 * area).abs() < 1e-12 * onset.static_force);
     assert!((onset.friction_drop() - 1.5).abs() < 1e-12);
@@ -306,7 +306,7 @@ fn isolated_elements_share_equally() {
     let law = FrictionLaw::new(0.6, 0.4).unwrap();
     let equal = Onset::new(&ElementLoads::from_pressure(&p, area).unwrap(), &law);
     let mut solver = periodic_solver(p.as_slice().unwrap(), n, l);
-    let elastic = elastic_onset(&mut solver, &instant(0.6, 0.4)).unwrap();
+    let elastic = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
     let rel = (elastic.static_force - equal.static_force).abs() / equal.static_force;
     eprintln!("isolated: elastic {:.6e} N, equal {:.6e} N, rel {rel:.2e}", elastic.static_force, equal.static_force);
     assert!(rel < 0.01);
@@ -370,12 +370,12 @@ fn slip_weakening_distance_to_zero_is_the_instant_drop() {
     let (n, l) = (32, 3.2e-6);
     let p = rough_pressure(n, l, 5e-5);
     let mut solver = periodic_solver(&p, n, l);
-    let inst = elastic_onset(&mut solver, &instant(0.6, 0.4)).unwrap();
+    let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
     let scale = inst.peak.point.displacement_m;
     let mut errors = Vec::new();
     for f in [1e-1, 1e-2, 1e-3] {
         let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Linear(f * scale) };
-        let onset = elastic_onset(&mut solver, &law).unwrap();
+        let onset = elastic_onset(&mut solver, &law, |_| {}).unwrap();
         errors.push((onset.static_force - inst.static_force).abs() / inst.static_force);
     }
     eprintln!("d_c → 0: F_S {:.6e} N, relative differences {errors:?}", inst.static_force);

@@ -279,6 +279,9 @@ pub fn stiffness(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::STIFFNESS, true)
 }
 
+/// Time between progress lines when stderr is not a terminal (a batch log).
+pub const BATCH_PROGRESS: std::time::Duration = std::time::Duration::from_secs(5);
+
 /// A progress bar on stderr for long work, hidden when stderr is not a terminal.
 pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(len);

@@ -3,7 +3,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
 
@@ -11,9 +11,6 @@ use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
 use asperity::study::shard::Shard;
 use asperity::Result;
-
-/// Seconds between progress lines when stderr is not a terminal.
-const BATCH_PROGRESS: Duration = Duration::from_secs(5);
 
 /// Run a study: elastic contact of every topography at every load, the stick-slip model with
 /// every local friction law, the results table and the figures.
@@ -93,7 +90,7 @@ pub fn run(args: RunArgs) -> Result<()> {
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             let finished = bar.length().is_some_and(|l| bar.position() == l);
-            if batch && (last.elapsed() >= BATCH_PROGRESS || finished) {
+            if batch && (last.elapsed() >= super::BATCH_PROGRESS || finished) {
                 *last = Instant::now();
                 eprintln!(
                     "solving: {}/{} after {:.0} s ({topography} at {load_n:.3e} N)",

@@ -1,5 +1,6 @@
 //! `asperity slide`: the onset of sliding with elastic interaction between the contact points.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -12,7 +13,7 @@ use asperity::contact::{
 };
 use asperity::friction::{
     elastic_onset, law_from_curve, parse_curve, ramp_force, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork,
-    SlipLaw, Snapshot, Weakening,
+    SlipLaw, Snapshot, Weakening, SLIDE_PASSES,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -220,7 +221,35 @@ pub fn run(args: SlideArgs) -> Result<()> {
             report.work.seconds
         );
     } else {
-        let onset = elastic_onset(&mut solver, &law)?;
+        // Pass 0 is the path from δ = 0, passes 1… refine the stretch around the largest force.
+        let bar = super::progress_bar(SLIDE_PASSES as u64 + 1, "sliding");
+        let batch = !std::io::stderr().is_terminal();
+        let mut last_line = Instant::now();
+        let onset = elastic_onset(&mut solver, &law, |p| {
+            let line = format!(
+                "pass {}/{}: δ {:.4e} m, F {:.4e} N (largest {:.4e} N), {} stuck, {} slipping; {} steps, {} solves",
+                p.pass,
+                SLIDE_PASSES,
+                p.point.displacement_m,
+                p.point.force_n,
+                p.largest_force_n,
+                p.point.stick_points,
+                p.point.slip_points,
+                p.work.steps,
+                p.work.solves
+            );
+            if batch {
+                if last_line.elapsed() >= super::BATCH_PROGRESS {
+                    last_line = Instant::now();
+                    eprintln!("sliding: {line} after {:.0} s", start.elapsed().as_secs_f64());
+                }
+            } else {
+                bar.set_position(p.pass as u64);
+                bar.set_message(line);
+            }
+        });
+        bar.finish_and_clear();
+        let onset = onset?;
         write_maps(&out, &solver, &normal, &onset.peak)?;
         write_curve(&out.path("curve.csv"), &onset.curve)?;
         let (ny, nx) = normal.shape;

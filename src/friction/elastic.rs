@@ -381,10 +381,31 @@ fn at_bound(q: [f64; 2], g: f64) -> bool {
     q[0].hypot(q[1]) >= g * (1.0 - ON_BOUND)
 }
 
+/// Where a path is, after each displacement step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlideProgress {
+    /// 0 on the path from δ = 0; k = 1..=6 on the k-th refinement of the stretch around the
+    /// largest force.
+    pub pass: usize,
+    /// The state after the step (its cascade settled).
+    pub point: SlidePoint,
+    /// The largest force so far [N].
+    pub largest_force_n: f64,
+    /// Work done so far.
+    pub work: SlideWork,
+}
+
+/// Refinement passes after the path from δ = 0 (the last [`SlideProgress::pass`]).
+pub const SLIDE_PASSES: usize = REFINEMENTS;
+
 /// The sliding onset of the contact set of `solver` under `law`: displacement-controlled path
 /// to total sliding (or until no later state can exceed the largest force seen), the largest
-/// force located to 1/4⁶ of the first steps.
-pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<ElasticOnset> {
+/// force located to 1/4⁶ of the first steps. `progress` hears of every step.
+pub fn elastic_onset(
+    solver: &mut TangentialSolver,
+    law: &SlipLaw,
+    mut progress: impl FnMut(SlideProgress),
+) -> Result<ElasticOnset> {
     let area = solver.pixel_area();
     let normal_force: f64 = solver.pressure().iter().sum::<f64>() * area;
     let mut path = Path::new(solver, law);
@@ -401,12 +422,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
     }];
     // The largest force seen, its state, and the state at the start of its step.
     let mut best: Option<(Snapshot, State)> = None;
-    let run = |path: &mut Path,
-               start: &State,
-               h: f64,
-               until: Option<f64>,
-               curve: &mut Vec<SlidePoint>,
-               best: &mut Option<(Snapshot, State)>|
+    let mut run = |path: &mut Path,
+                   pass: usize,
+                   start: &State,
+                   h: f64,
+                   until: Option<f64>,
+                   curve: &mut Vec<SlidePoint>,
+                   best: &mut Option<(Snapshot, State)>|
      -> Result<()> {
         path.go_back(start);
         for k in 1..=MAX_STEPS {
@@ -423,12 +445,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
                 curve.push(first);
             }
             curve.push(point);
+            let largest = best.as_ref().map_or(0.0, |(s, _)| s.point.force_n);
+            progress(SlideProgress { pass, point, largest_force_n: largest, work: path.work });
             if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) {
                 return Ok(());
             }
             // The path ends at total sliding, or once no later state can exceed the largest
             // force seen.
-            let largest = best.as_ref().map_or(0.0, |(s, _)| s.point.force_n);
             if until.is_none() && (path.sliding(&point) || path.ceiling() <= largest) {
                 return Ok(());
             }
@@ -436,13 +459,13 @@ pub fn elastic_onset(solver: &mut TangentialSolver, law: &SlipLaw) -> Result<Ela
         Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
     };
     let origin = path.state.clone();
-    run(&mut path, &origin, h, None, &mut curve, &mut best)?;
-    for _ in 0..REFINEMENTS {
+    run(&mut path, 0, &origin, h, None, &mut curve, &mut best)?;
+    for pass in 1..=REFINEMENTS {
         let start = best.as_ref().expect("a path has states").1.clone();
         let end = start.delta + 2.0 * h;
         h /= REFINE as f64;
         let mut finer = Vec::new();
-        run(&mut path, &start, h, Some(end), &mut finer, &mut best)?;
+        run(&mut path, pass, &start, h, Some(end), &mut finer, &mut best)?;
         // The refined stretch replaces the coarser one.
         curve.retain(|p| p.displacement_m <= start.delta || p.displacement_m > end * (1.0 + 1e-12));
         curve.extend(finer);

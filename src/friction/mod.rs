@@ -16,7 +16,8 @@ mod onset;
 
 pub use curve::{write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
-    elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideWork, SlipLaw, Snapshot, Weakening,
+    elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideWork, SlipLaw, Snapshot,
+    Weakening, SLIDE_PASSES,
 };
 pub use law::{law_from_curve, parse_curve, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
