@@ -88,6 +88,20 @@ pub fn run(args: RunArgs) -> Result<()> {
                 eprintln!("solving: {total} solves, {done} done by an earlier run");
             }
         }
+        Progress::Slid { topography, load_n, law, iterations, seconds } => {
+            let what = format!("{topography} at {load_n:.3e} N: elastic onset of \"{law}\"");
+            bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
+            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+            if batch && last.elapsed() >= BATCH_PROGRESS {
+                *last = Instant::now();
+                eprintln!(
+                    "solving: {}/{} after {:.0} s ({what} in {seconds:.1} s)",
+                    bar.position(),
+                    bar.length().unwrap_or(0),
+                    start.elapsed().as_secs_f64()
+                );
+            }
+        }
         Progress::Solved { topography, load_n, iterations, .. } => {
             bar.set_message(format!("{topography} at {load_n:.3e} N ({iterations} iterations)"));
             bar.inc(1);

@@ -15,6 +15,9 @@ use crate::study::{law_name, FigureInput, FigureKind, Row};
 fn heading(kind: FigureKind) -> (&'static str, &'static str) {
     match kind {
         FigureKind::FrictionDrop => ("Friction drop vs normal load", "Fig. 2"),
+        FigureKind::FrictionDropSharing => {
+            ("Friction drop under equal and elastic sharing", "the limit the paper names")
+        }
         FigureKind::StaticDynamicCoefficients => ("Static and dynamic friction coefficients", "Fig. S1"),
         FigureKind::Resolution => ("Friction drop vs pixel size", "the element size"),
         FigureKind::HoldTime => ("Friction drop vs hold time", "aging, Fig. 2's two hold times"),
