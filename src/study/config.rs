@@ -1267,6 +1267,35 @@ mod tests {
     }
 
     #[test]
+    fn model_sharing_parses_and_defaults_to_equal() {
+        assert_eq!(StudyConfig::default_study().model.sharing, [Sharing::Equal]);
+        let c = StudyConfig::parse("[model]\nsharing = [\"equal\", \"elastic\"]\n", "study.toml").unwrap();
+        assert_eq!(c.model.sharing, [Sharing::Equal, Sharing::Elastic]);
+        let c = StudyConfig::parse("[model]\nsharing = [\"elastic\"]\n", "study.toml").unwrap();
+        assert_eq!(c.model.sharing, [Sharing::Elastic]);
+        assert_eq!(StudyConfig::parse("[model]\n", "study.toml").unwrap().model.sharing, [Sharing::Equal]);
+        // The default is left out of the study as run, so that earlier runs' fingerprints hold.
+        let text = toml::to_string(&StudyConfig::default_study()).unwrap();
+        assert!(!text.contains("[model]"), "{text}");
+        let c = StudyConfig::parse("[model]\nsharing = [\"elastic\", \"equal\"]\n", "s.toml").unwrap();
+        assert_eq!(StudyConfig::parse(&toml::to_string(&c).unwrap(), "s.toml").unwrap(), c);
+
+        let e = err("[model]\nsharing = [\"equal\", \"elastics\"]\n");
+        assert!(e.starts_with("study.toml:2:21: model.sharing[1]: unknown variant `elastics`"), "{e}");
+        let e = err("[model]\nsharing = []\n");
+        assert!(e.starts_with("study.toml:2:1: model.sharing: the list is empty"), "{e}");
+        let e = err("[model]\nsharing = [\"elastic\", \"elastic\"]\n");
+        assert!(e.starts_with("study.toml:2:23: model.sharing[1]: \"elastic\" is listed twice"), "{e}");
+        let e = err("[model]\nsharing = \"elastic\"\n");
+        assert!(e.starts_with("study.toml:2:11: model.sharing: invalid type"), "{e}");
+        let e = err("[model]\nshare = [\"equal\"]\n");
+        assert!(e.starts_with("study.toml:2:1: model.share: unknown field `share`"), "{e}");
+        for e in [e, err("[model]\nsharing = [1]\n")] {
+            assert!(!e.contains('\n') && e.len() < 300, "{e}");
+        }
+    }
+
+    #[test]
     fn the_resolved_study_reads_back_as_itself() {
         let c = StudyConfig::default_study().quick().with_paths_from(Path::new("/data"));
         let text = toml::to_string(&c).unwrap();
