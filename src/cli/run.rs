@@ -25,8 +25,8 @@ const BATCH_PROGRESS: Duration = Duration::from_secs(5);
 /// PLACEHOLDERS for measured (mu_s, mu_d) pairs.
 /// `--print-default` shows it as a commented study file to start from.
 ///
-/// Writes into DIR: results.csv and results.json (one row per topography × law × load:
-/// contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
+/// Writes into DIR: results.csv and results.json (one row per topography × sharing × law ×
+/// load: contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
 /// element classes with their fractions of N and F_S, solver iterations and seconds), study.toml
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
 /// and 100 mN), pressure/ (every map, if the study asks), figures/ and index.html.

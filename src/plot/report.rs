@@ -152,8 +152,15 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
 /// The friction drop per law at each load: its range over the topographies.
 fn results(w: &mut String, input: &FigureInput) {
     let _ = writeln!(w, "<h2 id=\"results\">Results</h2>");
-    let columns: Vec<(String, Vec<(f64, Vec<&Row>)>)> =
+    let mut columns: Vec<(String, Vec<(f64, Vec<&Row>)>)> =
         input.laws.iter().map(|l| (law_name(l), by_load(input.rows, &law_name(l)))).collect();
+    if !input.elastic_rows.is_empty() {
+        let elastic = input
+            .laws
+            .iter()
+            .map(|l| (format!("{}, elastic sharing", law_name(l)), by_load(input.elastic_rows, &law_name(l))));
+        columns.extend(elastic.collect::<Vec<_>>());
+    }
     let mut loads: Vec<f64> = columns.iter().flat_map(|c| c.1.iter().map(|g| g.0)).collect();
     loads.sort_by(f64::total_cmp);
     loads.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-9);
@@ -163,9 +170,10 @@ fn results(w: &mut String, input: &FigureInput) {
     }
     let _ = writeln!(
         w,
-        "<p>Friction drop F<sub>S</sub>/(μ<sup>D</sup> N) per law and normal load: the lowest and highest \
-         value over the {} topograph{}, and the contact elements likewise. The full table is in \
-         <code>results.csv</code>.</p>\n<table>\n<tr><th>normal load</th><th>contact elements</th>",
+        "<p>Friction drop F<sub>S</sub>/(μ<sup>D</sup> N) per law and normal load (equal sharing, and elastic \
+         sharing where the study asks for it): the lowest and highest value over the {} topograph{}, and the \
+         contact elements likewise. The full table is in <code>results.csv</code>.</p>\n<table>\n<tr><th>normal \
+         load</th><th>contact elements</th>",
         input.topographies.len(),
         if input.topographies.len() == 1 { "y" } else { "ies" }
     );

@@ -298,7 +298,8 @@ impl Study {
     /// anything is solved; so is a `dir` where another process works on the same units, unless
     /// [waiting](Study::waiting). `progress` answers each event with `()`, or with a
     /// `ControlFlow` whose `Break` stops the run with [`Error::Interrupted`] once the solves
-    /// under way are recorded (the run resumes from there).
+    /// under way are recorded (the run resumes from there); a `Break` answering an elastic
+    /// onset ([`Progress::Slid`]) stops at once, and that solve is solved again on resuming.
     pub fn run<R: Proceed>(
         &self,
         dir: &Path,
