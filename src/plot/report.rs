@@ -152,7 +152,9 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
 /// The friction drop per law at each load: its range over the topographies.
 fn results(w: &mut String, input: &FigureInput) {
     let _ = writeln!(w, "<h2 id=\"results\">Results</h2>");
-    let mut columns: Vec<(String, Vec<(f64, Vec<&Row>)>)> =
+    // A column of the table: its heading and the rows per load.
+    type Column<'a> = (String, Vec<(f64, Vec<&'a Row>)>);
+    let mut columns: Vec<Column> =
         input.laws.iter().map(|l| (law_name(l), by_load(input.rows, &law_name(l)))).collect();
     if !input.elastic_rows.is_empty() {
         let elastic = input
