@@ -142,6 +142,19 @@ pub struct Outcome {
     pub warnings: Vec<String>,
 }
 
+/// A solve of a sweep as its elastic-sharing rows need it.
+struct Solved<'a> {
+    /// The name of its rows and its name in progress reports.
+    name: &'a str,
+    label: &'a str,
+    /// Normal load [N].
+    load: f64,
+    facts: &'a SolveFacts,
+    /// Grid (ny, nx) and physical size (lx, ly) [m].
+    shape: (usize, usize),
+    size: (f64, f64),
+}
+
 /// The record of one finished solve, `solves/<topography>/NN.json`.
 #[derive(Serialize, Deserialize)]
 struct SolveRecord {
@@ -707,32 +720,8 @@ impl Study {
                     Sharing::Equal => rows
                         .extend(self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law)))),
                     Sharing::Elastic => {
-                        let compliance = ShearCompliance::of(&self.config.bodies());
-                        let options = TangentialOptions::default();
-                        let mut tangential =
-                            TangentialSolver::new(solver.pressure(), shape, size, compliance, c.boundary, options)
-                                .map_err(context)?;
-                        for law in &self.laws {
-                            let start = std::time::Instant::now();
-                            // The paper's law: mu_d at once on the first slip, as equal sharing has it.
-                            let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
-                            let name_of = super::law_name(law);
-                            let onset = elastic_onset(&mut tangential, &slip)
-                                .map_err(|e| context(Error::invalid(format!("law \"{name_of}\""), e.to_string())))?;
-                            let seconds = start.elapsed().as_secs_f64();
-                            rows.push(Row::elastic(name, load, &facts, law, &onset, seconds));
-                            let answer = progress(Progress::Slid {
-                                topography: &label,
-                                load_n: load,
-                                law: &name_of,
-                                iterations: onset.work.iterations,
-                                seconds,
-                            });
-                            // Stopping here drops this solve: it is solved again on resuming.
-                            if !answer.proceed() {
-                                return Err(self.interrupted());
-                            }
-                        }
+                        let at = Solved { name, label: &label, load, facts: &facts, shape, size };
+                        rows.extend(self.elastic_rows(solver.pressure(), &at, progress)?);
                     }
                 }
             }
@@ -770,6 +759,48 @@ impl Study {
             }
         }
         self.tidy(&solves, loads)
+    }
+
+    /// The elastic-sharing rows of a solve with normal pressure `pressure` [Pa], one per law,
+    /// each onset reported to `progress` as it finishes; a `Break` stops at once with
+    /// [`Error::Interrupted`] (the solve is solved again on resuming). Errors name the
+    /// topography, the load and the law.
+    fn elastic_rows<R: Proceed>(
+        &self,
+        pressure: &[f64],
+        at: &Solved,
+        progress: &(dyn Fn(Progress) -> R + Sync),
+    ) -> Result<Vec<Row>> {
+        let compliance = ShearCompliance::of(&self.config.bodies());
+        let boundary = self.config.contact.boundary;
+        let failed = |law: &str, e: Error| {
+            Error::invalid(format!("topography \"{}\" at {} N: {law}", at.label, at.load), e.to_string())
+        };
+        let mut tangential =
+            TangentialSolver::new(pressure, at.shape, at.size, compliance, boundary, TangentialOptions::default())
+                .map_err(|e| failed("elastic sharing", e))?;
+        let mut rows = Vec::with_capacity(self.laws.len());
+        for law in &self.laws {
+            let start = std::time::Instant::now();
+            // The paper's law: mu_d at once on the first slip, as equal sharing has it.
+            let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
+            let law_label = super::law_name(law);
+            let onset = elastic_onset(&mut tangential, &slip)
+                .map_err(|e| failed(&format!("elastic sharing, law \"{law_label}\""), e))?;
+            let seconds = start.elapsed().as_secs_f64();
+            rows.push(Row::elastic(at.name, at.load, at.facts, law, &onset, seconds));
+            let answer = progress(Progress::Slid {
+                topography: at.label,
+                load_n: at.load,
+                law: &law_label,
+                iterations: onset.work.iterations,
+                seconds,
+            });
+            if !answer.proceed() {
+                return Err(self.interrupted());
+            }
+        }
+        Ok(rows)
     }
 
     /// Remove the maps of `loads` in `solves` that no solve needs any more, those of loads
