@@ -172,3 +172,41 @@ fn shards_record_the_elastic_onsets() {
     assert_eq!(rows.len(), 24);
     assert_eq!(rows.iter().filter(|r| r["sharing"] == "elastic" && !r["slide_iterations"].is_empty()).count(), 12);
 }
+
+#[test]
+fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
+    use asperity::study::config::StudyConfig;
+    use asperity::study::run::{Progress, Study};
+    use std::ops::ControlFlow;
+
+    let dir = tempfile::tempdir().unwrap();
+    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
+    let config = StudyConfig::parse(&format!("{BALLS}{rest}"), "study.toml").unwrap();
+    let study = Study::prepare(config, "study.toml").unwrap();
+    let out = dir.path().join("r");
+    let stop = |event: Progress| match event {
+        Progress::Slid { .. } => ControlFlow::Break(()),
+        _ => ControlFlow::Continue(()),
+    };
+    let e = study.run(&out, false, &stop).unwrap_err();
+    assert!(matches!(e, asperity::Error::Interrupted { .. }), "{e}");
+    // Each sweep stopped at its first load's first onset, before its record.
+    let records = |t: &str| match std::fs::read_dir(out.join("solves/topographies").join(t)) {
+        Ok(entries) => entries.filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".json")).count(),
+        Err(_) => 0,
+    };
+    assert_eq!(records("a") + records("b"), 0);
+
+    let slid = std::sync::atomic::AtomicUsize::new(0);
+    let count = |event: Progress| {
+        if let Progress::Slid { law, iterations, .. } = event {
+            assert!(law.starts_with("hold") && iterations > 0);
+            slid.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+    };
+    let outcome = study.run(&out, false, &count).unwrap();
+    assert_eq!(outcome.solved + outcome.resumed, 6);
+    // Two laws' onsets for each solve run now, none for those resumed.
+    assert_eq!(slid.into_inner(), 2 * outcome.solved);
+    assert_eq!(outcome.rows.iter().filter(|r| r.sharing == asperity::study::Sharing::Elastic).count(), 12);
+}
