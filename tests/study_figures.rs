@@ -1,14 +1,16 @@
 //! The study's figures, movies and report drawn from a real small computation: a synthetic
 //! rough silicon ball on a 128² grid, solved at loads from 0.1 to 100 mN, with the stick-slip
-//! model's rows and the snapshots a study keeps. Checks what is written, that it decodes and
+//! model's rows (elastic sharing's at the two lowest loads) and the snapshots a study keeps. Checks what is written, that it decodes and
 //! holds something, and that missing data leaves notes instead of failures.
 
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::sync::OnceLock;
 
-use asperity::contact::{summarize, Boundary, ContactSolver, Material, SolverOptions};
-use asperity::friction::{ElementLoads, FrictionLaw, Onset};
+use asperity::contact::{
+    summarize, Boundary, ContactSolver, Material, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
+};
+use asperity::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use asperity::plot::study::render;
 use asperity::shs::ShsPoint;
 use asperity::study::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, FIGURE_LOADS_N};
@@ -19,6 +21,8 @@ use ndarray::Array2;
 /// The results of a small study: two topographies × two laws × five loads.
 struct Study {
     rows: Vec<Row>,
+    /// Elastic sharing's rows at the loads up to [`ELASTIC_UP_TO_N`].
+    elastic: Vec<Row>,
     topographies: Vec<String>,
     laws: Vec<FrictionLaw>,
     maps: Vec<MapSnapshot>,
@@ -27,12 +31,14 @@ struct Study {
 }
 
 const LOADS_N: [f64; 5] = [1e-4, 1e-3, 3e-3, 1e-2, 1e-1];
+const ELASTIC_UP_TO_N: f64 = 1e-3;
 
 fn study() -> &'static Study {
     static STUDY: OnceLock<Study> = OnceLock::new();
     STUDY.get_or_init(|| {
         let laws = vec![FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::preset("hold 10 s").unwrap()];
         let (mut rows, mut maps, mut topographies, mut resolution) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut elastic = Vec::new();
         for seed in 0..2 {
             // The paper's silicon ball window (31.13 µm) on a coarse grid: 243 nm pixels.
             let surface = SyntheticSurface { grid: (128, 128), seed, ..Default::default() };
@@ -78,6 +84,24 @@ fn study() -> &'static Study {
                     resolution.push(ResolutionRow::new(1, pixel.0, &row));
                     rows.push(row);
                 }
+                if load <= ELASTIC_UP_TO_N {
+                    let compliance = ShearCompliance::of(&[Material::SILICON]);
+                    let options = TangentialOptions::default();
+                    let mut tangential = TangentialSolver::new(
+                        solver.pressure(),
+                        (ny, nx),
+                        surface.size,
+                        compliance,
+                        Boundary::Free,
+                        options,
+                    )
+                    .unwrap();
+                    for law in &laws {
+                        let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
+                        let onset = elastic_onset(&mut tangential, &slip).unwrap();
+                        elastic.push(Row::elastic(&name, load, &facts, law, &onset, 0.0));
+                    }
+                }
                 if seed == 0 && FIGURE_LOADS_N.contains(&load) {
                     maps.push(MapSnapshot::crop(&name, load, &pressure, pixel, 3).unwrap());
                 }
@@ -86,7 +110,7 @@ fn study() -> &'static Study {
         }
         let parameters =
             "[material]\nyoungs = 130000000000.0\npoisson = 0.26\n\n[contact]\nboundary = \"free\"\n".to_string();
-        Study { rows, topographies, laws, maps, resolution, parameters }
+        Study { rows, elastic, topographies, laws, maps, resolution, parameters }
     })
 }
 
@@ -115,6 +139,7 @@ fn input<'a>(
 ) -> FigureInput<'a> {
     FigureInput {
         rows: &s.rows,
+        elastic_rows: &s.elastic,
         topographies: &s.topographies,
         laws: &s.laws,
         hold_times: &[Some(100.0), Some(10.0)],
@@ -185,6 +210,7 @@ fn every_figure_movie_and_the_report() {
     // (name, width, height) of each figure.
     let figures = [
         ("friction-drop", 1800, 850),
+        ("friction-drop-sharing", 1800, 850),
         ("static-dynamic-coefficients", 1400, 850),
         ("resolution", 1400, 850),
         ("hold-time", 1300, 850),
@@ -237,6 +263,7 @@ fn every_figure_movie_and_the_report() {
         "Fig. 4a",
         "Fig. S6",
         "supplemental movie",
+        "the limit the paper names",
     ] {
         assert!(html.contains(text), "index.html names {text}");
     }
@@ -251,6 +278,11 @@ fn every_figure_movie_and_the_report() {
     for label in ["hold 100 s: measured", "hold 10 s: measured", "measured, other hold times"] {
         assert!(svg.contains(label), "friction drop legend: {label}");
     }
+    let svg = std::fs::read_to_string(dir.path().join("figures/friction-drop-sharing.svg")).unwrap();
+    for label in ["hold 100 s: equal sharing, 2 topographies", "hold 10 s: elastic sharing, 2 topographies"] {
+        assert!(svg.contains(label), "sharing legend: {label}");
+    }
+    assert!(html.contains("<th>hold 100 s, elastic sharing</th>"), "the elastic drop in the results table");
     assert!(html.contains("illustrative placeholder") && html.contains("hold 10 s"));
     for load in ["0.1 mN", "1 mN", "3 mN", "10 mN", "100 mN"] {
         assert!(html.contains(&format!("<tr><td>{load}</td>")), "results row at {load}");
@@ -310,6 +342,7 @@ fn nothing_to_draw_is_no_failure() {
     let laws: Vec<FrictionLaw> = Vec::new();
     let input = FigureInput {
         rows: &[],
+        elastic_rows: &[],
         topographies: &s.topographies,
         laws: &laws,
         hold_times: &[],

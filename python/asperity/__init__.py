@@ -125,10 +125,12 @@ def run_study(
     index.html) and resumes a run of the same study that was stopped; ``fresh`` starts over.
     ``quick`` runs it on 256 × 256 points with 7 loads. ``progress``: True prints one line per
     solve on stderr; a callable receives one dict per event (``{"event": "start", "total",
-    "done"}``, ``{"event": "solved", "topography", "load_n", "iterations", "seconds"}``).
+    "done"}``, ``{"event": "solved", "topography", "load_n", "iterations", "seconds"}``, and
+    with elastic sharing ``{"event": "slid", "topography", "load_n", "law", "iterations",
+    "seconds"}`` per law before its solve's "solved").
     Ctrl-C stops the run once the solves under way are recorded; running it again resumes.
 
-    Returns the rows of results.json: one dict per topography × law × load.
+    Returns the rows of results.json: one dict per topography × sharing × law × load.
     """
     if isinstance(study, Mapping):
         study_file, study_json = None, _json.dumps(study)
@@ -159,6 +161,12 @@ def _print_progress() -> Callable[[Dict[str, Any]], None]:
         if event["event"] == "start":
             state.update(done=event["done"], total=event["total"])
             print(f"asperity: {event['total']} solves, {event['done']} done before", file=sys.stderr)
+        elif event["event"] == "slid":
+            print(
+                f"asperity: {event['topography']} at {event['load_n']:.3e} N: elastic onset of "
+                f"\"{event['law']}\": {event['iterations']} iterations, {event['seconds']:.2f} s",
+                file=sys.stderr,
+            )
         else:
             state["done"] += 1
             print(

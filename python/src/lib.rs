@@ -850,6 +850,7 @@ fn study_from_json(json: &str) -> asperity::Result<StudyConfig> {
 /// A study event, owned, for the thread that reports it.
 enum Event {
     Start { total: usize, done: usize },
+    Slid { topography: String, load_n: f64, law: String, iterations: usize, seconds: f64 },
     Solved { topography: String, load_n: f64, iterations: usize, seconds: f64 },
 }
 
@@ -886,6 +887,13 @@ fn _run_study(
             study.run(&out, fresh, &|event| {
                 let _ = events.send(match event {
                     Progress::Start { total, done } => Event::Start { total, done },
+                    Progress::Slid { topography, load_n, law, iterations, seconds } => Event::Slid {
+                        topography: topography.to_string(),
+                        load_n,
+                        law: law.to_string(),
+                        iterations,
+                        seconds,
+                    },
                     Progress::Solved { topography, load_n, iterations, seconds } => {
                         Event::Solved { topography: topography.to_string(), load_n, iterations, seconds }
                     }
@@ -909,6 +917,14 @@ fn _run_study(
                                 dict.set_item("event", "start")?;
                                 dict.set_item("total", total)?;
                                 dict.set_item("done", done)?;
+                            }
+                            Event::Slid { topography, load_n, law, iterations, seconds } => {
+                                dict.set_item("event", "slid")?;
+                                dict.set_item("topography", topography)?;
+                                dict.set_item("load_n", load_n)?;
+                                dict.set_item("law", law)?;
+                                dict.set_item("iterations", iterations)?;
+                                dict.set_item("seconds", seconds)?;
                             }
                             Event::Solved { topography, load_n, iterations, seconds } => {
                                 dict.set_item("event", "solved")?;

@@ -22,8 +22,8 @@ use asperity::Result;
 /// PLACEHOLDERS for measured (mu_s, mu_d) pairs.
 /// `--print-default` shows it as a commented study file to start from.
 ///
-/// Writes into DIR: results.csv and results.json (one row per topography × law × load:
-/// contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
+/// Writes into DIR: results.csv and results.json (one row per topography × sharing × law ×
+/// load: contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
 /// element classes with their fractions of N and F_S, solver iterations and seconds), study.toml
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
 /// and 100 mN), pressure/ (every map, if the study asks), figures/ and index.html.
@@ -83,6 +83,20 @@ pub fn run(args: RunArgs) -> Result<()> {
             bar.set_position(done as u64);
             if batch {
                 eprintln!("solving: {total} solves, {done} done by an earlier run");
+            }
+        }
+        Progress::Slid { topography, load_n, law, iterations, seconds } => {
+            let what = format!("{topography} at {load_n:.3e} N: elastic onset of \"{law}\"");
+            bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
+            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+            if batch && last.elapsed() >= BATCH_PROGRESS {
+                *last = Instant::now();
+                eprintln!(
+                    "solving: {}/{} after {:.0} s ({what} in {seconds:.1} s)",
+                    bar.position(),
+                    bar.length().unwrap_or(0),
+                    start.elapsed().as_secs_f64()
+                );
             }
         }
         Progress::Solved { topography, load_n, iterations, .. } => {

@@ -485,7 +485,8 @@ fn hidden(
                     })
                     .count();
             }
-            n += px.iter().filter(|p| inside(**p)).count().min(1);
+            // The samples start each segment: the line's final endpoint is its own sample.
+            n += px.last().is_some_and(|p| inside(*p)) as usize;
             n as f64 * STEP * *width as f64
         }
         Shape::Scatter { points, .. } => {

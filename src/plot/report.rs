@@ -15,6 +15,9 @@ use crate::study::{law_name, FigureInput, FigureKind, Row};
 fn heading(kind: FigureKind) -> (&'static str, &'static str) {
     match kind {
         FigureKind::FrictionDrop => ("Friction drop vs normal load", "Fig. 2"),
+        FigureKind::FrictionDropSharing => {
+            ("Friction drop under equal and elastic sharing", "the limit the paper names")
+        }
         FigureKind::StaticDynamicCoefficients => ("Static and dynamic friction coefficients", "Fig. S1"),
         FigureKind::Resolution => ("Friction drop vs pixel size", "the element size"),
         FigureKind::HoldTime => ("Friction drop vs hold time", "aging, Fig. 2's two hold times"),
@@ -149,8 +152,17 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
 /// The friction drop per law at each load: its range over the topographies.
 fn results(w: &mut String, input: &FigureInput) {
     let _ = writeln!(w, "<h2 id=\"results\">Results</h2>");
-    let columns: Vec<(String, Vec<(f64, Vec<&Row>)>)> =
+    // A column of the table: its heading and the rows per load.
+    type Column<'a> = (String, Vec<(f64, Vec<&'a Row>)>);
+    let mut columns: Vec<Column> =
         input.laws.iter().map(|l| (law_name(l), by_load(input.rows, &law_name(l)))).collect();
+    if !input.elastic_rows.is_empty() {
+        let elastic = input
+            .laws
+            .iter()
+            .map(|l| (format!("{}, elastic sharing", law_name(l)), by_load(input.elastic_rows, &law_name(l))));
+        columns.extend(elastic.collect::<Vec<_>>());
+    }
     let mut loads: Vec<f64> = columns.iter().flat_map(|c| c.1.iter().map(|g| g.0)).collect();
     loads.sort_by(f64::total_cmp);
     loads.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-9);
@@ -160,9 +172,10 @@ fn results(w: &mut String, input: &FigureInput) {
     }
     let _ = writeln!(
         w,
-        "<p>Friction drop F<sub>S</sub>/(μ<sup>D</sup> N) per law and normal load: the lowest and highest \
-         value over the {} topograph{}, and the contact elements likewise. The full table is in \
-         <code>results.csv</code>.</p>\n<table>\n<tr><th>normal load</th><th>contact elements</th>",
+        "<p>Friction drop F<sub>S</sub>/(μ<sup>D</sup> N) per law and normal load (equal sharing, and elastic \
+         sharing where the study asks for it): the lowest and highest value over the {} topograph{}, and the \
+         contact elements likewise. The full table is in <code>results.csv</code>.</p>\n<table>\n<tr><th>normal \
+         load</th><th>contact elements</th>",
         input.topographies.len(),
         if input.topographies.len() == 1 { "y" } else { "ies" }
     );

@@ -68,6 +68,7 @@ pub fn render(dir: &Path, input: &FigureInput) -> Result<Vec<PathBuf>> {
 pub(super) fn stem(kind: FigureKind) -> &'static str {
     match kind {
         FigureKind::FrictionDrop => "friction-drop",
+        FigureKind::FrictionDropSharing => "friction-drop-sharing",
         FigureKind::StaticDynamicCoefficients => "static-dynamic-coefficients",
         FigureKind::Resolution => "resolution",
         FigureKind::HoldTime => "hold-time",
@@ -111,6 +112,10 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
         FigureKind::FrictionDrop => match coefficients::friction_drop(input) {
             Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
             None => drawn.notes.push("no result rows to draw the friction drop from".into()),
+        },
+        FigureKind::FrictionDropSharing => match coefficients::friction_drop_sharing(input) {
+            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
+            None => drawn.notes.push("no elastic-sharing rows: list \"elastic\" in [model] sharing".into()),
         },
         FigureKind::StaticDynamicCoefficients => match coefficients::static_dynamic(input) {
             Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
@@ -290,10 +295,11 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
         return None;
     }
     // The stress axis reaches the hardness when it is set, so that its line shows.
-    let (scale, unit) = super::prefixed(max.max(input.hardness_pa.unwrap_or(0.0)), "Pa");
+    let reach = max.max(input.hardness_pa.unwrap_or(0.0));
+    let (scale, unit) = super::prefixed(reach, "Pa");
     let density_axis = Axis::new("probability density p(σ)", &format!("1/{unit}"));
     let mut panel = Panel::new(
-        Axis::new("local normal stress σ", &unit).range(0.0, max.max(input.hardness_pa.unwrap_or(0.0)) * scale * 1.04),
+        Axis::new("local normal stress σ", &unit).range(0.0, reach * scale * 1.04),
         if input.log_density { density_axis.log() } else { density_axis },
     )
     .title("Distribution of the local normal stress")

@@ -28,6 +28,9 @@
 //! [[law]]                         # name + mu_s + mu_d | preset | curve (+ window)
 //! preset = "hold 100 s"
 //!
+//! [model]                         # sharing of the tangential force: "equal" (the paper's),
+//! sharing = ["equal", "elastic"]  # "elastic" (the half-space's; costly), or both
+//!
 //! [output]                        # pressure_maps, experiments, figures, snapshot_fractions
 //!
 //! [limits]                        # max_points: the largest grid read, generated or solved
@@ -52,7 +55,7 @@ use serde::{Deserialize, Serialize};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-use super::FigureKind;
+use super::{FigureKind, Sharing};
 use crate::contact::{Boundary, Material};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
@@ -91,6 +94,8 @@ pub struct StudyConfig {
     pub loads: LoadsSpec,
     #[serde(rename = "law", default = "defaults::laws")]
     pub laws: Vec<LawSpec>,
+    #[serde(default, skip_serializing_if = "ModelSpec::is_default")]
+    pub model: ModelSpec,
     #[serde(default = "defaults::output")]
     pub output: OutputSpec,
     #[serde(default, skip_serializing_if = "LimitsSpec::is_default")]
@@ -263,6 +268,32 @@ pub struct LawSpec {
     /// The hold times [s] an aging law is evaluated at: one law of the study each.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hold_times: Option<Vec<Time>>,
+}
+
+/// The friction model's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// How the tangential force is shared among the contact elements: each listed sharing
+    /// gives its own rows (the `sharing` column), in this order.
+    #[serde(default = "equal_sharing")]
+    pub sharing: Vec<Sharing>,
+}
+
+impl Default for ModelSpec {
+    fn default() -> Self {
+        ModelSpec { sharing: equal_sharing() }
+    }
+}
+
+impl ModelSpec {
+    fn is_default(&self) -> bool {
+        *self == ModelSpec::default()
+    }
+}
+
+fn equal_sharing() -> Vec<Sharing> {
+    vec![Sharing::Equal]
 }
 
 /// What to write besides the results table.
@@ -447,13 +478,22 @@ impl StudyConfig {
         self.material.hardness.map(|h| h.0)
     }
 
+    /// The elastic bodies: the body, and the counter-body when it is elastic.
+    pub fn bodies(&self) -> Vec<Material> {
+        let m = &self.material;
+        let mut bodies = vec![Material { youngs: m.youngs.0, poisson: m.poisson }];
+        if let (Some(e), Some(nu)) = (m.counter_youngs, m.counter_poisson) {
+            bodies.push(Material { youngs: e.0, poisson: nu });
+        }
+        bodies
+    }
+
     /// The effective modulus E* [Pa].
     pub fn effective_modulus(&self) -> f64 {
-        let m = &self.material;
-        let body = Material { youngs: m.youngs.0, poisson: m.poisson };
-        match (m.counter_youngs, m.counter_poisson) {
-            (Some(e), Some(nu)) => crate::contact::combined_modulus(&body, &Material { youngs: e.0, poisson: nu }),
-            _ => body.plane_strain_modulus(),
+        match self.bodies()[..] {
+            [body, counter] => crate::contact::combined_modulus(&body, &counter),
+            [body] => body.plane_strain_modulus(),
+            _ => unreachable!("one or two bodies"),
         }
     }
 
@@ -578,6 +618,17 @@ impl StudyConfig {
                     return at(&here, format!("the name \"{name}\" is used twice"));
                 }
             }
+        }
+
+        let sharing = &self.model.sharing;
+        let path = [key("model"), key("sharing")];
+        if sharing.is_empty() {
+            return at(&path, "the list is empty: give \"equal\", \"elastic\" or both".into());
+        }
+        if let Some(i) = (1..sharing.len()).find(|&i| sharing[..i].contains(&sharing[i])) {
+            let mut path = path.to_vec();
+            path.push(Segment::Index(i));
+            return at(&path, format!("\"{}\" is listed twice", sharing[i].name()));
         }
 
         Limits::new(self.limits.max_points, "max_points")
@@ -1212,6 +1263,35 @@ mod tests {
         assert!(e.starts_with("study.toml:1:"), "{e}");
         for e in [e, err("[[law]]\nmu_s = 0.5\n")] {
             assert!(!e.contains('\n'), "{e}");
+        }
+    }
+
+    #[test]
+    fn model_sharing_parses_and_defaults_to_equal() {
+        assert_eq!(StudyConfig::default_study().model.sharing, [Sharing::Equal]);
+        let c = StudyConfig::parse("[model]\nsharing = [\"equal\", \"elastic\"]\n", "study.toml").unwrap();
+        assert_eq!(c.model.sharing, [Sharing::Equal, Sharing::Elastic]);
+        let c = StudyConfig::parse("[model]\nsharing = [\"elastic\"]\n", "study.toml").unwrap();
+        assert_eq!(c.model.sharing, [Sharing::Elastic]);
+        assert_eq!(StudyConfig::parse("[model]\n", "study.toml").unwrap().model.sharing, [Sharing::Equal]);
+        // The default is left out of the study as run, so that earlier runs' fingerprints hold.
+        let text = toml::to_string(&StudyConfig::default_study()).unwrap();
+        assert!(!text.contains("[model]"), "{text}");
+        let c = StudyConfig::parse("[model]\nsharing = [\"elastic\", \"equal\"]\n", "s.toml").unwrap();
+        assert_eq!(StudyConfig::parse(&toml::to_string(&c).unwrap(), "s.toml").unwrap(), c);
+
+        let e = err("[model]\nsharing = [\"equal\", \"elastics\"]\n");
+        assert!(e.starts_with("study.toml:2:21: model.sharing[1]: unknown variant `elastics`"), "{e}");
+        let e = err("[model]\nsharing = []\n");
+        assert!(e.starts_with("study.toml:2:1: model.sharing: the list is empty"), "{e}");
+        let e = err("[model]\nsharing = [\"elastic\", \"elastic\"]\n");
+        assert!(e.starts_with("study.toml:2:23: model.sharing[1]: \"elastic\" is listed twice"), "{e}");
+        let e = err("[model]\nsharing = \"elastic\"\n");
+        assert!(e.starts_with("study.toml:2:11: model.sharing: invalid type"), "{e}");
+        let e = err("[model]\nshare = [\"equal\"]\n");
+        assert!(e.starts_with("study.toml:2:1: model.share: unknown field `share`"), "{e}");
+        for e in [e, err("[model]\nsharing = [1]\n")] {
+            assert!(!e.contains('\n') && e.len() < 300, "{e}");
         }
     }
 

@@ -18,10 +18,32 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::{ContactSummary, SolveReport};
 use crate::error::{Error, Result};
-use crate::friction::{ClassShare, FrictionLaw, Onset};
+use crate::friction::{ClassShare, ElasticOnset, FrictionLaw, Onset};
 use crate::shs::ShsPoint;
 
-/// One result: one topography × friction law × load.
+/// How the tangential force is shared among the contact elements at the onset of sliding.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sharing {
+    /// Equally among the stuck elements: the paper's model ([`Onset`]).
+    #[default]
+    Equal,
+    /// Through the elastic half-space, each element's shear following from the constrained
+    /// tangential solve ([`crate::friction::elastic_onset`]).
+    Elastic,
+}
+
+impl Sharing {
+    /// The name of the sharing in the study file and the results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sharing::Equal => "equal",
+            Sharing::Elastic => "elastic",
+        }
+    }
+}
+
+/// One result: one topography × friction law × load, with one sharing of the tangential force.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Row {
     /// Normal load N [N].
@@ -32,6 +54,9 @@ pub struct Row {
     pub law: String,
     /// Whether the solve capped the pressure at the hardness (elastic–perfectly-plastic).
     pub plastic: bool,
+    /// How the tangential force is shared among the elements (records of earlier runs: equal).
+    #[serde(default)]
+    pub sharing: Sharing,
     /// Local static and dynamic friction coefficients of the law.
     pub mu_s: f64,
     pub mu_d: f64,
@@ -53,7 +78,9 @@ pub struct Row {
     pub dynamic_coefficient: f64,
     /// F_S / (mu_d N).
     pub friction_drop: f64,
-    /// Element classes at the critical state: count, fraction of N, fraction of F_S.
+    /// Element classes at the critical state (the peak of the friction force): count, fraction
+    /// of N, fraction of F_S. Under elastic sharing: critical = not slipped before, on its bound
+    /// μ_s p; pre-sliding = slipped before the peak; subcritical = stuck below its bound.
     pub critical_count: usize,
     pub critical_normal_fraction: f64,
     pub critical_friction_fraction: f64,
@@ -66,6 +93,12 @@ pub struct Row {
     /// Contact solver iterations and wall-clock time [s] of the solve this row comes from.
     pub iterations: usize,
     pub seconds: f64,
+    /// Elastic sharing only: the tangential solver's iterations, summed over the path to
+    /// sliding, and the path's wall-clock time [s].
+    #[serde(default)]
+    pub slide_iterations: Option<usize>,
+    #[serde(default)]
+    pub slide_seconds: Option<f64>,
 }
 
 impl Row {
@@ -80,6 +113,7 @@ impl Row {
             topography: topography.to_string(),
             law: law_name(&onset.law),
             plastic: solve.plastic,
+            sharing: Sharing::Equal,
             mu_s: onset.law.mu_s,
             mu_d: onset.law.mu_d,
             contact_points: solve.contact_points,
@@ -102,6 +136,55 @@ impl Row {
             subcritical_friction_fraction: sf,
             iterations: solve.iterations,
             seconds: solve.seconds,
+            slide_iterations: None,
+            slide_seconds: None,
+        }
+    }
+
+    /// The row for the elastic-sharing `onset` under `law`, on the same solve, its path taking
+    /// `seconds`.
+    pub fn elastic(
+        topography: &str,
+        load_n: f64,
+        solve: &SolveFacts,
+        law: &FrictionLaw,
+        onset: &ElasticOnset,
+        seconds: f64,
+    ) -> Row {
+        let share = |c: &ClassShare| (c.count, c.normal_fraction, c.friction_fraction);
+        let (cc, cn, cf) = share(&onset.critical);
+        let (pc, pn, pf) = share(&onset.slipped);
+        let (sc, sn, sf) = share(&onset.stuck);
+        Row {
+            load_n,
+            topography: topography.to_string(),
+            law: law_name(law),
+            plastic: solve.plastic,
+            sharing: Sharing::Elastic,
+            mu_s: law.mu_s,
+            mu_d: law.mu_d,
+            contact_points: solve.contact_points,
+            patches: solve.patches,
+            contact_fraction: solve.contact_fraction,
+            max_pressure_pa: solve.max_pressure_pa,
+            edge_load_fraction: solve.edge_load_fraction,
+            load_above_hardness_fraction: solve.load_above_hardness_fraction,
+            static_coefficient: onset.static_coefficient(),
+            dynamic_coefficient: onset.mu_d,
+            friction_drop: onset.friction_drop(),
+            critical_count: cc,
+            critical_normal_fraction: cn,
+            critical_friction_fraction: cf,
+            pre_sliding_count: pc,
+            pre_sliding_normal_fraction: pn,
+            pre_sliding_friction_fraction: pf,
+            subcritical_count: sc,
+            subcritical_normal_fraction: sn,
+            subcritical_friction_fraction: sf,
+            iterations: solve.iterations,
+            seconds: solve.seconds,
+            slide_iterations: Some(onset.work.iterations),
+            slide_seconds: Some(seconds),
         }
     }
 }
@@ -265,6 +348,9 @@ pub enum FigureKind {
     /// Friction drop vs load, a band over the topographies (and E ± ΔE) per law, measured
     /// points (Fig. 2).
     FrictionDrop,
+    /// Friction drop vs load under equal and elastic sharing, per law, a band over the
+    /// topographies each (the limit the paper names).
+    FrictionDropSharing,
     /// Static and dynamic friction coefficients vs load, measured points (Fig. S1).
     StaticDynamicCoefficients,
     /// Friction drop vs load at the study's pixel size and 2× and 4× coarser.
@@ -292,8 +378,9 @@ pub enum FigureKind {
 
 impl FigureKind {
     /// Every figure, in the report's order.
-    pub const ALL: [FigureKind; 12] = [
+    pub const ALL: [FigureKind; 13] = [
         FigureKind::FrictionDrop,
+        FigureKind::FrictionDropSharing,
         FigureKind::StaticDynamicCoefficients,
         FigureKind::Resolution,
         FigureKind::HoldTime,
@@ -345,8 +432,11 @@ pub const FIGURE_LOADS_N: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
 /// Everything the study's figures and report are drawn from.
 pub struct FigureInput<'a> {
-    /// Every result row.
+    /// The result rows under equal sharing (the paper's model), which every figure but the
+    /// sharing comparison draws.
     pub rows: &'a [Row],
+    /// The result rows under elastic sharing (empty unless the study asks for them).
+    pub elastic_rows: &'a [Row],
     /// Topography names, in the study's order.
     pub topographies: &'a [String],
     /// Friction laws, in the study's order; maps, curves and movies use the first.

@@ -9,7 +9,8 @@
 //!
 //! - `study.toml`: the study as run (paths absolute, loads explicit);
 //! - `results.csv`, `results.json`: one [`Row`] per topography × solve (elastic, plastic, as
-//!   `contact.plastic` lists them) × law × load, in that order;
+//!   `contact.plastic` lists them) × sharing (as `model.sharing` lists them) × law × load, in
+//!   that order;
 //! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
 //!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
 //! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
@@ -19,7 +20,8 @@
 //! - `figures/`, `index.html`: the figures and their report;
 //! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, and below
 //!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
-//!   solve (its rows for every law, and whether the solve started cold) and the last pressure
+//!   solve (its rows for every sharing and law, elastic sharing's onsets included, and whether
+//!   the solve started cold) and the last pressure
 //!   map `warm-NN.npy` of an unfinished chain (float64, lossless). A killed run, run again into
 //!   the same DIR, picks up at the first missing record from that map: the solver depends only
 //!   on the pressure it starts from, so the results equal an uninterrupted run's (apart from
@@ -56,10 +58,14 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::shard::{self, Piece, Shard};
-use super::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, COARSENING, FIGURE_LOADS_N};
-use crate::contact::{self, ContactSolver, Proceed, SolverOptions};
+use super::{
+    FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N,
+};
+use crate::contact::{
+    self, ContactSolver, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
+};
 use crate::error::{Error, Result};
-use crate::friction::{ElementLoads, FrictionLaw, Onset};
+use crate::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use crate::limits::Limits;
 use crate::output::{self, Access, Entries, Lock};
 use crate::shs::{read_points, ShsPoint};
@@ -113,6 +119,9 @@ struct Claim {
 pub enum Progress<'a> {
     /// Before the first solve: `done` of the `total` solves were finished by an earlier run.
     Start { total: usize, done: usize },
+    /// The elastic-sharing onset of one law on a (topography, load) solve finished (before
+    /// that solve's `Solved`): its tangential solver iterations and seconds.
+    Slid { topography: &'a str, load_n: f64, law: &'a str, iterations: usize, seconds: f64 },
     /// One (topography, load) solve finished.
     Solved { topography: &'a str, load_n: f64, iterations: usize, seconds: f64 },
 }
@@ -133,6 +142,19 @@ pub struct Outcome {
     pub warnings: Vec<String>,
 }
 
+/// A solve of a sweep as its elastic-sharing rows need it.
+struct Solved<'a> {
+    /// The name of its rows and its name in progress reports.
+    name: &'a str,
+    label: &'a str,
+    /// Normal load [N].
+    load: f64,
+    facts: &'a SolveFacts,
+    /// Grid (ny, nx) and physical size (lx, ly) [m].
+    shape: (usize, usize),
+    size: (f64, f64),
+}
+
 /// The record of one finished solve, `solves/<topography>/NN.json`.
 #[derive(Serialize, Deserialize)]
 struct SolveRecord {
@@ -142,7 +164,8 @@ struct SolveRecord {
     #[serde(default)]
     cold: bool,
     solve: SolveFacts,
-    /// One row per law, in the study's order.
+    /// One row per sharing and law (sharing-major), in the study's order; the coarser copies
+    /// of the resolution figure under equal sharing only.
     rows: Vec<Row>,
 }
 
@@ -288,7 +311,8 @@ impl Study {
     /// anything is solved; so is a `dir` where another process works on the same units, unless
     /// [waiting](Study::waiting). `progress` answers each event with `()`, or with a
     /// `ControlFlow` whose `Break` stops the run with [`Error::Interrupted`] once the solves
-    /// under way are recorded (the run resumes from there).
+    /// under way are recorded (the run resumes from there); a `Break` answering an elastic
+    /// onset ([`Progress::Slid`]) stops at once, and that solve is solved again on resuming.
     pub fn run<R: Proceed>(
         &self,
         dir: &Path,
@@ -359,11 +383,15 @@ impl Study {
         let names: Vec<String> = self.topographies.iter().map(|(n, _)| n.clone()).collect();
         let parameters = self.study_file()?;
         let hold_time_loads: Vec<f64> = self.config.output.hold_time_loads.iter().map(|f| f.0).collect();
-        // The figures show the first kind of solve listed; the table has them all.
+        // The figures show the first kind of solve listed; the table has them all. Every figure
+        // but the sharing comparison draws the equal-sharing rows.
         let first = self.config.contact.plastic.modes()[0];
-        let shown: Vec<Row> = rows.iter().filter(|r| r.plastic == first).cloned().collect();
+        let shown = |sharing: Sharing| -> Vec<Row> {
+            rows.iter().filter(|r| r.plastic == first && r.sharing == sharing).cloned().collect()
+        };
         let input = FigureInput {
-            rows: &shown,
+            rows: &shown(Sharing::Equal),
+            elastic_rows: &shown(Sharing::Elastic),
             topographies: &names,
             laws: &self.laws,
             hold_times: &self.hold_times,
@@ -592,6 +620,21 @@ impl Study {
         main.chain((self.topographies.len()..self.units()).map(|u| (u, modes[0]))).collect()
     }
 
+    /// The sharings of sweep `u`'s rows: the study's, or for a coarser copy of the resolution
+    /// figure equal sharing only.
+    fn sharings(&self, u: usize) -> &[Sharing] {
+        if u < self.topographies.len() {
+            &self.config.model.sharing
+        } else {
+            &[Sharing::Equal]
+        }
+    }
+
+    /// Rows of a solve of the study's own grid: one per sharing and law.
+    fn rows_per_solve(&self) -> usize {
+        self.config.model.sharing.len() * self.laws.len()
+    }
+
     /// The folder of sweep `u`'s solve records, elastic or plastic.
     fn solves_dir(&self, dir: &Path, u: usize, plastic: bool) -> PathBuf {
         plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(self.unit(u).1), plastic)
@@ -671,7 +714,17 @@ impl Study {
             let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
             let facts = SolveFacts::new(&summary, &report);
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
-            let rows = self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law))).collect();
+            let mut rows = Vec::with_capacity(self.sharings(u).len() * self.laws.len());
+            for sharing in self.sharings(u) {
+                match sharing {
+                    Sharing::Equal => rows
+                        .extend(self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law)))),
+                    Sharing::Elastic => {
+                        let at = Solved { name, label: &label, load, facts: &facts, shape, size };
+                        rows.extend(self.elastic_rows(solver.pressure(), &at, progress)?);
+                    }
+                }
+            }
 
             // Everything of this solve first, its record last: a record means the solve is done.
             if keep_maps {
@@ -708,6 +761,48 @@ impl Study {
         self.tidy(&solves, loads)
     }
 
+    /// The elastic-sharing rows of a solve with normal pressure `pressure` [Pa], one per law,
+    /// each onset reported to `progress` as it finishes; a `Break` stops at once with
+    /// [`Error::Interrupted`] (the solve is solved again on resuming). Errors name the
+    /// topography, the load and the law.
+    fn elastic_rows<R: Proceed>(
+        &self,
+        pressure: &[f64],
+        at: &Solved,
+        progress: &(dyn Fn(Progress) -> R + Sync),
+    ) -> Result<Vec<Row>> {
+        let compliance = ShearCompliance::of(&self.config.bodies());
+        let boundary = self.config.contact.boundary;
+        let failed = |law: &str, e: Error| {
+            Error::invalid(format!("topography \"{}\" at {} N: {law}", at.label, at.load), e.to_string())
+        };
+        let mut tangential =
+            TangentialSolver::new(pressure, at.shape, at.size, compliance, boundary, TangentialOptions::default())
+                .map_err(|e| failed("elastic sharing", e))?;
+        let mut rows = Vec::with_capacity(self.laws.len());
+        for law in &self.laws {
+            let start = std::time::Instant::now();
+            // The paper's law: mu_d at once on the first slip, as equal sharing has it.
+            let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
+            let law_label = super::law_name(law);
+            let onset = elastic_onset(&mut tangential, &slip)
+                .map_err(|e| failed(&format!("elastic sharing, law \"{law_label}\""), e))?;
+            let seconds = start.elapsed().as_secs_f64();
+            rows.push(Row::elastic(at.name, at.load, at.facts, law, &onset, seconds));
+            let answer = progress(Progress::Slid {
+                topography: at.label,
+                load_n: at.load,
+                law: &law_label,
+                iterations: onset.work.iterations,
+                seconds,
+            });
+            if !answer.proceed() {
+                return Err(self.interrupted());
+            }
+        }
+        Ok(rows)
+    }
+
     /// Remove the maps of `loads` in `solves` that no solve needs any more, those of loads
     /// whose next load is recorded (a run killed between a record and that removal leaves
     /// one).
@@ -726,7 +821,7 @@ impl Study {
 
     /// Every row from the solve records of `units`: topography × solve × law × load.
     fn rows(&self, dir: &Path, units: std::ops::Range<usize>) -> Result<Vec<Row>> {
-        let mut rows = Vec::with_capacity(units.len() * self.laws.len() * self.loads.len());
+        let mut rows = Vec::with_capacity(units.len() * self.rows_per_solve() * self.loads.len());
         for (u, plastic) in self.sweeps().into_iter().filter(|(u, _)| units.contains(u)) {
             let solves = self.solves_dir(dir, u, plastic);
             let records = (0..self.loads.len())
@@ -735,13 +830,21 @@ impl Study {
                     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
                     let record: SolveRecord =
                         serde_json::from_str(&text).map_err(|e| Error::file(&path, e.to_string()))?;
-                    if record.load_n != self.loads[k] || record.rows.len() != self.laws.len() {
+                    let sharings = self.sharings(u);
+                    let expected = sharings.iter().flat_map(|s| self.laws.iter().map(move |l| (*s, l)));
+                    let matches = record.rows.len() == sharings.len() * self.laws.len()
+                        && record
+                            .rows
+                            .iter()
+                            .zip(expected)
+                            .all(|(r, (s, l))| r.sharing == s && r.law == super::law_name(l));
+                    if record.load_n != self.loads[k] || !matches {
                         return Err(Error::file(&path, "not a record of this study's solve: rerun with --fresh"));
                     }
                     Ok(record)
                 })
                 .collect::<Result<Vec<_>>>()?;
-            for l in 0..self.laws.len() {
+            for l in 0..self.sharings(u).len() * self.laws.len() {
                 rows.extend(records.iter().map(|r| r.rows[l].clone()));
             }
         }
@@ -756,8 +859,12 @@ impl Study {
         }
         let pixel = |t: &Topography| t.physical_size.expect("built with a physical size").0 / t.nx() as f64;
         let own = |name: &str| &self.topographies.iter().find(|(n, _)| n == name).expect("a row's topography").1;
-        let mut out: Vec<ResolutionRow> =
-            rows.iter().map(|r| ResolutionRow::new(1, pixel(own(&r.topography)), r)).collect();
+        // The coarser copies are solved under equal sharing only.
+        let mut out: Vec<ResolutionRow> = rows
+            .iter()
+            .filter(|r| r.sharing == Sharing::Equal)
+            .map(|r| ResolutionRow::new(1, pixel(own(&r.topography)), r))
+            .collect();
         for factor in COARSENING {
             for (c, (_, f, topo)) in self.coarse.iter().enumerate() {
                 if *f == factor {

@@ -1,0 +1,212 @@
+//! A study with `[model] sharing = ["equal", "elastic"]`: both sharings' rows, the elastic
+//! drop's bounds and its single-element limit, the comparison figure, resume and shards that
+//! solve nothing twice; without `[model]`, the results of equal sharing alone.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Two small balls (64², 486 nm pixels): one element at 0.1 µN, 3–5 at 1 mN, 77–86 at 30 mN.
+const BALLS: &str = r#"
+[[topography]]
+name = "a"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 1, roughness = { hurst = 0.8, rms_height_m = "21 nm", rolloff_wavelength_m = "7 µm", short_cutoff_wavelength_m = "1 µm" }, cap = { radius_m = "1.5 mm" } }
+
+[[topography]]
+name = "b"
+synthetic = { size_m = ["31.13 µm", "31.13 µm"], grid = [64, 64], seed = 2, roughness = { hurst = 0.8, rms_height_m = "21 nm", rolloff_wavelength_m = "7 µm", short_cutoff_wavelength_m = "1 µm" }, cap = { radius_m = "1.5 mm" } }
+"#;
+
+/// The default laws (hold 100 s: 0.6/0.4, hold 10 s: 0.5/0.4) apply.
+const REST: &str = r#"
+[loads]
+values = ["0.1 µN", "1 mN", "30 mN"]
+
+[model]
+sharing = ["equal", "elastic"]
+
+[output]
+figures = ["friction-drop", "friction-drop-sharing", "resolution"]
+"#;
+
+fn asperity(dir: &Path, args: &[&str]) -> Output {
+    let o = Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(dir).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The rows of a CSV file as maps from column to value.
+fn table(path: &Path) -> Vec<HashMap<String, String>> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    reader.records().map(|r| header.iter().cloned().zip(r.unwrap().iter().map(String::from)).collect()).collect()
+}
+
+fn num(row: &HashMap<String, String>, column: &str) -> f64 {
+    row[column].parse().unwrap_or_else(|_| panic!("{column} = {:?}", row[column]))
+}
+
+#[test]
+fn both_sharings_give_their_rows_figure_and_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("study.toml"), format!("{BALLS}{REST}")).unwrap();
+    let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    // 6 solves of the study's grid and 12 of the resolution figure's coarser copies.
+    assert!(stderr(&o).contains("18 solved, 0 resumed"), "{}", stderr(&o));
+    let out = dir.path().join("r");
+    let rows = table(&out.join("results.csv"));
+    // 2 topographies × 2 sharings × 2 laws × 3 loads, sharing before law.
+    assert_eq!(rows.len(), 24);
+    let order: Vec<&str> = rows.iter().step_by(3).map(|r| r["sharing"].as_str()).collect();
+    assert_eq!(order, ["equal", "equal", "elastic", "elastic", "equal", "equal", "elastic", "elastic"]);
+
+    let mut compared = 0;
+    for equal in rows.iter().filter(|r| r["sharing"] == "equal") {
+        assert!(equal["slide_iterations"].is_empty() && equal["slide_seconds"].is_empty());
+        let elastic = rows
+            .iter()
+            .find(|r| {
+                r["sharing"] == "elastic"
+                    && r["topography"] == equal["topography"]
+                    && r["law"] == equal["law"]
+                    && r["load_n"] == equal["load_n"]
+            })
+            .expect("an elastic row for every equal one");
+        // The same solve: its contact columns are the equal row's.
+        for column in ["contact_points", "patches", "max_pressure_pa", "mu_s", "mu_d", "dynamic_coefficient"] {
+            assert_eq!(elastic[column], equal[column], "{column}");
+        }
+        assert!(num(elastic, "slide_iterations") > 0.0 && num(elastic, "slide_seconds") > 0.0);
+        let (limit, points) = (num(equal, "mu_s") / num(equal, "mu_d"), num(equal, "contact_points"));
+        let (de, dl) = (num(equal, "friction_drop"), num(elastic, "friction_drop"));
+        assert!(dl >= 1.0 - 1e-9 && dl <= limit * (1.0 + 1e-9), "elastic drop {dl} outside [1, {limit}]");
+        assert!((num(elastic, "static_coefficient") - dl * num(elastic, "mu_d")).abs() < 1e-12);
+        let classes: f64 =
+            ["critical_count", "pre_sliding_count", "subcritical_count"].iter().map(|c| num(elastic, c)).sum();
+        assert_eq!(classes, points);
+        let fractions: f64 = ["critical", "pre_sliding", "subcritical"]
+            .iter()
+            .map(|c| num(elastic, &format!("{c}_normal_fraction")))
+            .sum();
+        assert!((fractions - 1.0).abs() < 1e-9, "normal fractions sum to {fractions}");
+        if points == 1.0 {
+            // One element: both sharings give the local law's mu_s/mu_d.
+            assert!((dl - limit).abs() < 1e-9 * limit && (de - limit).abs() < 1e-9 * limit, "{dl} {de} {limit}");
+            assert_eq!(num(elastic, "critical_count"), 1.0);
+        }
+        if num(equal, "load_n") == 0.03 {
+            // Elastic interaction lowers the drop at the highest load (by 0.3–3.4 % here).
+            assert!(dl < de, "{}/{}: elastic {dl} not below equal {de}", equal["topography"], equal["law"]);
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, 4);
+    assert!(rows.iter().any(|r| r["load_n"] == "1e-7" && r["contact_points"] == "1"));
+
+    // resolution.csv holds the equal rows only, its own pixel's as the study's.
+    let resolution = table(&out.join("resolution.csv"));
+    assert_eq!(resolution.iter().filter(|r| r["coarsening"] == "1").count(), 12);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json.as_array().unwrap().iter().filter(|r| r["sharing"] == "elastic").count(), 12);
+
+    for f in ["friction-drop-sharing.png", "friction-drop-sharing.svg", "friction-drop.png"] {
+        assert!(out.join("figures").join(f).is_file(), "{f}");
+    }
+    let report = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(report.contains("figures/friction-drop-sharing.png"));
+    assert!(report.contains("by more than 10% at every load for &quot;hold 100 s&quot; from N = 30 mN on"), "{report}");
+
+    // Run again: every solve, elastic onsets included, comes from its record.
+    let before = std::fs::read(out.join("results.csv")).unwrap();
+    let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    assert!(stderr(&o).contains("0 solved, 18 resumed"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(out.join("results.csv")).unwrap(), before);
+
+    // Another sharing is another study.
+    std::fs::write(
+        dir.path().join("study.toml"),
+        format!("{BALLS}{}", REST.replace("\"equal\", \"elastic\"", "\"equal\"")),
+    )
+    .unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["run", "study.toml", "--out", "r"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && stderr(&o).contains("--fresh"), "{}", stderr(&o));
+}
+
+#[test]
+fn equal_sharing_alone_is_the_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = REST.replace("[model]\nsharing = [\"equal\", \"elastic\"]\n", "").replace("\"30 mN\"", "\"10 mN\"");
+    std::fs::write(dir.path().join("study.toml"), format!("{BALLS}{rest}")).unwrap();
+    asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    let out = dir.path().join("r");
+    let rows = table(&out.join("results.csv"));
+    assert_eq!(rows.len(), 12);
+    assert!(rows.iter().all(|r| r["sharing"] == "equal" && r["slide_iterations"].is_empty()));
+    assert!(!std::fs::read_to_string(out.join("study.toml")).unwrap().contains("[model]"));
+    assert!(!out.join("figures/friction-drop-sharing.png").exists());
+    let report = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(report.contains("no elastic-sharing rows: list &quot;elastic&quot; in [model] sharing"));
+}
+
+#[test]
+fn shards_record_the_elastic_onsets() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
+    std::fs::write(dir.path().join("study.toml"), format!("{BALLS}{rest}")).unwrap();
+    for shard in ["1/2", "2/2"] {
+        let o = asperity(dir.path(), &["run", "study.toml", "--out", "r", "--shard", shard]);
+        assert!(stderr(&o).contains("3 solves, 3 solved"), "{}", stderr(&o));
+    }
+    let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    assert!(stderr(&o).contains("0 solved, 6 resumed"), "{}", stderr(&o));
+    let rows = table(&dir.path().join("r/results.csv"));
+    assert_eq!(rows.len(), 24);
+    assert_eq!(rows.iter().filter(|r| r["sharing"] == "elastic" && !r["slide_iterations"].is_empty()).count(), 12);
+}
+
+#[test]
+fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
+    use asperity::study::config::StudyConfig;
+    use asperity::study::run::{Progress, Study};
+    use std::ops::ControlFlow;
+
+    let dir = tempfile::tempdir().unwrap();
+    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
+    let config = StudyConfig::parse(&format!("{BALLS}{rest}"), "study.toml").unwrap();
+    let study = Study::prepare(config, "study.toml").unwrap();
+    let out = dir.path().join("r");
+    let stop = |event: Progress| match event {
+        Progress::Slid { .. } => ControlFlow::Break(()),
+        _ => ControlFlow::Continue(()),
+    };
+    let e = study.run(&out, false, &stop).unwrap_err();
+    assert!(matches!(e, asperity::Error::Interrupted { .. }), "{e}");
+    // Each sweep stopped at its first load's first onset, before its record.
+    let records = |t: &str| match std::fs::read_dir(out.join("solves/topographies").join(t)) {
+        Ok(entries) => entries.filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".json")).count(),
+        Err(_) => 0,
+    };
+    assert_eq!(records("a") + records("b"), 0);
+
+    let slid = std::sync::atomic::AtomicUsize::new(0);
+    let count = |event: Progress| {
+        if let Progress::Slid { law, iterations, .. } = event {
+            assert!(law.starts_with("hold") && iterations > 0);
+            slid.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+    };
+    let outcome = study.run(&out, false, &count).unwrap();
+    assert_eq!(outcome.solved + outcome.resumed, 6);
+    // Two laws' onsets for each solve run now, none for those resumed.
+    assert_eq!(slid.into_inner(), 2 * outcome.solved);
+    assert_eq!(outcome.rows.iter().filter(|r| r.sharing == asperity::study::Sharing::Elastic).count(), 12);
+}
