@@ -785,7 +785,7 @@ impl Study {
             // The paper's law: mu_d at once on the first slip, as equal sharing has it.
             let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
             let law_label = super::law_name(law);
-            let onset = elastic_onset(&mut tangential, &slip)
+            let onset = elastic_onset(&mut tangential, &slip, |_| {})
                 .map_err(|e| failed(&format!("elastic sharing, law \"{law_label}\""), e))?;
             let seconds = start.elapsed().as_secs_f64();
             rows.push(Row::elastic(at.name, at.load, at.facts, law, &onset, seconds));
