@@ -89,7 +89,7 @@ pub fn run(args: RunArgs) -> Result<()> {
             let what = format!("{topography} at {load_n:.3e} N: elastic onset of \"{law}\"");
             bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
-            if batch && last.elapsed() >= BATCH_PROGRESS {
+            if batch && last.elapsed() >= super::BATCH_PROGRESS {
                 *last = Instant::now();
                 eprintln!(
                     "solving: {}/{} after {:.0} s ({what} in {seconds:.1} s)",
