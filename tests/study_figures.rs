@@ -98,7 +98,7 @@ fn study() -> &'static Study {
                     .unwrap();
                     for law in &laws {
                         let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
-                        let onset = elastic_onset(&mut tangential, &slip).unwrap();
+                        let onset = elastic_onset(&mut tangential, &slip, |_| {}).unwrap();
                         elastic.push(Row::elastic(&name, load, &facts, law, &onset, 0.0));
                     }
                 }
