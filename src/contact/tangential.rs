@@ -80,12 +80,10 @@ pub struct TangentialReport {
 pub struct TangentialSolver {
     shape: (usize, usize),
     size: (f64, f64),
-    operator: TangentialInfluence,
+    operator: ShearOperator,
     options: TangentialOptions,
     /// Flat index y·nx + x of each contact point (p > 0), raster order.
     points: Vec<usize>,
-    /// The same points' flat indices in the operator's box.
-    local: Vec<usize>,
     /// Normal pressure p [Pa] at each contact point.
     pressure: Vec<f64>,
     /// Shear traction q [Pa] at each contact point.
@@ -94,9 +92,6 @@ pub struct TangentialSolver {
     displacement: Vec<[f64; 2]>,
     direction: Vec<[f64; 2]>,
     product: Vec<[f64; 2]>,
-    /// Dense grids for the operator: input (x, y), output (x, y).
-    field_in: [Vec<f64>; 2],
-    field_out: [Vec<f64>; 2],
     /// The accelerated projected gradient's previous iterate and its displacement.
     previous_traction: Vec<[f64; 2]>,
     previous_displacement: Vec<[f64; 2]>,
@@ -142,12 +137,20 @@ impl TangentialSolver {
         // TangentialInfluence::window); its points are indexed in the box.
         let (y0, y1) = points.iter().fold((ny, 0), |(a, b), &i| (a.min(i / nx), b.max(i / nx)));
         let (x0, x1) = points.iter().fold((nx, 0), |(a, b), &i| (a.min(i % nx), b.max(i % nx)));
-        let operator = TangentialInfluence::window((ny, nx), size, compliance, boundary, (y1 - y0 + 1, x1 - x0 + 1));
-        let (by, bx) = operator.shape();
+        let influence = TangentialInfluence::window((ny, nx), size, compliance, boundary, (y1 - y0 + 1, x1 - x0 + 1));
+        let (by, bx) = influence.shape();
         let (y0, x0) = (y0.min(ny - by), x0.min(nx - bx));
-        let local = points.iter().map(|&i| (i / nx - y0) * bx + (i % nx - x0)).collect();
+        let local: Vec<usize> = points.iter().map(|&i| (i / nx - y0) * bx + (i % nx - x0)).collect();
         let m = points.len();
-        let grid = || [vec![0.0; by * bx], vec![0.0; by * bx]];
+        let mut operator = ShearOperator::Grid {
+            influence: Box::new(influence),
+            local,
+            field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
+            field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
+        };
+        if dense_is_cheaper(m, (by, bx)) {
+            operator = operator.dense(bx);
+        }
         Ok(TangentialSolver {
             shape,
             size,
@@ -155,13 +158,10 @@ impl TangentialSolver {
             options,
             pressure: points.iter().map(|&i| pressure[i]).collect(),
             points,
-            local,
             traction: vec![[0.0; 2]; m],
             displacement: vec![[0.0; 2]; m],
             direction: vec![[0.0; 2]; m],
             product: vec![[0.0; 2]; m],
-            field_in: grid(),
-            field_out: grid(),
             previous_traction: vec![[0.0; 2]; m],
             previous_displacement: vec![[0.0; 2]; m],
             curvature: vec![0.0; m],
@@ -214,27 +214,7 @@ impl TangentialSolver {
 
     /// u = K q on the contact points, from scratch.
     fn refresh(&mut self) {
-        let TangentialSolver { operator, local, field_in, field_out, traction, displacement, .. } = self;
-        Self::apply_to(operator, local, field_in, field_out, traction, displacement);
-    }
-
-    /// `out = K v` on the contact points.
-    fn apply_to(
-        operator: &mut TangentialInfluence,
-        points: &[usize],
-        field_in: &mut [Vec<f64>; 2],
-        field_out: &mut [Vec<f64>; 2],
-        v: &[[f64; 2]],
-        out: &mut [[f64; 2]],
-    ) {
-        // Points off the contact set are never written: the input grids stay zero there.
-        for (&i, v) in points.iter().zip(v) {
-            field_in[0][i] = v[0];
-            field_in[1][i] = v[1];
-        }
-        let [ox, oy] = field_out;
-        operator.apply([&field_in[0], &field_in[1]], [ox, oy]);
-        out.par_iter_mut().zip(points.par_iter()).with_min_len(CHUNK).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
+        self.operator.apply(&self.traction, &mut self.displacement);
     }
 
     /// Solve for the targets `target` b_i [m] and bounds `bound` g_i [Pa] (one per contact
@@ -433,8 +413,7 @@ impl TangentialSolver {
 
     /// product ← K direction.
     fn apply_direction(&mut self) {
-        let TangentialSolver { operator, local, field_in, field_out, direction, product, .. } = self;
-        Self::apply_to(operator, local, field_in, field_out, direction, product);
+        self.operator.apply(&self.direction, &mut self.product);
     }
 
     /// pᵀ(K + C)p of the direction, once its product Kp is known (C the curvature terms).
@@ -511,8 +490,7 @@ impl TangentialSolver {
         for _ in 0..40 {
             let norm = v.iter().map(|x| x[0] * x[0] + x[1] * x[1]).sum::<f64>().sqrt();
             v.iter_mut().for_each(|x| *x = [x[0] / norm, x[1] / norm]);
-            let TangentialSolver { operator, local, field_in, field_out, .. } = self;
-            Self::apply_to(operator, local, field_in, field_out, &v, &mut w);
+            self.operator.apply(&v, &mut w);
             *applications += 1;
             estimate = v.iter().zip(&w).map(|(a, b)| a[0] * b[0] + a[1] * b[1]).sum::<f64>();
             std::mem::swap(&mut v, &mut w);
@@ -621,4 +599,150 @@ fn tangent_if_held(p: [f64; 2], q: [f64; 2], g: f64) -> [f64; 2] {
     let n = [q[0] / qn, q[1] / qn];
     let radial = dot(p, n);
     [p[0] - radial * n[0], p[1] - radial * n[1]]
+}
+
+/// The dense operator's memory limit [bytes]: three coefficients per pair of points.
+const DENSE_BYTES: usize = 256 << 20;
+
+/// Whether K on `m` points costs less as a dense matrix (8 m² flops per application) than
+/// through the transforms of its box (`by` × `bx`, padded up to 4× the points: four real
+/// transforms of G points, ~10 G log₂ G flops), within the memory limit.
+fn dense_is_cheaper(m: usize, (by, bx): (usize, usize)) -> bool {
+    let g = (4 * by * bx) as f64;
+    24 * m * m <= DENSE_BYTES && 8.0 * (m * m) as f64 <= 10.0 * g * g.log2()
+}
+
+/// K on the contact points.
+enum ShearOperator {
+    /// Through the transforms of the contact set's bounding box: the points' flat indices in
+    /// the box, and the box's input and output grids (x, y).
+    Grid { influence: Box<TangentialInfluence>, local: Vec<usize>, field_in: [Vec<f64>; 2], field_out: [Vec<f64>; 2] },
+    /// As a dense matrix: the (xx, xy, yy) coefficients of every pair, row-major [m/Pa].
+    Dense { m: usize, coefficients: Vec<[f64; 3]> },
+}
+
+impl ShearOperator {
+    /// `out = K v` on the contact points.
+    fn apply(&mut self, v: &[[f64; 2]], out: &mut [[f64; 2]]) {
+        match self {
+            ShearOperator::Grid { influence, local, field_in, field_out } => {
+                // Points off the contact set are never written: the input grids stay zero there.
+                for (&i, v) in local.iter().zip(v) {
+                    field_in[0][i] = v[0];
+                    field_in[1][i] = v[1];
+                }
+                let [ox, oy] = field_out;
+                influence.apply([&field_in[0], &field_in[1]], [ox, oy]);
+                out.par_iter_mut().zip(local.par_iter()).with_min_len(CHUNK).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
+            }
+            ShearOperator::Dense { m, coefficients } => {
+                let m = *m;
+                out.par_iter_mut().with_min_len((CHUNK / m).max(1)).enumerate().for_each(|(i, o)| {
+                    let row = &coefficients[i * m..(i + 1) * m];
+                    *o = row.iter().zip(v).fold([0.0; 2], |[x, y], (k, v)| {
+                        [x + k[0] * v[0] + k[1] * v[1], y + k[1] * v[0] + k[2] * v[1]]
+                    });
+                });
+            }
+        }
+    }
+
+    /// The same operator as a dense matrix, from the grid operator's responses to a unit
+    /// traction at the box's corner: the kernel is even in each offset (xx, yy) or odd in
+    /// each (xy), so these give every pair.
+    fn dense(mut self, bx: usize) -> Self {
+        let ShearOperator::Grid { local, .. } = &self else { return self };
+        let local = local.clone();
+        let m = local.len();
+        let mut response = |traction: [f64; 2]| {
+            // The corner (0, 0) of the box need not be a contact point: apply on the grid.
+            let ShearOperator::Grid { influence, field_in, field_out, .. } = &mut self else { unreachable!() };
+            field_in[0].fill(0.0);
+            field_in[1].fill(0.0);
+            field_in[0][0] = traction[0];
+            field_in[1][0] = traction[1];
+            let [ox, oy] = field_out;
+            influence.apply([&field_in[0], &field_in[1]], [ox, oy]);
+            (ox.clone(), oy.clone())
+        };
+        let (g_xx, g_yx) = response([1.0, 0.0]);
+        let (g_xy, g_yy) = response([0.0, 1.0]);
+        let mut coefficients = Vec::with_capacity(m * m);
+        for &i in &local {
+            let (yi, xi) = ((i / bx) as i64, (i % bx) as i64);
+            for &j in &local {
+                let (dy, dx) = (yi - (j / bx) as i64, xi - (j % bx) as i64);
+                let k = dy.unsigned_abs() as usize * bx + dx.unsigned_abs() as usize;
+                let sign = (dy.signum() * dx.signum()) as f64;
+                coefficients.push([g_xx[k], sign * 0.5 * (g_xy[k] + g_yx[k]), g_yy[k]]);
+            }
+        }
+        ShearOperator::Dense { m, coefficients }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The dense operator equals the grid operator it is made from, on scattered points of
+    /// both boundaries, with and without padding of the box.
+    #[test]
+    fn dense_operator_is_the_grid_operator() {
+        let c = ShearCompliance { a: 1.0 / 50e9, b: 0.26 / 50e9 };
+        for boundary in [Boundary::Periodic, Boundary::Free] {
+            for (n, spread) in [(64, 20), (32, 32)] {
+                let mut pressure = vec![0.0; n * n];
+                for k in 0..40 {
+                    let (y, x) = ((k * 7) % spread + 3 * (spread < n) as usize, (k * 13 + k / 5) % spread);
+                    pressure[y * n + x] = 1e9 * (1.0 + k as f64 / 40.0);
+                }
+                let make = || {
+                    TangentialSolver::new(
+                        &pressure,
+                        (n, n),
+                        (6.4e-6, 6.4e-6),
+                        c,
+                        boundary,
+                        TangentialOptions::default(),
+                    )
+                    .unwrap()
+                };
+                let mut solver = make();
+                let ShearOperator::Dense { .. } = solver.operator else { panic!("40 points: dense") };
+                let m = solver.points.len();
+                let v: Vec<[f64; 2]> =
+                    (0..m).map(|i| [((i * 37) % 11) as f64 - 5.0, ((i * 17) % 7) as f64 - 3.0]).collect();
+                let mut dense = vec![[0.0; 2]; m];
+                solver.operator.apply(&v, &mut dense);
+                // The grid operator of the same box, as the solver made it before choosing.
+                let mut grid = make_grid(&pressure, n, c, boundary);
+                let mut want = vec![[0.0; 2]; m];
+                grid.apply(&v, &mut want);
+                let scale = want.iter().map(|w| w[0].abs().max(w[1].abs())).fold(0.0, f64::max);
+                for (d, w) in dense.iter().zip(&want) {
+                    assert!(
+                        (d[0] - w[0]).abs() <= 1e-12 * scale && (d[1] - w[1]).abs() <= 1e-12 * scale,
+                        "{boundary:?} {n}: {d:?} vs {w:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    fn make_grid(pressure: &[f64], n: usize, c: ShearCompliance, boundary: Boundary) -> ShearOperator {
+        let points: Vec<usize> = (0..n * n).filter(|&i| pressure[i] > 0.0).collect();
+        let (y0, y1) = points.iter().fold((n, 0), |(a, b), &i| (a.min(i / n), b.max(i / n)));
+        let (x0, x1) = points.iter().fold((n, 0), |(a, b), &i| (a.min(i % n), b.max(i % n)));
+        let influence = TangentialInfluence::window((n, n), (6.4e-6, 6.4e-6), c, boundary, (y1 - y0 + 1, x1 - x0 + 1));
+        let (by, bx) = influence.shape();
+        let (y0, x0) = (y0.min(n - by), x0.min(n - bx));
+        let local = points.iter().map(|&i| (i / n - y0) * bx + (i % n - x0)).collect();
+        ShearOperator::Grid {
+            influence: Box::new(influence),
+            local,
+            field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
+            field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
+        }
+    }
 }
