@@ -96,6 +96,12 @@ impl Iterations {
         }
         Ok(false)
     }
+
+    /// Forget the best residual so far: the residuals before were measured on an approximate
+    /// state, which an exact recomputation has just replaced.
+    pub(crate) fn forget_best(&mut self) {
+        (self.best, self.best_at) = (f64::INFINITY, self.done);
+    }
 }
 
 /// Up to this many grid rows with changes, their transform is summed directly inside the

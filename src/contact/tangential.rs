@@ -268,11 +268,14 @@ impl TangentialSolver {
                 if exact {
                     return Ok(TangentialReport { iterations: count.done(), applications, residual });
                 }
-                // Converged on the displacement updated step by step: check from scratch.
+                // Converged on the displacement updated step by step: check from scratch. The
+                // residuals before were measured on the updated displacement, which misses the
+                // turned tractions' return onto their bounds: progress counts from here.
                 self.refresh();
                 applications += 1;
                 exact = true;
                 restart = true;
+                count.forget_best();
                 continue;
             }
             if count.next(residual)? && !accelerated && step > 0.0 {
