@@ -321,6 +321,12 @@ impl TangentialInfluence {
         (self.ny, self.nx)
     }
 
+    /// Points of the grid its transforms run on (the window's, or its zero-padded one).
+    pub fn transform_points(&self) -> usize {
+        let (ny, nx) = self.fft.shape();
+        ny * nx
+    }
+
     /// Displacements (u_x, u_y) [m] of the window's points under the shear traction
     /// (q_x, q_y) [Pa], all row-major (ny, nx).
     pub fn apply(&mut self, q: [&[f64]; 2], u: [&mut [f64]; 2]) {
