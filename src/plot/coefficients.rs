@@ -125,12 +125,7 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
         series.push(Series::line(mean, colour));
         let limit = law.drop();
         levels.push(limit);
-        let end = first_multi_element_load(input.rows, &name).map_or(x1, |l| l * 1e3);
-        series.push(
-            Series::line(vec![(x0, limit), (end, limit)], colour)
-                .dotted()
-                .label(format!("{name}: one element, μ^S/μ^D = {}", tick_label(&limit))),
-        );
+        series.push(single_element_line(input.rows, &name, limit, (x0, x1), colour));
         let mine: Vec<&ShsPoint> = input
             .experiments
             .iter()
@@ -248,12 +243,7 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
         }
         let limit = law.drop();
         levels.push(limit);
-        let end = first_multi_element_load(input.rows, &name).map_or(x1, |l| l * 1e3);
-        series.push(
-            Series::line(vec![(x0, limit), (end, limit)], colour)
-                .dotted()
-                .label(format!("{name}: one element, μ^S/μ^D = {}", tick_label(&limit))),
-        );
+        series.push(single_element_line(input.rows, &name, limit, (x0, x1), colour));
         // The lowest load from which on the mean elastic drop's excess stays clearly below the
         // mean equal one's, at every load both have.
         let lowered: Vec<(f64, bool)> = means[1]
@@ -516,6 +506,15 @@ pub(super) fn hold_time(input: &FigureInput) -> Option<(Figure, String)> {
         chosen.iter().map(|l| load_label(*l)).collect::<Vec<_>>().join(", ")
     );
     Some((Figure::new(panel).with_size(1300, 850), caption))
+}
+
+/// The single-element limit mu_s/mu_d of law `name`, dotted from `x0` up to its first load
+/// [mN] with more than one element (or `x1`).
+fn single_element_line(rows: &[Row], name: &str, limit: f64, (x0, x1): (f64, f64), colour: RGBColor) -> Series {
+    let end = first_multi_element_load(rows, name).map_or(x1, |l| l * 1e3);
+    Series::line(vec![(x0, limit), (end, limit)], colour)
+        .dotted()
+        .label(format!("{name}: one element, μ^S/μ^D = {}", tick_label(&limit)))
 }
 
 #[cfg(test)]

@@ -104,41 +104,9 @@ pub struct Row {
 impl Row {
     /// The row for `onset`, computed on a solve of `topography` at `load_n`.
     pub fn new(topography: &str, load_n: f64, solve: &SolveFacts, onset: &Onset) -> Row {
-        let share = |c: &ClassShare| (c.count, c.normal_fraction, c.friction_fraction);
-        let (cc, cn, cf) = share(&onset.critical);
-        let (pc, pn, pf) = share(&onset.pre_sliding);
-        let (sc, sn, sf) = share(&onset.subcritical);
-        Row {
-            load_n,
-            topography: topography.to_string(),
-            law: law_name(&onset.law),
-            plastic: solve.plastic,
-            sharing: Sharing::Equal,
-            mu_s: onset.law.mu_s,
-            mu_d: onset.law.mu_d,
-            contact_points: solve.contact_points,
-            patches: solve.patches,
-            contact_fraction: solve.contact_fraction,
-            max_pressure_pa: solve.max_pressure_pa,
-            edge_load_fraction: solve.edge_load_fraction,
-            load_above_hardness_fraction: solve.load_above_hardness_fraction,
-            static_coefficient: onset.static_coefficient(),
-            dynamic_coefficient: onset.dynamic_coefficient(),
-            friction_drop: onset.friction_drop(),
-            critical_count: cc,
-            critical_normal_fraction: cn,
-            critical_friction_fraction: cf,
-            pre_sliding_count: pc,
-            pre_sliding_normal_fraction: pn,
-            pre_sliding_friction_fraction: pf,
-            subcritical_count: sc,
-            subcritical_normal_fraction: sn,
-            subcritical_friction_fraction: sf,
-            iterations: solve.iterations,
-            seconds: solve.seconds,
-            slide_iterations: None,
-            slide_seconds: None,
-        }
+        let model = (onset.static_coefficient(), onset.dynamic_coefficient(), onset.friction_drop());
+        let shares = [&onset.critical, &onset.pre_sliding, &onset.subcritical];
+        Row::of(topography, load_n, solve, &onset.law, Sharing::Equal, model, shares)
     }
 
     /// The row for the elastic-sharing `onset` under `law`, on the same solve, its path taking
@@ -151,16 +119,32 @@ impl Row {
         onset: &ElasticOnset,
         seconds: f64,
     ) -> Row {
-        let share = |c: &ClassShare| (c.count, c.normal_fraction, c.friction_fraction);
-        let (cc, cn, cf) = share(&onset.critical);
-        let (pc, pn, pf) = share(&onset.slipped);
-        let (sc, sn, sf) = share(&onset.stuck);
+        let model = (onset.static_coefficient(), onset.mu_d, onset.friction_drop());
+        let shares = [&onset.critical, &onset.slipped, &onset.stuck];
+        Row {
+            slide_iterations: Some(onset.work.iterations),
+            slide_seconds: Some(seconds),
+            ..Row::of(topography, load_n, solve, law, Sharing::Elastic, model, shares)
+        }
+    }
+
+    /// A row from the solve's facts, the model's (static coefficient, dynamic coefficient,
+    /// friction drop) and its critical, pre-sliding and subcritical shares.
+    fn of(
+        topography: &str,
+        load_n: f64,
+        solve: &SolveFacts,
+        law: &FrictionLaw,
+        sharing: Sharing,
+        (static_coefficient, dynamic_coefficient, friction_drop): (f64, f64, f64),
+        [critical, pre_sliding, subcritical]: [&ClassShare; 3],
+    ) -> Row {
         Row {
             load_n,
             topography: topography.to_string(),
             law: law_name(law),
             plastic: solve.plastic,
-            sharing: Sharing::Elastic,
+            sharing,
             mu_s: law.mu_s,
             mu_d: law.mu_d,
             contact_points: solve.contact_points,
@@ -169,22 +153,22 @@ impl Row {
             max_pressure_pa: solve.max_pressure_pa,
             edge_load_fraction: solve.edge_load_fraction,
             load_above_hardness_fraction: solve.load_above_hardness_fraction,
-            static_coefficient: onset.static_coefficient(),
-            dynamic_coefficient: onset.mu_d,
-            friction_drop: onset.friction_drop(),
-            critical_count: cc,
-            critical_normal_fraction: cn,
-            critical_friction_fraction: cf,
-            pre_sliding_count: pc,
-            pre_sliding_normal_fraction: pn,
-            pre_sliding_friction_fraction: pf,
-            subcritical_count: sc,
-            subcritical_normal_fraction: sn,
-            subcritical_friction_fraction: sf,
+            static_coefficient,
+            dynamic_coefficient,
+            friction_drop,
+            critical_count: critical.count,
+            critical_normal_fraction: critical.normal_fraction,
+            critical_friction_fraction: critical.friction_fraction,
+            pre_sliding_count: pre_sliding.count,
+            pre_sliding_normal_fraction: pre_sliding.normal_fraction,
+            pre_sliding_friction_fraction: pre_sliding.friction_fraction,
+            subcritical_count: subcritical.count,
+            subcritical_normal_fraction: subcritical.normal_fraction,
+            subcritical_friction_fraction: subcritical.friction_fraction,
             iterations: solve.iterations,
             seconds: solve.seconds,
-            slide_iterations: Some(onset.work.iterations),
-            slide_seconds: Some(seconds),
+            slide_iterations: None,
+            slide_seconds: None,
         }
     }
 }
