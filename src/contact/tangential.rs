@@ -22,7 +22,10 @@
 //! (as far as the bounds allow, then a projected gradient step of fixed length 1.9/‖K‖) that
 //! put many points on their bounds at once; proportioning steps that release points whose
 //! gradient pulls them off their bounds, taken when that part of the gradient outweighs the
-//! free part. One application of K (two FFT pairs) per iteration, a second one after an
+//! free part. The conjugate gradient is preconditioned by the Hessian's diagonal, K's diagonal
+//! plus the curvature term: a point that slipped far in one increment has a curvature up to 10⁴
+//! times K's diagonal, and without it such points set the iteration count (measured: half the
+//! iterations at 256², 10 mN, a third at 1500², 0.1 mN). One application of K (two FFT pairs) per iteration, a second one after an
 //! expansion or a release that needed projecting: 1.05–1.1 applications per iteration on the
 //! sliding paths of `slide`, against 1.4 for the projected conjugate gradient of Polonsky &
 //! Keer that stalled whenever the set of points on their bound changed. Should the turning of
@@ -99,6 +102,9 @@ pub struct TangentialSolver {
     curvature: Vec<f64>,
     /// The largest eigenvalue of K on the contact set [m/Pa], once needed.
     lipschitz: Option<f64>,
+    /// K's diagonal: a pixel's displacement under its own unit traction [m/Pa], the same at
+    /// every point (K is a convolution) and in both directions (a square pixel); once needed.
+    diagonal: Option<f64>,
 }
 
 impl TangentialSolver {
@@ -167,6 +173,7 @@ impl TangentialSolver {
             previous_displacement: vec![[0.0; 2]; m],
             curvature: vec![0.0; m],
             lipschitz: None,
+            diagonal: None,
         })
     }
 
@@ -317,13 +324,22 @@ impl TangentialSolver {
                 // Conjugate gradients on the free points and on the turning of the tractions
                 // held on their bounds; a turn costs, besides K's energy, the bound's
                 // curvature: the Lagrangian's Hessian there is K + (slip / bound).
-                self.set_direction(target, bound, |parts| parts.0);
                 self.curvature
                     .par_iter_mut()
                     .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
                     .zip(target.par_iter().zip(bound.par_iter()))
                     .with_min_len(CHUNK)
                     .for_each(|((c, (q, u)), (b, g))| *c = turning(*q, *u, *b, *g));
+                let k = self.diagonal(&mut applications);
+                self.direction
+                    .par_iter_mut()
+                    .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
+                    .zip(target.par_iter().zip(bound.par_iter().zip(self.curvature.par_iter())))
+                    .with_min_len(CHUNK)
+                    .for_each(|((p, (q, u)), (b, (g, c)))| {
+                        let phi = gradient_parts(*q, *u, *b, *g).0;
+                        *p = [phi[0] * k / (k + c), phi[1] * k / (k + c)];
+                    });
                 restart = false;
             }
             self.apply_direction();
@@ -355,6 +371,7 @@ impl TangentialSolver {
                 self.move_along(cg);
                 project(&mut self.traction, bound);
                 exact = false;
+                let k = self.diagonal.expect("set at the restart");
                 let gamma = self
                     .traction
                     .par_iter()
@@ -364,18 +381,18 @@ impl TangentialSolver {
                     .with_min_len(CHUNK)
                     .map(|(((q, u), (b, g)), (w, (p, c)))| {
                         let phi = gradient_parts(*q, *u, *b, *g).0;
-                        dot(phi, [w[0] + c * p[0], w[1] + c * p[1]])
+                        dot(phi, [w[0] + c * p[0], w[1] + c * p[1]]) * k / (k + c)
                     })
                     .sum::<f64>()
                     / pw;
                 self.direction
                     .par_iter_mut()
                     .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
-                    .zip(target.par_iter().zip(bound.par_iter()))
+                    .zip(target.par_iter().zip(bound.par_iter().zip(self.curvature.par_iter())))
                     .with_min_len(CHUNK)
-                    .for_each(|((p, (q, u)), (b, g))| {
-                        let phi = gradient_parts(*q, *u, *b, *g).0;
-                        *p = tangent_if_held([phi[0] - gamma * p[0], phi[1] - gamma * p[1]], *q, *g);
+                    .for_each(|((p, (q, u)), (b, (g, c)))| {
+                        let z = gradient_parts(*q, *u, *b, *g).0.map(|x| x * k / (k + c));
+                        *p = tangent_if_held([z[0] - gamma * p[0], z[1] - gamma * p[1]], *q, *g);
                     });
             } else {
                 // Expansion step: as far as the bounds allow, then a projected gradient step
@@ -482,6 +499,20 @@ impl TangentialSolver {
         if uphill > 0.0 {
             *momentum = 1.0;
         }
+    }
+
+    /// K's diagonal [m/Pa]: the displacement of the first contact point under its own unit
+    /// traction (the same at every point: the kernel at zero offset).
+    fn diagonal(&mut self, applications: &mut usize) -> f64 {
+        if let Some(k) = self.diagonal {
+            return k;
+        }
+        let mut unit = vec![[0.0; 2]; self.points.len()];
+        unit[0] = [1.0, 0.0];
+        let mut out = vec![[0.0; 2]; self.points.len()];
+        self.operator.apply(&unit, &mut out);
+        *applications += 1;
+        *self.diagonal.insert(out[0][0])
     }
 
     /// The largest eigenvalue of K restricted to the contact set, by power iteration, with a
