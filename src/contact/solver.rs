@@ -554,7 +554,8 @@ impl ContactSolver {
             // Converged in full contact at the start (a flat surface): the set is stored.
             self.materialise();
         } else {
-            // A failed solve is no warm start.
+            // A failed solve, whatever stopped it, is no warm start.
+            self.warm = false;
             self.uniform = None;
         }
         if self.pressure_field.is_empty() {
@@ -615,7 +616,7 @@ impl ContactSolver {
                 continue;
             }
             // A stalled search restarts from the steepest descent direction.
-            if iterations.next(residual).inspect_err(|_| self.warm = false)? {
+            if iterations.next(residual)? {
                 conjugate = false;
             }
             // Unlike Polonsky & Keer, conjugacy is kept when points enter the contact set:
@@ -665,9 +666,8 @@ impl ContactSolver {
         })
     }
 
-    /// The error of a solve stopped by its caller; the half-done state is not a warm start.
-    fn interrupted(&mut self, load: f64) -> Error {
-        self.warm = false;
+    /// The error of a solve stopped by its caller.
+    fn interrupted(&self, load: f64) -> Error {
         Error::Interrupted { what: format!("contact solve at {load} N") }
     }
 
