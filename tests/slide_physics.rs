@@ -82,7 +82,7 @@ fn free_cerruti_far_field_is_the_point_force() {
 #[test]
 fn box_operator_is_the_window_operator_inside_the_box() {
     // Tractions inside a box of the window: the box operator (padded grid, or the periodic
-    // grid along an axis where the box is more than half the window) gives the displacements
+    // grid along an axis where the box is more than half the window, or along both) gives the displacements
     // of the whole window's operator at every point of the box.
     let (ny, nx, l) = (48, 64, 6.4e-6);
     let size = (l, l * ny as f64 / nx as f64);
@@ -90,6 +90,7 @@ fn box_operator_is_the_window_operator_inside_the_box() {
     for (boundary, (by, bx), (y0, x0)) in [
         (Boundary::Periodic, (9, 13), (20, 30)),
         (Boundary::Periodic, (30, 7), (5, 50)),
+        (Boundary::Periodic, (30, 40), (10, 12)),
         (Boundary::Free, (9, 13), (31, 2)),
     ] {
         let mut whole = match boundary {

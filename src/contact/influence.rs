@@ -237,7 +237,9 @@ impl TangentialInfluence {
     /// Periodic: the window's periodic kernel in real space, kept for the offsets inside the
     /// box and convolved on a zero-padded grid along each axis where the box is at most half
     /// the window (along the others the window's own periodic grid). A contact set much
-    /// smaller than the window then costs transforms of its own size.
+    /// smaller than the window then costs transforms of its own size. Its fields
+    /// ([`shape`](Self::shape)) are the box, in the grid's corner: the row transforms skip
+    /// the rows outside it.
     pub fn window(
         (ny, nx): (usize, usize),
         (lx, ly): (f64, f64),
@@ -256,10 +258,13 @@ impl TangentialInfluence {
         let padded = |b: usize, n: usize| Some(fast_length(2 * b)).filter(|&p| p < n);
         let (py, px) = (padded(by, ny), padded(bx, nx));
         if py.is_none() && px.is_none() {
-            return Self::periodic(ny, nx, (lx, ly), c);
+            // The window's own grid; the fields are the box only, so that the transforms skip
+            // the rows outside it.
+            let mut whole = Self::periodic(ny, nx, (lx, ly), c);
+            (whole.ny, whole.nx) = (by, bx);
+            return whole;
         }
         let (gy, gx) = (py.unwrap_or(ny), px.unwrap_or(nx));
-        let (box_y, box_x) = (if py.is_some() { by } else { ny }, if px.is_some() { bx } else { nx });
         // The periodic kernel in real space: responses to a unit traction at the origin.
         let mut full = Self::periodic(ny, nx, (lx, ly), c);
         let mut unit = vec![0.0; ny * nx];
@@ -283,9 +288,9 @@ impl TangentialInfluence {
         };
         let mut coefficients = [vec![0.0; gy * gx], vec![0.0; gy * gx], vec![0.0; gy * gx]];
         for i in 0..gy {
-            let Some(oy) = offset(i, gy, box_y, ny) else { continue };
+            let Some(oy) = offset(i, gy, by, ny) else { continue };
             for j in 0..gx {
-                let Some(ox) = offset(j, gx, box_x, nx) else { continue };
+                let Some(ox) = offset(j, gx, bx, nx) else { continue };
                 let (k, w) = (i * gx + j, oy * nx + ox);
                 coefficients[0][k] = g_xx[w];
                 // The cross kernel is symmetric (xy = yx); average the two round-offs.
@@ -302,7 +307,7 @@ impl TangentialInfluence {
             fft.forward(&coefficient, gy, gx, &mut spectrum, &mut work);
             spectrum.iter().map(|s| s.re * norm).collect()
         });
-        Self::with_kernels(box_y, box_x, fft, kernel)
+        Self::with_kernels(by, bx, fft, kernel)
     }
 
     fn with_kernels(ny: usize, nx: usize, fft: Fft2, values: [Vec<f64>; 3]) -> Self {
@@ -316,7 +321,7 @@ impl TangentialInfluence {
         TangentialInfluence { ny, nx, fft, kernel, spectrum, work }
     }
 
-    /// Window shape (ny, nx).
+    /// Shape (ny, nx) of its fields: the window's, or the box's of [`window`](Self::window).
     pub fn shape(&self) -> (usize, usize) {
         (self.ny, self.nx)
     }
