@@ -25,7 +25,7 @@
 //! free part. The conjugate gradient is preconditioned by the Hessian's diagonal, K's diagonal
 //! plus the curvature term: a point that slipped far in one increment has a curvature up to 10⁴
 //! times K's diagonal, and without it such points set the iteration count (measured: 0.47 of
-//! the iterations at 256², 10 mN, 0.14 at 1500², 1 mN). One application of K (two FFT pairs)
+//! the iterations at 256², 10 mN, 0.13 at 1500², 1 mN). One application of K (two FFT pairs)
 //! per iteration, a second one after an expansion or a release that needed projecting:
 //! 1.24–1.53 applications per iteration on the sliding paths of `slide` (the preconditioned
 //! conjugate gradient takes fewer iterations between them), against 1.4 for the projected
