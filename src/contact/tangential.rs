@@ -143,24 +143,12 @@ impl TangentialSolver {
         if points.is_empty() {
             return Err(Error::invalid("pressure map", "no contact: every pressure is zero"));
         }
-        // The operator works on the contact set's bounding box only (exactly: see
-        // TangentialInfluence::window); its points are indexed in the box.
-        let (y0, y1) = points.iter().fold((ny, 0), |(a, b), &i| (a.min(i / nx), b.max(i / nx)));
-        let (x0, x1) = points.iter().fold((nx, 0), |(a, b), &i| (a.min(i % nx), b.max(i % nx)));
-        let influence = TangentialInfluence::window((ny, nx), size, compliance, boundary, (y1 - y0 + 1, x1 - x0 + 1));
-        let (by, bx) = influence.shape();
-        let (y0, x0) = (y0.min(ny - by), x0.min(nx - bx));
-        let local: Vec<usize> = points.iter().map(|&i| (i / nx - y0) * bx + (i % nx - x0)).collect();
         let m = points.len();
-        let influence_points = influence.transform_points();
-        let mut operator = ShearOperator::Grid {
-            influence: Box::new(influence),
-            local,
-            field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
-            field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
-        };
-        if dense_is_cheaper(m, influence_points) {
-            operator = operator.dense(bx);
+        let mut operator = ShearOperator::grid(&points, shape, size, compliance, boundary);
+        if let ShearOperator::Grid { influence, .. } = &operator {
+            if dense_is_cheaper(m, influence.transform_points()) {
+                operator = operator.dense();
+            }
         }
         Ok(TangentialSolver {
             shape,
@@ -662,6 +650,30 @@ enum ShearOperator {
 }
 
 impl ShearOperator {
+    /// K on `points` (flat indices y·nx + x of an (ny, nx) window of size `size` [m]) through
+    /// the transforms of their bounding box only (exactly: see TangentialInfluence::window);
+    /// the points are indexed in the box.
+    fn grid(
+        points: &[usize],
+        (ny, nx): (usize, usize),
+        size: (f64, f64),
+        c: ShearCompliance,
+        boundary: Boundary,
+    ) -> Self {
+        let (y0, y1) = points.iter().fold((ny, 0), |(a, b), &i| (a.min(i / nx), b.max(i / nx)));
+        let (x0, x1) = points.iter().fold((nx, 0), |(a, b), &i| (a.min(i % nx), b.max(i % nx)));
+        let influence = TangentialInfluence::window((ny, nx), size, c, boundary, (y1 - y0 + 1, x1 - x0 + 1));
+        let (by, bx) = influence.shape();
+        let (y0, x0) = (y0.min(ny - by), x0.min(nx - bx));
+        let local = points.iter().map(|&i| (i / nx - y0) * bx + (i % nx - x0)).collect();
+        ShearOperator::Grid {
+            influence: Box::new(influence),
+            local,
+            field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
+            field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
+        }
+    }
+
     /// `out = K v` on the contact points.
     fn apply(&mut self, v: &[[f64; 2]], out: &mut [[f64; 2]]) {
         match self {
@@ -690,8 +702,9 @@ impl ShearOperator {
     /// The same operator as a dense matrix, from the grid operator's responses to a unit
     /// traction at the box's corner: the kernel is even in each offset (xx, yy) or odd in
     /// each (xy), so these give every pair.
-    fn dense(mut self, bx: usize) -> Self {
-        let ShearOperator::Grid { local, .. } = &self else { return self };
+    fn dense(mut self) -> Self {
+        let ShearOperator::Grid { influence, local, .. } = &self else { return self };
+        let bx = influence.shape().1;
         let local = local.clone();
         let m = local.len();
         let mut response = |traction: [f64; 2]| {
@@ -737,18 +750,15 @@ mod tests {
                     let (y, x) = ((k * 7) % spread + 3 * (spread < n) as usize, (k * 13 + k / 5) % spread);
                     pressure[y * n + x] = 1e9 * (1.0 + k as f64 / 40.0);
                 }
-                let make = || {
-                    TangentialSolver::new(
-                        &pressure,
-                        (n, n),
-                        (6.4e-6, 6.4e-6),
-                        c,
-                        boundary,
-                        TangentialOptions::default(),
-                    )
-                    .unwrap()
-                };
-                let mut solver = make();
+                let mut solver = TangentialSolver::new(
+                    &pressure,
+                    (n, n),
+                    (6.4e-6, 6.4e-6),
+                    c,
+                    boundary,
+                    TangentialOptions::default(),
+                )
+                .unwrap();
                 let ShearOperator::Dense { .. } = solver.operator else { panic!("40 points: dense") };
                 let m = solver.points.len();
                 let v: Vec<[f64; 2]> =
@@ -756,7 +766,7 @@ mod tests {
                 let mut dense = vec![[0.0; 2]; m];
                 solver.operator.apply(&v, &mut dense);
                 // The grid operator of the same box, as the solver made it before choosing.
-                let mut grid = make_grid(&pressure, n, c, boundary);
+                let mut grid = ShearOperator::grid(&solver.points, (n, n), (6.4e-6, 6.4e-6), c, boundary);
                 let mut want = vec![[0.0; 2]; m];
                 grid.apply(&v, &mut want);
                 let scale = want.iter().map(|w| w[0].abs().max(w[1].abs())).fold(0.0, f64::max);
@@ -767,22 +777,6 @@ mod tests {
                     );
                 }
             }
-        }
-    }
-
-    fn make_grid(pressure: &[f64], n: usize, c: ShearCompliance, boundary: Boundary) -> ShearOperator {
-        let points: Vec<usize> = (0..n * n).filter(|&i| pressure[i] > 0.0).collect();
-        let (y0, y1) = points.iter().fold((n, 0), |(a, b), &i| (a.min(i / n), b.max(i / n)));
-        let (x0, x1) = points.iter().fold((n, 0), |(a, b), &i| (a.min(i % n), b.max(i % n)));
-        let influence = TangentialInfluence::window((n, n), (6.4e-6, 6.4e-6), c, boundary, (y1 - y0 + 1, x1 - x0 + 1));
-        let (by, bx) = influence.shape();
-        let (y0, x0) = (y0.min(n - by), x0.min(n - bx));
-        let local = points.iter().map(|&i| (i / n - y0) * bx + (i % n - x0)).collect();
-        ShearOperator::Grid {
-            influence: Box::new(influence),
-            local,
-            field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
-            field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
         }
     }
 }
