@@ -395,3 +395,32 @@ fn slip_weakening_distance_to_zero_is_the_instant_drop() {
     assert!(errors[2] < 2e-3, "{errors:?}");
     assert!(errors[2] <= errors[0], "{errors:?}");
 }
+
+/// Under Coulomb friction (mu_s = mu_d) the path stops at total sliding with the tractions
+/// still turned off x by the elastic coupling (ν > 0), so its last force lies below μN; F_S is
+/// the sliding force the path tends to as δ grows: μN, a friction drop of exactly 1.
+#[test]
+fn coulomb_friction_gives_the_sliding_force() {
+    let (n, l) = (64, 6.4e-6);
+    let p = rough_pressure(n, l, 5e-4);
+    let mut solver = periodic_solver(&p, n, l);
+    let onset = elastic_onset(&mut solver, &instant(0.5, 0.5), |_| {}).unwrap();
+    let last = onset.curve.last().unwrap();
+    let largest = onset.curve.iter().map(|c| c.force_n).fold(0.0, f64::max);
+    eprintln!(
+        "Coulomb: path's largest force {:.9} μN, last {:.9} μN, {} points",
+        largest / (0.5 * onset.normal_force),
+        last.force_n / (0.5 * onset.normal_force),
+        solver.points().len()
+    );
+    assert!(largest < 0.5 * onset.normal_force * (1.0 - 1e-6), "the path itself stays below μN");
+    assert!((onset.friction_drop() - 1.0).abs() < 1e-12, "{}", onset.friction_drop());
+    assert!(onset.peak.point.displacement_m.is_infinite());
+    assert_eq!(onset.slipped.count, solver.points().len());
+    assert!(onset
+        .peak
+        .traction
+        .iter()
+        .zip(solver.pressure())
+        .all(|(q, p)| q[1] == 0.0 && (q[0] - 0.5 * p).abs() <= 1e-12 * p));
+}

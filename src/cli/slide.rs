@@ -147,7 +147,8 @@ struct OnsetReport {
     static_coefficient: f64,
     dynamic_coefficient: f64,
     friction_drop: f64,
-    peak_displacement_m: f64,
+    /// None (null) when F_S is the steady sliding force, reached as δ → ∞.
+    peak_displacement_m: Option<f64>,
     stuck: ClassShare,
     critical: ClassShare,
     slipped: ClassShare,
@@ -266,7 +267,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             static_coefficient: onset.static_coefficient(),
             dynamic_coefficient: law.mu_d,
             friction_drop: onset.friction_drop(),
-            peak_displacement_m: onset.peak.point.displacement_m,
+            peak_displacement_m: Some(onset.peak.point.displacement_m).filter(|d| d.is_finite()),
             stuck: onset.stuck,
             critical: onset.critical,
             slipped: onset.slipped,
@@ -382,6 +383,10 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     )?;
     let report = solver.solve(load, |_, _| {})?;
     eprintln!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds);
+    // As `contact` warns: a contact cut by the window, or pressures beyond belief.
+    for w in contact::summarize(solver.pressure(), shape, size, boundary, None).warnings() {
+        eprintln!("warning: at {load:e} N: {w} (`asperity contact` levels, crops and caps; `slide` takes its folder)");
+    }
     Ok(Normal { pressure: solver.pressure().to_vec(), shape, size, boundary, load })
 }
 

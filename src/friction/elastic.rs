@@ -11,7 +11,9 @@
 //! coefficients are updated from the new slip and the step is solved again at the same δ
 //! (a slip cascade) until no bound changes. F(δ) = Σ q_x · a; F_S is its largest value along
 //! the path, located by going back to the step before it and repeating that stretch with
-//! finer steps.
+//! finer steps. Once every point slides, the tractions turn towards x as δ grows and F tends
+//! to the sliding force Σ μ p a (μ_d N for the instant drop): F_S is never below it, though
+//! the path stops at total sliding with tractions still turned by the elastic coupling.
 
 use serde::Serialize;
 
@@ -172,10 +174,11 @@ pub struct SlideWork {
 pub struct ElasticOnset {
     /// N = Σ p · a [N].
     pub normal_force: f64,
-    /// F_S: the largest tangential force along the path [N].
+    /// F_S: the largest tangential force along the path, or, when the path reaches total
+    /// sliding below it, the sliding force Σ μ p a it tends to as δ → ∞ [N].
     pub static_force: f64,
     pub mu_d: f64,
-    /// The state at the largest force.
+    /// The state at the largest force (the steady sliding state at δ = ∞ when that is it).
     pub peak: Snapshot,
     /// Per class at the peak: stuck, critical, slipped.
     pub stuck: ClassShare,
@@ -369,6 +372,21 @@ impl<'a> Path<'a> {
         sum * self.solver.pixel_area()
     }
 
+    /// The steady sliding state the path tends to once the interface slides as a whole: every
+    /// traction at its bound along x, at δ = ∞.
+    fn sliding_limit(&self) -> Snapshot {
+        let st = &self.state;
+        let p = self.solver.pressure();
+        let traction: Vec<[f64; 2]> =
+            (0..p.len()).map(|i| [self.law.mu(st.path[i], st.slipped[i]) * p[i], 0.0]).collect();
+        let force = traction.iter().map(|q| q[0]).sum::<f64>() * self.solver.pixel_area();
+        Snapshot {
+            point: SlidePoint { displacement_m: f64::INFINITY, force_n: force, stick_points: 0, slip_points: p.len() },
+            traction,
+            classes: vec![SlideClass::Slipped; p.len()],
+        }
+    }
+
     /// Whether the interface slides as a whole and nothing changes any more.
     fn sliding(&self, point: &SlidePoint) -> bool {
         point.stick_points == 0
@@ -429,7 +447,7 @@ pub fn elastic_onset(
                    until: Option<f64>,
                    curve: &mut Vec<SlidePoint>,
                    best: &mut Option<(Snapshot, State)>|
-     -> Result<()> {
+     -> Result<bool> {
         path.go_back(start);
         for k in 1..=MAX_STEPS {
             let before = path.state.clone();
@@ -448,18 +466,23 @@ pub fn elastic_onset(
             let largest = best.as_ref().map_or(0.0, |(s, _)| s.point.force_n);
             progress(SlideProgress { pass, point, largest_force_n: largest, work: path.work });
             if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) {
-                return Ok(());
+                return Ok(false);
             }
             // The path ends at total sliding, or once no later state can exceed the largest
             // force seen.
-            if until.is_none() && (path.sliding(&point) || path.ceiling() <= largest) {
-                return Ok(());
+            if until.is_none() && path.sliding(&point) {
+                return Ok(true);
+            }
+            if until.is_none() && path.ceiling() <= largest {
+                return Ok(false);
             }
         }
         Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
     };
     let origin = path.state.clone();
-    run(&mut path, 0, &origin, h, None, &mut curve, &mut best)?;
+    // Past total sliding the tractions turn towards x: F rises to the sliding force Σ μ p a,
+    // reached as δ → ∞, and no state of the path can carry more.
+    let limit = run(&mut path, 0, &origin, h, None, &mut curve, &mut best)?.then(|| path.sliding_limit());
     for pass in 1..=REFINEMENTS {
         let start = best.as_ref().expect("a path has states").1.clone();
         let end = start.delta + 2.0 * h;
@@ -472,7 +495,10 @@ pub fn elastic_onset(
     }
     // Stable: at one δ the force before its cascade stays ahead of the settled one.
     curve.sort_by(|a, b| a.displacement_m.total_cmp(&b.displacement_m));
-    let (peak, _) = best.expect("a path has states");
+    let (mut peak, _) = best.expect("a path has states");
+    if let Some(limit) = limit.filter(|l| l.point.force_n > peak.point.force_n) {
+        peak = limit;
+    }
     let elements = peak
         .classes
         .iter()
@@ -521,6 +547,17 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
         hi = (point.displacement_m, point.force_n);
         if hi.1 >= force {
             break;
+        }
+        if path.sliding(&point) {
+            // The elastic coupling keeps the tractions turned off x: F only tends to μN.
+            return Err(Error::invalid(
+                "--tangential-force",
+                format!(
+                    "the interface slides as a whole at {:.6e} N ({:.6} μN), below {force} N: a partial-slip state needs less",
+                    point.force_n,
+                    point.force_n / (mu * normal_force)
+                ),
+            ));
         }
     }
     if hi.1 < force {
