@@ -136,8 +136,14 @@ impl TangentialSolver {
         if !(size.0 > 0.0 && size.1 > 0.0 && size.0.is_finite() && size.1.is_finite()) {
             return Err(Error::invalid("--size", format!("must be positive and finite, got {}×{} m", size.0, size.1)));
         }
-        if !(options.tolerance > 0.0 && options.max_iterations > 0) {
-            return Err(Error::invalid("tangential solver", "needs a positive tolerance and iteration limit"));
+        if !(options.tolerance > 0.0 && options.tolerance.is_finite()) {
+            return Err(Error::invalid(
+                "--tolerance",
+                format!("must be positive and finite, got {}", options.tolerance),
+            ));
+        }
+        if options.max_iterations == 0 {
+            return Err(Error::invalid("--max-iter", "must be at least 1"));
         }
         let points: Vec<usize> = (0..pressure.len()).filter(|&i| pressure[i] > 0.0).collect();
         if points.is_empty() {

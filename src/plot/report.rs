@@ -79,7 +79,7 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
         if input.topographies.len() == 1 { "y" } else { "ies" },
         input.laws.len(),
         if input.laws.len() == 1 { "" } else { "s" },
-        input.rows.len()
+        input.rows.len() + input.elastic_rows.len()
     );
 
     // Plausibility first: a result a physicist knows is doubtful says so before any figure.
