@@ -642,7 +642,7 @@ impl ContactSolver {
                 }
                 exact = true;
                 if !progress(iterations.done(), residual) {
-                    return Err(self.interrupted(load));
+                    return Err(Self::interrupted(load));
                 }
                 continue;
             }
@@ -651,7 +651,7 @@ impl ContactSolver {
             (shifts, residual) = self.step(&shifts, beta, step, total, p_mean, norm)?;
             exact = false;
             if !progress(iterations.done(), residual) {
-                return Err(self.interrupted(load));
+                return Err(Self::interrupted(load));
             }
         }
         self.warm = true;
@@ -667,7 +667,7 @@ impl ContactSolver {
     }
 
     /// The error of a solve stopped by its caller.
-    fn interrupted(&self, load: f64) -> Error {
+    fn interrupted(load: f64) -> Error {
         Error::Interrupted { what: format!("contact solve at {load} N") }
     }
 

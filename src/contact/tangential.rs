@@ -329,15 +329,7 @@ impl TangentialSolver {
                     .with_min_len(CHUNK)
                     .for_each(|((c, (q, u)), (b, g))| *c = turning(*q, *u, *b, *g));
                 let k = self.diagonal(&mut applications);
-                self.direction
-                    .par_iter_mut()
-                    .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
-                    .zip(target.par_iter().zip(bound.par_iter().zip(self.curvature.par_iter())))
-                    .with_min_len(CHUNK)
-                    .for_each(|((p, (q, u)), (b, (g, c)))| {
-                        let phi = gradient_parts(*q, *u, *b, *g).0;
-                        *p = [phi[0] * k / (k + c), phi[1] * k / (k + c)];
-                    });
+                self.conjugate_direction(target, bound, k, None);
                 restart = false;
             }
             self.apply_direction();
@@ -378,20 +370,11 @@ impl TangentialSolver {
                     .zip(self.product.par_iter().zip(self.direction.par_iter().zip(self.curvature.par_iter())))
                     .with_min_len(CHUNK)
                     .map(|(((q, u), (b, g)), (w, (p, c)))| {
-                        let phi = gradient_parts(*q, *u, *b, *g).0;
-                        dot(phi, [w[0] + c * p[0], w[1] + c * p[1]]) * k / (k + c)
+                        dot(preconditioned(gradient_parts(*q, *u, *b, *g).0, k, *c), [w[0] + c * p[0], w[1] + c * p[1]])
                     })
                     .sum::<f64>()
                     / pw;
-                self.direction
-                    .par_iter_mut()
-                    .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
-                    .zip(target.par_iter().zip(bound.par_iter().zip(self.curvature.par_iter())))
-                    .with_min_len(CHUNK)
-                    .for_each(|((p, (q, u)), (b, (g, c)))| {
-                        let z = gradient_parts(*q, *u, *b, *g).0.map(|x| x * k / (k + c));
-                        *p = tangent_if_held([z[0] - gamma * p[0], z[1] - gamma * p[1]], *q, *g);
-                    });
+                self.conjugate_direction(target, bound, k, Some(gamma));
             } else {
                 // Expansion step: as far as the bounds allow, then a projected gradient step
                 // of fixed length on the free gradient, which can put many points on their
@@ -428,6 +411,24 @@ impl TangentialSolver {
             .zip(target.par_iter().zip(bound.par_iter()))
             .with_min_len(CHUNK)
             .for_each(|((p, (q, u)), (b, g))| *p = part(gradient_parts(*q, *u, *b, *g)));
+    }
+
+    /// direction ← the preconditioned free gradient z, made conjugate to the last direction p
+    /// with `gamma` (z − γ p, without its radial part at the points held on their bounds), or
+    /// z alone at a restart (`None`). `k` is K's diagonal.
+    fn conjugate_direction(&mut self, target: &[[f64; 2]], bound: &[f64], k: f64, gamma: Option<f64>) {
+        self.direction
+            .par_iter_mut()
+            .zip(self.traction.par_iter().zip(self.displacement.par_iter()))
+            .zip(target.par_iter().zip(bound.par_iter().zip(self.curvature.par_iter())))
+            .with_min_len(CHUNK)
+            .for_each(|((p, (q, u)), (b, (g, c)))| {
+                let z = preconditioned(gradient_parts(*q, *u, *b, *g).0, k, *c);
+                *p = match gamma {
+                    Some(gamma) => tangent_if_held([z[0] - gamma * p[0], z[1] - gamma * p[1]], *q, *g),
+                    None => z,
+                };
+            });
     }
 
     /// product ← K direction.
@@ -572,6 +573,13 @@ fn gradient_parts(q: [f64; 2], u: [f64; 2], b: [f64; 2], g: f64) -> ([f64; 2], [
     let along = [r[0] - radial * n[0], r[1] - radial * n[1]];
     // The descent −r points into the disk where the radial part is positive.
     (along, if radial > 0.0 { [radial * n[0], radial * n[1]] } else { [0.0; 2] })
+}
+
+/// The free gradient φ at a point scaled by the inverse of the Hessian's diagonal there (K's
+/// diagonal k plus the curvature term c), times k: free points keep φ.
+fn preconditioned(phi: [f64; 2], k: f64, c: f64) -> [f64; 2] {
+    let s = k / (k + c);
+    [phi[0] * s, phi[1] * s]
 }
 
 /// q projected onto the disk |q| ≤ g.

@@ -470,18 +470,20 @@ pub fn elastic_onset(
             }
             // The path ends at total sliding, or once no later state can exceed the largest
             // force seen.
-            if until.is_none() && path.sliding(&point) {
-                return Ok(true);
-            }
-            if until.is_none() && path.ceiling() <= largest {
-                return Ok(false);
+            if until.is_none() {
+                if path.sliding(&point) {
+                    return Ok(true);
+                }
+                if path.ceiling() <= largest {
+                    return Ok(false);
+                }
             }
         }
         Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
     };
     let origin = path.state.clone();
-    // Past total sliding the tractions turn towards x: F rises to the sliding force Σ μ p a,
-    // reached as δ → ∞, and no state of the path can carry more.
+    // Past total sliding the tractions turn towards x: F tends to the sliding force Σ μ p a,
+    // reached as δ → ∞.
     let limit = run(&mut path, 0, &origin, h, None, &mut curve, &mut best)?.then(|| path.sliding_limit());
     for pass in 1..=REFINEMENTS {
         let start = best.as_ref().expect("a path has states").1.clone();

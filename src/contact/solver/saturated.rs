@@ -100,7 +100,7 @@ impl ContactSolver {
             let [complementarity, gap_norm, opening, penetration] = sum_rows(&sums);
             let residual = (complementarity + opening + p_mean * penetration) / norm;
             if iterations.done() > 0 && !progress(iterations.done(), residual) {
-                return Err(self.interrupted(load));
+                return Err(Self::interrupted(load));
             }
             if residual <= self.options.tolerance {
                 break residual;
