@@ -424,3 +424,33 @@ fn coulomb_friction_gives_the_sliding_force() {
         .zip(solver.pressure())
         .all(|(q, p)| q[1] == 0.0 && (q[0] - 0.5 * p).abs() <= 1e-12 * p));
 }
+
+/// F_S is the largest force on the curve, in a stretch of the finest steps: a coarse step's
+/// force before its cascade, which finer steps lower, is never taken for it.
+#[test]
+fn static_force_is_the_curves_largest_at_the_finest_steps() {
+    for (n, load) in [(64, 5e-4), (64, 2e-3)] {
+        let l = n as f64 * 1e-7;
+        let p = rough_pressure(n, l, load);
+        let mut solver = periodic_solver(&p, n, l);
+        let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+        let curve = &onset.curve;
+        let top = (0..curve.len()).fold(0, |b, i| if curve[i].force_n > curve[b].force_n { i } else { b });
+        let peak = onset.peak.point;
+        eprintln!(
+            "{n}², {load} N: F_S {:.9e} N, curve's largest {:.9e} N at δ {:.6e} m, peak δ {:.6e} m, {} points",
+            onset.static_force,
+            curve[top].force_n,
+            curve[top].displacement_m,
+            peak.displacement_m,
+            solver.points().len()
+        );
+        assert_eq!(onset.static_force, curve[top].force_n);
+        assert_eq!(peak, curve[top]);
+        // The step into the peak is of the finest length on the whole curve.
+        let spacing: Vec<f64> = curve.windows(2).map(|w| w[1].displacement_m - w[0].displacement_m).collect();
+        let finest = spacing.iter().copied().filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
+        let before = curve[..top].iter().rev().find(|c| c.displacement_m < peak.displacement_m).unwrap();
+        assert!(peak.displacement_m - before.displacement_m <= finest * (1.0 + 1e-6), "{finest:e}");
+    }
+}

@@ -10,8 +10,9 @@
 //! (c_i the slip accumulated so far), bounds μ_i p_i; when the solve makes points slip, their
 //! coefficients are updated from the new slip and the step is solved again at the same δ
 //! (a slip cascade) until no bound changes. F(δ) = Σ q_x · a; F_S is its largest value along
-//! the path, located by going back to the step before it and repeating that stretch with
-//! finer steps. Once every point slides, the tractions turn towards x as δ grows and F tends
+//! the path. A coarse step overestimates the force before its cascade, so the step holding the
+//! largest force is repeated from its start with finer steps, until that force lies in a step
+//! of the finest length. Once every point slides, the tractions turn towards x as δ grows and F tends
 //! to the sliding force Σ μ p a (μ_d N for the instant drop): F_S is never below it, though
 //! the path stops at total sliding with tractions still turned by the elastic coupling.
 
@@ -184,9 +185,9 @@ pub struct ElasticOnset {
     pub stuck: ClassShare,
     pub critical: ClassShare,
     pub slipped: ClassShare,
-    /// F(δ) along the path, in increasing δ: the coarse path with the stretch around the peak
-    /// replaced by its refinement; at a δ where a cascade happens, the force before it and
-    /// after it.
+    /// F(δ) along the path, in increasing δ: the coarse path with each refined step replaced by
+    /// its finer steps; at a δ where a cascade happens, the force before it and after it. Its
+    /// largest force is F_S unless that is the sliding limit.
     pub curve: Vec<SlidePoint>,
     pub work: SlideWork,
 }
@@ -402,23 +403,137 @@ fn at_bound(q: [f64; 2], g: f64) -> bool {
 /// Where a path is, after each displacement step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlideProgress {
-    /// 0 on the path from δ = 0; k = 1..=6 on the k-th refinement of the stretch around the
-    /// largest force.
+    /// The refinement level of the step: 0 on the path from δ = 0, k = 1..=6 on a step k times
+    /// refined (four times finer each time).
     pub pass: usize,
     /// The state after the step (its cascade settled).
     pub point: SlidePoint,
-    /// The largest force so far [N].
+    /// The largest force reached so far [N].
     pub largest_force_n: f64,
     /// Work done so far.
     pub work: SlideWork,
 }
 
-/// Refinement passes after the path from δ = 0 (the last [`SlideProgress::pass`]).
+/// The finest refinement level (the largest [`SlideProgress::pass`]).
 pub const SLIDE_PASSES: usize = REFINEMENTS;
 
+/// One displacement step of the path at a refinement level (0 on the path from δ = 0).
+struct Step {
+    level: usize,
+    /// δ at its start [m]; it ends one step length of its level later.
+    from: f64,
+    /// Its points on the curve: the force before its cascade, the largest force it reached
+    /// when that is another (a measured law can raise bounds), and the settled force.
+    points: Vec<SlidePoint>,
+    /// The largest force it reached.
+    largest: SlidePoint,
+    /// While the step may hold F_S: the state at its start and the snapshot at `largest`.
+    kept: Option<Box<(State, Snapshot)>>,
+}
+
+impl Step {
+    /// The state at its start and the snapshot at its largest force, which only a step far
+    /// below the largest force lacks.
+    fn kept(&self) -> Result<&(State, Snapshot)> {
+        self.kept.as_deref().ok_or_else(|| {
+            Error::invalid(
+                "sliding onset",
+                format!("the state before the largest force (δ = {:.3e} m) was not kept", self.from),
+            )
+        })
+    }
+}
+
+/// The steps of a path: the coarse path with each refined step replaced by its finer steps.
+struct Steps {
+    live: Vec<Step>,
+    /// The largest force any step reached [N].
+    largest: f64,
+    /// The largest settled force [N]: the path from δ = 0 ends once no later state can exceed it.
+    settled: f64,
+    /// Steps more than this below `largest` [N] can never hold F_S; their states are dropped.
+    band: f64,
+}
+
+impl Steps {
+    /// Steps from `start` with length `h` to δ = `until`, or (`None`) to total sliding or until
+    /// no later state can exceed the largest settled force. Returns whether the path reached
+    /// total sliding.
+    fn run(
+        &mut self,
+        path: &mut Path,
+        level: usize,
+        start: &State,
+        h: f64,
+        until: Option<f64>,
+        progress: &mut impl FnMut(SlideProgress),
+    ) -> Result<bool> {
+        path.go_back(start);
+        for k in 1..=MAX_STEPS {
+            let before = path.state.clone();
+            let delta = start.delta + h * k as f64;
+            let floor = self.largest - self.band;
+            let mut largest: Option<SlidePoint> = None;
+            let mut snapshot = None;
+            let mut visit = |p: &Path, point: SlidePoint| {
+                if largest.is_none_or(|l| point.force_n > l.force_n) {
+                    largest = Some(point);
+                    if point.force_n >= floor {
+                        snapshot = Some(p.snapshot(point));
+                    }
+                }
+            };
+            let (first, settled) = path.step(delta, &mut visit)?;
+            let largest = largest.expect("a step solves");
+            let mut points = vec![first];
+            for p in [largest, settled] {
+                if !points.contains(&p) {
+                    points.push(p);
+                }
+            }
+            if largest.force_n > self.largest {
+                self.largest = largest.force_n;
+                let floor = self.largest - self.band;
+                for s in self.live.iter_mut().filter(|s| s.largest.force_n < floor) {
+                    s.kept = None;
+                }
+            }
+            self.settled = self.settled.max(settled.force_n);
+            let kept = snapshot.map(|s| Box::new((before, s)));
+            self.live.push(Step { level, from: start.delta + h * (k - 1) as f64, points, largest, kept });
+            progress(SlideProgress { pass: level, point: settled, largest_force_n: self.largest, work: path.work });
+            if let Some(end) = until {
+                if delta >= end * (1.0 - 1e-12) {
+                    return Ok(false);
+                }
+            } else if path.sliding(&settled) {
+                return Ok(true);
+            } else if path.ceiling() <= self.settled {
+                return Ok(false);
+            }
+        }
+        Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
+    }
+
+    /// The live step with the largest force (the first of equals).
+    fn peak(&self) -> usize {
+        let mut best = 0;
+        for (i, s) in self.live.iter().enumerate() {
+            if s.largest.force_n > self.live[best].largest.force_n {
+                best = i;
+            }
+        }
+        best
+    }
+}
+
 /// The sliding onset of the contact set of `solver` under `law`: displacement-controlled path
-/// to total sliding (or until no later state can exceed the largest force seen), the largest
-/// force located to 1/4⁶ of the first steps. `progress` hears of every step.
+/// to total sliding (or until no later state can exceed the largest force seen). A coarse
+/// step overestimates the force before its cascade (its points held bounds that finer steps
+/// would have seen fall earlier), so the step with the largest force is repeated from its
+/// start, with the step after it, in steps four times finer, in their place, until the largest
+/// force lies in a step refined six times: F_S, located to 1/(64·4⁶) of μ_s N / k_t, is the
+/// largest force on the curve. `progress` hears of every step.
 pub fn elastic_onset(
     solver: &mut TangentialSolver,
     law: &SlipLaw,
@@ -431,76 +546,51 @@ pub fn elastic_onset(
     if !(k > 0.0 && k.is_finite()) {
         return Err(Error::invalid("sliding onset", format!("the stuck tangential stiffness is {k} N/m")));
     }
-    let mut h = law.mu_s * normal_force / k / STEPS as f64;
+    let h0 = law.mu_s * normal_force / k / STEPS as f64;
+    let length = |level: usize| h0 / (REFINE as f64).powi(level as i32);
+    // A step's force gain is at most k h (fixed bounds only soften it), and its refinement
+    // reaches at least the force at its start: a step k h₀ below the largest force cannot hold
+    // F_S. Twice that, for a measured law's rising bounds.
+    let mut steps = Steps { live: Vec::new(), largest: 0.0, settled: 0.0, band: 2.0 * k * h0 };
+    let origin = path.state.clone();
+    // Past total sliding the tractions turn towards x: F tends to the sliding force Σ μ p a,
+    // reached as δ → ∞.
+    let limit = steps.run(&mut path, 0, &origin, h0, None, &mut progress)?.then(|| path.sliding_limit());
+    let top = loop {
+        let i = steps.peak();
+        let level = steps.live[i].level;
+        if level == REFINEMENTS {
+            break i;
+        }
+        let step = steps.live.swap_remove(i);
+        let start = step.kept()?.0.clone();
+        let h = length(level);
+        // The step after it too, when it is of the same level (or the path ended there): the
+        // finer path may peak just past the coarse step.
+        let next = steps.live.iter().position(|s| (s.from - (step.from + h)).abs() <= 1e-9 * h);
+        let end = match next {
+            Some(j) if steps.live[j].level == level => {
+                steps.live.swap_remove(j);
+                step.from + 2.0 * h
+            }
+            Some(_) => step.from + h,
+            None => step.from + 2.0 * h,
+        };
+        steps.run(&mut path, level + 1, &start, length(level + 1), Some(end), &mut progress)?;
+    };
+    let mut peak = steps.live[top].kept()?.1.clone();
+    if let Some(limit) = limit.filter(|l| l.point.force_n > peak.point.force_n) {
+        peak = limit;
+    }
+    let mut live = steps.live;
+    live.sort_by(|a, b| a.from.total_cmp(&b.from));
     let mut curve = vec![SlidePoint {
         displacement_m: 0.0,
         force_n: 0.0,
         stick_points: path.solver.points().len(),
         slip_points: 0,
     }];
-    // The largest force seen, its state, and the state at the start of its step.
-    let mut best: Option<(Snapshot, State)> = None;
-    let mut run = |path: &mut Path,
-                   pass: usize,
-                   start: &State,
-                   h: f64,
-                   until: Option<f64>,
-                   curve: &mut Vec<SlidePoint>,
-                   best: &mut Option<(Snapshot, State)>|
-     -> Result<bool> {
-        path.go_back(start);
-        for k in 1..=MAX_STEPS {
-            let before = path.state.clone();
-            let delta = start.delta + h * k as f64;
-            let mut record = |p: &Path, point: SlidePoint| {
-                if best.as_ref().is_none_or(|(s, _)| point.force_n > s.point.force_n) {
-                    *best = Some((p.snapshot(point), before.clone()));
-                }
-            };
-            let (first, point) = path.step(delta, &mut record)?;
-            if first != point {
-                // The force before the cascade: the curve drops at this δ.
-                curve.push(first);
-            }
-            curve.push(point);
-            let largest = best.as_ref().map_or(0.0, |(s, _)| s.point.force_n);
-            progress(SlideProgress { pass, point, largest_force_n: largest, work: path.work });
-            if until.is_some_and(|end| delta >= end * (1.0 - 1e-12)) {
-                return Ok(false);
-            }
-            // The path ends at total sliding, or once no later state can exceed the largest
-            // force seen.
-            if until.is_none() {
-                if path.sliding(&point) {
-                    return Ok(true);
-                }
-                if path.ceiling() <= largest {
-                    return Ok(false);
-                }
-            }
-        }
-        Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
-    };
-    let origin = path.state.clone();
-    // Past total sliding the tractions turn towards x: F tends to the sliding force Σ μ p a,
-    // reached as δ → ∞.
-    let limit = run(&mut path, 0, &origin, h, None, &mut curve, &mut best)?.then(|| path.sliding_limit());
-    for pass in 1..=REFINEMENTS {
-        let start = best.as_ref().expect("a path has states").1.clone();
-        let end = start.delta + 2.0 * h;
-        h /= REFINE as f64;
-        let mut finer = Vec::new();
-        run(&mut path, pass, &start, h, Some(end), &mut finer, &mut best)?;
-        // The refined stretch replaces the coarser one.
-        curve.retain(|p| p.displacement_m <= start.delta || p.displacement_m > end * (1.0 + 1e-12));
-        curve.extend(finer);
-    }
-    // Stable: at one δ the force before its cascade stays ahead of the settled one.
-    curve.sort_by(|a, b| a.displacement_m.total_cmp(&b.displacement_m));
-    let (mut peak, _) = best.expect("a path has states");
-    if let Some(limit) = limit.filter(|l| l.point.force_n > peak.point.force_n) {
-        peak = limit;
-    }
+    curve.extend(live.iter().flat_map(|s| s.points.iter().copied()));
     let elements = peak
         .classes
         .iter()
