@@ -13,7 +13,7 @@ use asperity::contact::{
 };
 use asperity::friction::{
     elastic_onset, law_from_curve, parse_curve, ramp_force, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork,
-    SlipLaw, Snapshot, Weakening, SLIDE_PASSES,
+    SlipLaw, Snapshot, Weakening, SLIDE_LEVELS,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -222,15 +222,16 @@ pub fn run(args: SlideArgs) -> Result<()> {
             report.work.seconds
         );
     } else {
-        // Pass 0 is the path from δ = 0, passes 1… refine the stretch around the largest force.
-        let bar = super::progress_bar(SLIDE_PASSES as u64 + 1, "sliding");
+        // Level 0 is the path from δ = 0, levels 1… the refinements of the step holding the
+        // largest force; the bar shows the finest level reached.
+        let bar = super::progress_bar(SLIDE_LEVELS as u64 + 1, "sliding");
         let batch = !std::io::stderr().is_terminal();
         let mut last_line = Instant::now();
         let onset = elastic_onset(&mut solver, &law, |p| {
             let line = format!(
-                "pass {}/{}: δ {:.4e} m, F {:.4e} N (largest {:.4e} N), {} stuck, {} slipping; {} steps, {} solves",
-                p.pass,
-                SLIDE_PASSES,
+                "level {}/{}: δ {:.4e} m, F {:.4e} N (largest {:.4e} N), {} stuck, {} slipping; {} steps, {} solves",
+                p.level,
+                SLIDE_LEVELS,
                 p.point.displacement_m,
                 p.point.force_n,
                 p.largest_force_n,
@@ -245,7 +246,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
                     eprintln!("sliding: {line} after {:.0} s", start.elapsed().as_secs_f64());
                 }
             } else {
-                bar.set_position(p.pass as u64);
+                bar.set_position(bar.position().max(p.level as u64));
                 bar.set_message(line);
             }
         });

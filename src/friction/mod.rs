@@ -17,7 +17,7 @@ mod onset;
 pub use curve::{write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
     elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideWork, SlipLaw, Snapshot,
-    Weakening, SLIDE_PASSES,
+    Weakening, SLIDE_LEVELS,
 };
 pub use law::{law_from_curve, parse_curve, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
