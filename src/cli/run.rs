@@ -28,8 +28,9 @@ use asperity::Result;
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
 /// and 100 mN), pressure/ (every map, if the study asks), figures/ and index.html.
 ///
-/// Resumable: finished solves are kept in DIR/solves, and running the same study into the same
-/// DIR continues where an interrupted run stopped, with the same results. One writer per
+/// Resumable: finished solves (with elastic sharing, each finished onset too) are kept in
+/// DIR/solves, and running the same study into the same DIR continues where an interrupted run
+/// stopped, with the same results. One writer per
 /// topography: a second run into a DIR where another works on the same topographies is
 /// refused (or waits, with --wait).
 #[derive(Args)]
