@@ -190,12 +190,24 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
     };
     let e = study.run(&out, false, &stop).unwrap_err();
     assert!(matches!(e, asperity::Error::Interrupted { .. }), "{e}");
-    // Each sweep stopped at its first load's first onset, before its record.
-    let records = |t: &str| match std::fs::read_dir(out.join("solves/topographies").join(t)) {
-        Ok(entries) => entries.filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".json")).count(),
-        Err(_) => 0,
+    // Each sweep stopped at its first load's first onset, before its record: its normal solve
+    // and that onset are recorded (a sweep the stop kept from starting has none).
+    let names = |t: &str| {
+        let mut n: Vec<String> = std::fs::read_dir(out.join("solves/topographies").join(t))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        n.sort();
+        n
     };
-    assert_eq!(records("a") + records("b"), 0);
+    let mut parts = 0;
+    for t in ["a", "b"] {
+        if names(t) != ["loads-00-02.lock"] {
+            assert_eq!(names(t), ["00-elastic-00.json", "00-normal.json", "loads-00-02.lock", "warm-00.npy"]);
+            parts += 1;
+        }
+    }
+    assert!(parts > 0);
 
     let slid = std::sync::atomic::AtomicUsize::new(0);
     let count = |event: Progress| {
@@ -205,8 +217,79 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
         }
     };
     let outcome = study.run(&out, false, &count).unwrap();
-    assert_eq!(outcome.solved + outcome.resumed, 6);
-    // Two laws' onsets for each solve run now, none for those resumed.
-    assert_eq!(slid.into_inner(), 2 * outcome.solved);
+    assert_eq!((outcome.solved, outcome.resumed, outcome.onsets_resumed), (6, 0, parts));
+    // Two laws' onsets for each solve run now, but those recorded before the stop.
+    assert_eq!(slid.into_inner(), 2 * outcome.solved - parts);
     assert_eq!(outcome.rows.iter().filter(|r| r.sharing == asperity::study::Sharing::Elastic).count(), 12);
+    // The solves' parts gave way to their records.
+    for t in ["a", "b"] {
+        assert_eq!(names(t), ["00.json", "01.json", "02.json", "loads-00-02.lock"]);
+    }
+}
+
+/// The rows without their timings.
+fn untimed(rows: &[asperity::study::Row]) -> Vec<asperity::study::Row> {
+    let mut rows = rows.to_vec();
+    for r in &mut rows {
+        r.seconds = 0.0;
+        r.slide_seconds = r.slide_seconds.map(|_| 0.0);
+    }
+    rows
+}
+
+#[test]
+fn an_elastic_onset_finished_before_a_stop_is_not_run_again() {
+    use asperity::study::config::StudyConfig;
+    use asperity::study::run::{Progress, Study};
+    use std::ops::ControlFlow;
+    use std::sync::Mutex;
+
+    let dir = tempfile::tempdir().unwrap();
+    // One ball (one worker, so the stop falls where asked), three loads, two laws.
+    let ball = BALLS.split("\n[[topography]]").nth(1).unwrap();
+    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
+    let config = StudyConfig::parse(&format!("[[topography]]{ball}{rest}"), "study.toml").unwrap();
+    let study = Study::prepare(config, "study.toml").unwrap();
+    let (loads, laws) = (study.loads().to_vec(), study.laws().to_vec());
+    assert_eq!((loads.len(), laws.len()), (3, 2));
+    let first_law = asperity::study::law_name(&laws[0]);
+    let whole = study.run(&dir.path().join("whole"), false, &|_: Progress| ()).unwrap();
+
+    // Stopped once the first law's onset at the second load is done: the first load's solve is
+    // recorded, the second's normal solve and that onset too.
+    let out = dir.path().join("stopped");
+    let stop = |event: Progress| match event {
+        Progress::Slid { load_n, law, .. } if load_n == loads[1] && law == first_law => ControlFlow::Break(()),
+        _ => ControlFlow::Continue(()),
+    };
+    assert!(matches!(study.run(&out, false, &stop), Err(asperity::Error::Interrupted { .. })));
+    let folder = out.join("solves/topographies/a");
+    for part in ["00.json", "01-normal.json", "01-elastic-00.json", "warm-01.npy"] {
+        assert!(folder.join(part).is_file(), "{part}");
+    }
+
+    let slid = Mutex::new(Vec::new());
+    let solved = Mutex::new(Vec::new());
+    let resumed = study
+        .run(&out, false, &|event: Progress| match event {
+            Progress::Slid { load_n, law, .. } => slid.lock().unwrap().push((load_n, law.to_string())),
+            Progress::Solved { load_n, .. } => solved.lock().unwrap().push(load_n),
+            Progress::Start { .. } => {}
+        })
+        .unwrap();
+    assert_eq!((resumed.solved, resumed.resumed, resumed.onsets_resumed), (2, 1, 1));
+    let second_law = asperity::study::law_name(&laws[1]);
+    let expected = [(loads[1], second_law.clone()), (loads[2], first_law.clone()), (loads[2], second_law.clone())];
+    assert_eq!(slid.into_inner().unwrap(), expected);
+    assert_eq!(solved.into_inner().unwrap(), [loads[1], loads[2]]);
+    // The same results as the uninterrupted run, bit for bit apart from the timings; the
+    // second load's solve went on from the first's solution, as in the whole run.
+    assert_eq!(untimed(&resumed.rows), untimed(&whole.rows));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("01.json")).unwrap()).unwrap();
+    assert_eq!(record["cold"], false);
+    let mut names: Vec<String> =
+        std::fs::read_dir(&folder).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.sort();
+    assert_eq!(names, ["00.json", "01.json", "02.json", "loads-00-02.lock"]);
 }

@@ -28,8 +28,9 @@ use asperity::Result;
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
 /// and 100 mN), pressure/ (every map, if the study asks), figures/ and index.html.
 ///
-/// Resumable: finished solves are kept in DIR/solves, and running the same study into the same
-/// DIR continues where an interrupted run stopped, with the same results. One writer per
+/// Resumable: finished solves (with elastic sharing, each finished onset too) are kept in
+/// DIR/solves, and running the same study into the same DIR continues where an interrupted run
+/// stopped, with the same results. One writer per
 /// topography: a second run into a DIR where another works on the same topographies is
 /// refused (or waits, with --wait).
 #[derive(Args)]
@@ -124,11 +125,17 @@ pub fn run(args: RunArgs) -> Result<()> {
     let grid = study.config().contact.grid.map_or(String::new(), |(nx, ny)| format!(" on {nx}×{ny}"));
     let seconds = start.elapsed().as_secs_f64();
     let (topographies, loads) = (study.topographies().len(), study.loads().len());
+    // The onsets an interrupted solve had finished; the solve counts as solved now.
+    let onsets = match outcome.onsets_resumed {
+        0 => String::new(),
+        1 => ", 1 elastic onset of an interrupted solve resumed".to_string(),
+        n => format!(", {n} elastic onsets of interrupted solves resumed"),
+    };
     if let Some(shard) = args.shard {
         let (solved, resumed, share) = (outcome.solved, outcome.resumed, outcome.share);
         eprintln!(
             "shard {shard} of {topographies} topographies{grid} × {loads} loads: {share} solves, {solved} solved, \
-             {resumed} resumed, in {seconds:.1} s"
+             {resumed} resumed{onsets}, in {seconds:.1} s"
         );
         eprintln!(
             "wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures"
@@ -136,7 +143,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         return Ok(());
     }
     eprintln!(
-        "{topographies} topographies{grid} × {loads} loads: {} solved, {} resumed, in {seconds:.1} s",
+        "{topographies} topographies{grid} × {loads} loads: {} solved, {} resumed{onsets}, in {seconds:.1} s",
         outcome.solved, outcome.resumed
     );
     eprintln!("wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml", outcome.rows.len());

@@ -22,11 +22,15 @@
 //!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
 //!   solve (its rows for every sharing and law, elastic sharing's onsets included, and whether
 //!   the solve started cold) and the last pressure
-//!   map `warm-NN.npy` of an unfinished chain (float64, lossless). A killed run, run again into
-//!   the same DIR, picks up at the first missing record from that map: the solver depends only
-//!   on the pressure it starts from, so the results equal an uninterrupted run's (apart from
-//!   the timings). Topography names appear only as folder names there (and under
-//!   `pressure/`), so no name collides with the run's own files.
+//!   map `warm-NN.npy` of an unfinished chain (float64, lossless). With elastic sharing, a
+//!   solve's parts are recorded as they finish until its record replaces them: its normal
+//!   solve `NN-normal.json` (with its map `warm-NN.npy`) and each law's onset
+//!   `NN-elastic-LL.json` (LL the law's index; a row of results.json). A killed run, run again
+//!   into the same DIR, picks up at the first missing record from that map, or from the parts
+//!   of its solve: the solver depends only on the pressure it starts from, and an onset only
+//!   on its solve's pressure, so the results equal an uninterrupted run's (apart from the
+//!   timings) and no finished part is computed again. Topography names appear only as folder
+//!   names there (and under `pressure/`), so no name collides with the run's own files.
 //!
 //! Units of work are pieces of a sweep's chain of loads: a whole chain, or with a
 //! [shard](super::shard) its share of the chains. A piece starts cold at its first load. A
@@ -119,8 +123,9 @@ struct Claim {
 pub enum Progress<'a> {
     /// Before the first solve: `done` of the `total` solves were finished by an earlier run.
     Start { total: usize, done: usize },
-    /// The elastic-sharing onset of one law on a (topography, load) solve finished (before
-    /// that solve's `Solved`): its tangential solver iterations and seconds.
+    /// The elastic-sharing onset of one law on a (topography, load) solve finished and was
+    /// recorded (before that solve's `Solved`): its tangential solver iterations and seconds.
+    /// Onsets an earlier run recorded are not run again, nor reported.
     Slid { topography: &'a str, load_n: f64, law: &'a str, iterations: usize, seconds: f64 },
     /// One (topography, load) solve finished.
     Solved { topography: &'a str, load_n: f64, iterations: usize, seconds: f64 },
@@ -136,10 +141,22 @@ pub struct Outcome {
     /// Of those, solves run now, and solves found finished by an earlier run.
     pub solved: usize,
     pub resumed: usize,
+    /// Elastic onsets of the solves run now that an earlier run had finished (and recorded)
+    /// before it stopped.
+    pub onsets_resumed: usize,
     /// Figures and report written.
     pub figures: Vec<PathBuf>,
     /// Plausibility warnings ([`super::warnings`]), also in the report.
     pub warnings: Vec<String>,
+}
+
+/// What the workers of a run count.
+#[derive(Default)]
+struct Tally {
+    /// Solves finished now.
+    solved: AtomicUsize,
+    /// Elastic onsets of those found recorded by an earlier run.
+    onsets: AtomicUsize,
 }
 
 /// A solve of a sweep as its elastic-sharing rows need it.
@@ -167,6 +184,15 @@ struct SolveRecord {
     /// One row per sharing and law (sharing-major), in the study's order; the coarser copies
     /// of the resolution figure under equal sharing only.
     rows: Vec<Row>,
+}
+
+/// The normal solve of a load whose elastic onsets are not all done, `NN-normal.json` beside
+/// its pressure map `warm-NN.npy`; the solve's record replaces it.
+#[derive(Serialize, Deserialize)]
+struct NormalRecord {
+    load_n: f64,
+    cold: bool,
+    solve: SolveFacts,
 }
 
 /// What a DIR's solves were computed for, `solves/fingerprint.json`.
@@ -312,7 +338,8 @@ impl Study {
     /// [waiting](Study::waiting). `progress` answers each event with `()`, or with a
     /// `ControlFlow` whose `Break` stops the run with [`Error::Interrupted`] once the solves
     /// under way are recorded (the run resumes from there); a `Break` answering an elastic
-    /// onset ([`Progress::Slid`]) stops at once, and that solve is solved again on resuming.
+    /// onset ([`Progress::Slid`]) stops at once, and resuming goes on from that solve's
+    /// recorded parts (its normal solve and the onsets finished).
     pub fn run<R: Proceed>(
         &self,
         dir: &Path,
@@ -333,7 +360,7 @@ impl Study {
         if !progress(Progress::Start { total: share, done: resumed }).proceed() {
             return Err(self.interrupted());
         }
-        let solved = AtomicUsize::new(0);
+        let tally = Tally::default();
         // Each worker takes the next piece in order: the study's own sweeps first, the cheap
         // coarse ones filling in at the end.
         let next = AtomicUsize::new(0);
@@ -344,11 +371,19 @@ impl Study {
                 return Ok(());
             }
             let (u, plastic) = sweeps[pieces[k].sweep];
-            self.sweep(dir, u, plastic, pieces[k].loads.clone(), progress, &solved)?;
+            self.sweep(dir, u, plastic, pieces[k].loads.clone(), progress, &tally)?;
         })?;
-        let solved = solved.into_inner();
+        let (solved, onsets_resumed) = (tally.solved.into_inner(), tally.onsets.into_inner());
         if self.shard.is_some() {
-            return Ok(Outcome { rows: Vec::new(), share, solved, resumed, figures: Vec::new(), warnings: Vec::new() });
+            return Ok(Outcome {
+                rows: Vec::new(),
+                share,
+                solved,
+                resumed,
+                onsets_resumed,
+                figures: Vec::new(),
+                warnings: Vec::new(),
+            });
         }
 
         let _results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
@@ -408,7 +443,7 @@ impl Study {
         };
         let figures = crate::plot::study::render(dir, &input)?;
         let warnings = super::warnings(&rows);
-        Ok(Outcome { rows, share, solved, resumed, figures, warnings })
+        Ok(Outcome { rows, share, solved, resumed, onsets_resumed, figures, warnings })
     }
 
     /// The study as run, as a study file.
@@ -646,6 +681,11 @@ impl Study {
     /// before it (kept by a killed run, or at the end of another run's piece), and when that
     /// map is gone (a `--fresh` cut short) the piece starts over. Each record says whether its
     /// solve started cold. The map of the piece's last load stays for whoever goes on from it.
+    ///
+    /// With elastic sharing a solve's parts are recorded as they finish, for a run stopped
+    /// before its record to go on from: the normal solve (`NN-normal.json`, with its map
+    /// `warm-NN.npy`) and each law's onset (`NN-elastic-LL.json`, LL the law's index). The
+    /// solve's record replaces them.
     fn sweep<R: Proceed>(
         &self,
         dir: &Path,
@@ -653,11 +693,11 @@ impl Study {
         plastic: bool,
         loads: Range<usize>,
         progress: &(dyn Fn(Progress) -> R + Sync),
-        solved: &AtomicUsize,
+        tally: &Tally,
     ) -> Result<()> {
         let solves = self.solves_dir(dir, u, plastic);
         let record = |k: usize| solves.join(record_name(k));
-        let warm = |k: usize| solves.join(format!("warm-{k:02}.npy"));
+        let warm = |k: usize| solves.join(warm_name(k));
         let recorded: Vec<bool> = loads.clone().map(|k| record(k).is_file()).collect();
         let is_recorded = |k: usize| loads.contains(&k) && recorded[k - loads.start];
         if recorded.iter().all(|&r| r) {
@@ -688,31 +728,48 @@ impl Study {
         }
         let shown = u == 0 && plastic == self.config.contact.plastic.modes()[0];
         let snapshots = if shown { self.snapshot_indices() } else { Vec::new() };
+        let elastic = self.sharings(u).contains(&Sharing::Elastic);
+        // A normal solve an earlier run finished, its elastic onsets not all.
+        let kept = |k: usize| elastic && solves.join(normal_name(k)).is_file() && warm(k).is_file();
         let mut todo: Vec<usize> = loads.clone().filter(|&k| !is_recorded(k)).collect();
-        if todo.iter().any(|&k| k > loads.start && is_recorded(k - 1) && !warm(k - 1).is_file()) {
+        if todo.iter().any(|&k| k > loads.start && is_recorded(k - 1) && !warm(k - 1).is_file() && !kept(k)) {
             todo = loads.clone().collect();
         }
         // The load whose solution the solver holds.
         let mut held = None;
         for k in todo {
             let load = self.loads[k];
-            let cold = if k > 0 && held == Some(k - 1) {
-                false
-            } else if k > loads.start && warm(k - 1).is_file() {
-                let path = warm(k - 1);
-                let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
-                let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(&path, r))?;
-                solver.warm_start(pressure.as_slice().ok_or_else(|| Error::file(&path, "not a row-major array"))?)?;
-                false
-            } else {
-                solver.reset();
-                true
-            };
             let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
-            let report = solver.solve(load, |_, _| ()).map_err(context)?;
-            let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
-            let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
-            let facts = SolveFacts::new(&summary, &report);
+            let (pressure, cold, facts) = if kept(k) {
+                let (normal, pressure) = read_normal(&solves, k, load)?;
+                // The next load goes on from it as from the solver's own solution.
+                solver.warm_start(pressure.as_slice().expect("row-major"))?;
+                (pressure, normal.cold, normal.solve)
+            } else {
+                let cold = if k > 0 && held == Some(k - 1) {
+                    false
+                } else if k > loads.start && warm(k - 1).is_file() {
+                    solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
+                    false
+                } else {
+                    solver.reset();
+                    true
+                };
+                let report = solver.solve(load, |_, _| ()).map_err(context)?;
+                let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
+                let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
+                let facts = SolveFacts::new(&summary, &report);
+                if elastic {
+                    // The onsets take long: the solve they start from is recorded first, its
+                    // map before the record that names it.
+                    output::write_npy(&warm(k), &pressure)?;
+                    output::write_json(
+                        &solves.join(normal_name(k)),
+                        &NormalRecord { load_n: load, cold, solve: facts },
+                    )?;
+                }
+                (pressure, cold, facts)
+            };
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
             let mut rows = Vec::with_capacity(self.sharings(u).len() * self.laws.len());
             for sharing in self.sharings(u) {
@@ -721,7 +778,8 @@ impl Study {
                         .extend(self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law)))),
                     Sharing::Elastic => {
                         let at = Solved { name, label: &label, load, facts: &facts, shape, size };
-                        rows.extend(self.elastic_rows(solver.pressure(), &at, progress)?);
+                        let pressure = pressure.as_slice().expect("row-major");
+                        rows.extend(self.elastic_rows(pressure, &at, &solves, k, progress, tally)?);
                     }
                 }
             }
@@ -738,21 +796,26 @@ impl Study {
                 snap.save(&dir, &self.snapshot_stem(k))?;
             }
             // The map the next load goes on from, should this run stop before it (or this piece
-            // end there).
-            if k + 1 < self.loads.len() && !is_recorded(k + 1) {
+            // end there); with elastic sharing it is written already.
+            let next = k + 1 < self.loads.len() && !is_recorded(k + 1);
+            if next && !elastic {
                 output::write_npy(&warm(k), &pressure)?;
             }
             output::write_json(&record(k), &SolveRecord { load_n: load, cold, solve: facts, rows })?;
+            self.remove_parts(&solves, k)?;
+            if !next {
+                remove_if_present(&warm(k))?;
+            }
             if k > loads.start {
                 remove_if_present(&warm(k - 1))?;
             }
             held = Some(k);
-            solved.fetch_add(1, Ordering::Relaxed);
+            tally.solved.fetch_add(1, Ordering::Relaxed);
             let answer = progress(Progress::Solved {
                 topography: &label,
                 load_n: load,
-                iterations: report.iterations,
-                seconds: report.seconds,
+                iterations: facts.iterations,
+                seconds: facts.seconds,
             });
             if !answer.proceed() {
                 return Err(self.interrupted());
@@ -761,34 +824,51 @@ impl Study {
         self.tidy(&solves, loads)
     }
 
-    /// The elastic-sharing rows of a solve with normal pressure `pressure` [Pa], one per law,
-    /// each onset reported to `progress` as it finishes; a `Break` stops at once with
-    /// [`Error::Interrupted`] (the solve is solved again on resuming). Errors name the
+    /// The elastic-sharing rows of load `k`'s solve with normal pressure `pressure` [Pa], one
+    /// per law: each onset an earlier run recorded in `solves`, or run now, recorded and
+    /// reported to `progress` as it finishes; a `Break` stops at once with
+    /// [`Error::Interrupted`] (the onsets finished stay recorded). Errors name the
     /// topography, the load and the law.
     fn elastic_rows<R: Proceed>(
         &self,
         pressure: &[f64],
         at: &Solved,
+        solves: &Path,
+        k: usize,
         progress: &(dyn Fn(Progress) -> R + Sync),
+        tally: &Tally,
     ) -> Result<Vec<Row>> {
         let compliance = ShearCompliance::of(&self.config.bodies());
         let boundary = self.config.contact.boundary;
         let failed = |law: &str, e: Error| {
             Error::invalid(format!("topography \"{}\" at {} N: {law}", at.label, at.load), e.to_string())
         };
-        let mut tangential =
-            TangentialSolver::new(pressure, at.shape, at.size, compliance, boundary, TangentialOptions::default())
-                .map_err(|e| failed("elastic sharing", e))?;
+        // Built for the first onset run now: each onset starts from no traction.
+        let mut tangential = None;
         let mut rows = Vec::with_capacity(self.laws.len());
-        for law in &self.laws {
+        for (l, law) in self.laws.iter().enumerate() {
+            let law_label = super::law_name(law);
+            let path = solves.join(onset_name(k, l));
+            if path.is_file() {
+                rows.push(read_onset(&path, at, &law_label)?);
+                tally.onsets.fetch_add(1, Ordering::Relaxed);
+                continue;
+            }
+            if tangential.is_none() {
+                let options = TangentialOptions::default();
+                let solver = TangentialSolver::new(pressure, at.shape, at.size, compliance, boundary, options)
+                    .map_err(|e| failed("elastic sharing", e))?;
+                tangential = Some(solver);
+            }
             let start = std::time::Instant::now();
             // The paper's law: mu_d at once on the first slip, as equal sharing has it.
             let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
-            let law_label = super::law_name(law);
-            let onset = elastic_onset(&mut tangential, &slip, |_| {})
+            let onset = elastic_onset(tangential.as_mut().expect("built above"), &slip, |_| {})
                 .map_err(|e| failed(&format!("elastic sharing, law \"{law_label}\""), e))?;
             let seconds = start.elapsed().as_secs_f64();
-            rows.push(Row::elastic(at.name, at.load, at.facts, law, &onset, seconds));
+            let row = Row::elastic(at.name, at.load, at.facts, law, &onset, seconds);
+            output::write_json(&path, &row)?;
+            rows.push(row);
             let answer = progress(Progress::Slid {
                 topography: at.label,
                 load_n: at.load,
@@ -803,13 +883,26 @@ impl Study {
         Ok(rows)
     }
 
-    /// Remove the maps of `loads` in `solves` that no solve needs any more, those of loads
-    /// whose next load is recorded (a run killed between a record and that removal leaves
-    /// one).
+    /// Remove the parts of load `k`'s solve in `solves` ([`Study::sweep`]), once it is
+    /// recorded.
+    fn remove_parts(&self, solves: &Path, k: usize) -> Result<()> {
+        remove_if_present(&solves.join(normal_name(k)))?;
+        (0..self.laws.len()).try_for_each(|l| remove_if_present(&solves.join(onset_name(k, l))))
+    }
+
+    /// Remove what no solve of `loads` in `solves` needs any more (a run killed between a
+    /// record and these removals leaves them): the maps of loads whose next load is
+    /// recorded, and of the chain's last load once recorded; the parts of recorded solves.
     fn tidy(&self, solves: &Path, loads: Range<usize>) -> Result<()> {
-        for k in loads.start..loads.end.saturating_sub(1) {
-            if solves.join(record_name(k + 1)).is_file() {
-                remove_if_present(&solves.join(format!("warm-{k:02}.npy")))?;
+        let last = self.loads.len() - 1;
+        for k in loads.clone() {
+            let next_recorded = k + 1 < loads.end && solves.join(record_name(k + 1)).is_file();
+            let recorded = solves.join(record_name(k)).is_file();
+            if next_recorded || (k == last && recorded) {
+                remove_if_present(&solves.join(warm_name(k)))?;
+            }
+            if recorded {
+                self.remove_parts(solves, k)?;
             }
         }
         Ok(())
@@ -827,9 +920,7 @@ impl Study {
             let records = (0..self.loads.len())
                 .map(|k| {
                     let path = solves.join(record_name(k));
-                    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-                    let record: SolveRecord =
-                        serde_json::from_str(&text).map_err(|e| Error::file(&path, e.to_string()))?;
+                    let record: SolveRecord = read_record(&path)?;
                     let sharings = self.sharings(u);
                     let expected = sharings.iter().flat_map(|s| self.laws.iter().map(move |l| (*s, l)));
                     let matches = record.rows.len() == sharings.len() * self.laws.len()
@@ -839,7 +930,7 @@ impl Study {
                             .zip(expected)
                             .all(|(r, (s, l))| r.sharing == s && r.law == super::law_name(l));
                     if record.load_n != self.loads[k] || !matches {
-                        return Err(Error::file(&path, "not a record of this study's solve: rerun with --fresh"));
+                        return Err(foreign(&path));
                     }
                     Ok(record)
                 })
@@ -902,6 +993,13 @@ impl Study {
 fn discard(dir: &Path) -> Result<()> {
     let index = |s: &str| s.len() >= 2 && s.bytes().all(|b| b.is_ascii_digit());
     let indexed = |n: &str, ext: &str| n.strip_suffix(ext).is_some_and(index);
+    // A solve's parts: `NN-normal.json`, `NN-elastic-LL.json`.
+    let part = |n: &str| {
+        n.strip_suffix("-normal.json").is_some_and(index)
+            || n.strip_suffix(".json")
+                .and_then(|s| s.split_once("-elastic-"))
+                .is_some_and(|(k, l)| index(k) && index(l))
+    };
     let stem_indexed =
         |n: &str, ext: &str| n.strip_suffix(ext).and_then(|s| s.rsplit_once('-')).is_some_and(|(_, k)| index(k));
     let figure_stems: Vec<String> = super::FigureKind::ALL
@@ -918,7 +1016,7 @@ fn discard(dir: &Path) -> Result<()> {
     };
     let units = with_plastic(subfolders(&dir.join(SOLVES).join(TOPOGRAPHIES))?);
     for folder in &units {
-        output::remove_matching(folder, Entries::Files, |n| indexed(n, ".json"))?;
+        output::remove_matching(folder, Entries::Files, |n| indexed(n, ".json") || part(n))?;
     }
     for folder in &units {
         output::remove_matching(folder, Entries::Files, |n| {
@@ -949,6 +1047,64 @@ fn discard(dir: &Path) -> Result<()> {
 /// The name of load `k`'s solve record in its sweep's folder.
 fn record_name(k: usize) -> String {
     format!("{k:02}.json")
+}
+
+/// The name of the pressure map of load `k` that a solve goes on from.
+fn warm_name(k: usize) -> String {
+    format!("warm-{k:02}.npy")
+}
+
+/// The name of load `k`'s normal solve while its elastic onsets are under way.
+fn normal_name(k: usize) -> String {
+    format!("{k:02}-normal.json")
+}
+
+/// The name of load `k`'s elastic onset under the study's law `l`, until the solve's record.
+fn onset_name(k: usize, l: usize) -> String {
+    format!("{k:02}-elastic-{l:02}.json")
+}
+
+/// The error of a record in `path` that is not this study's.
+fn foreign(path: &Path) -> Error {
+    Error::file(path, "not a record of this study's solve: rerun with --fresh")
+}
+
+/// Read a JSON record.
+fn read_record<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text).map_err(|e| Error::file(path, e.to_string()))
+}
+
+/// The normal solve of load `k` (`load` [N]) recorded in `solves`, with its pressure map
+/// [Pa] (row-major).
+fn read_normal(solves: &Path, k: usize, load: f64) -> Result<(NormalRecord, Array2<f64>)> {
+    let path = solves.join(normal_name(k));
+    let normal: NormalRecord = read_record(&path)?;
+    if normal.load_n != load {
+        return Err(foreign(&path));
+    }
+    Ok((normal, read_map(&solves.join(warm_name(k)))?))
+}
+
+/// A pressure map [Pa] a run kept (`warm-NN.npy`), row-major.
+fn read_map(path: &Path) -> Result<Array2<f64>> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))?;
+    if !pressure.is_standard_layout() {
+        return Err(Error::file(path, "not a row-major array"));
+    }
+    Ok(pressure)
+}
+
+/// The elastic onset row recorded in `path` for the solve `at` under the law named `law`.
+fn read_onset(path: &Path, at: &Solved, law: &str) -> Result<Row> {
+    let row: Row = read_record(path)?;
+    let ours = row.sharing == Sharing::Elastic && row.law == law && row.topography == at.name && row.load_n == at.load;
+    if ours {
+        Ok(row)
+    } else {
+        Err(foreign(path))
+    }
 }
 
 /// The first and last load of a piece's lock file `loads-AA-BB.lock`.
