@@ -268,12 +268,16 @@ fn sigint_and_sigterm_remove_the_temporaries_and_exit_130_and_143() {
             .args(["contact", "s.npy", "--size", "1e-6", "--fields", "--out", "out"])
             .args(["--load", "1e-7,3e-7,1e-6,3e-6,1e-5,3e-5,1e-4", "--tolerance", "1e-13"])
             .current_dir(dir)
-            .stderr(Stdio::null())
+            .stderr(Stdio::piped())
             .spawn()
             .unwrap();
         let exit = interrupt(&mut child, signal, || !temporaries(dir).is_empty());
         assert_eq!(exit, Some(code));
         assert_eq!(names(dir), ["s.npy"]);
+        let mut said = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut said).unwrap();
+        let name = if signal == libc::SIGINT { "SIGINT" } else { "SIGTERM" };
+        assert!(said.trim_end().ends_with("resumes from its finished work)") && said.contains(name), "{said}");
     }
 
     // A study: interrupted, nothing half-written stays, and it resumes.

@@ -36,6 +36,11 @@ pub fn handle_signals() -> std::io::Result<()> {
         if let Some(signal) = signals.forever().next() {
             // Held to the end: no writer gets to report a removed temporary and exit first.
             let _held = asperity::output::remove_temporaries();
+            let name = if signal == SIGINT { "SIGINT" } else { "SIGTERM" };
+            // On a line of its own, below a progress bar.
+            eprintln!(
+                "\nasperity: stopped by {name}; its temporaries removed, nothing half-written kept (a study run again resumes from its finished work)"
+            );
             std::process::exit(128 + signal);
         }
     })?;
