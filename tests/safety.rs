@@ -277,7 +277,7 @@ fn sigint_and_sigterm_remove_the_temporaries_and_exit_130_and_143() {
         let mut said = String::new();
         std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut said).unwrap();
         let name = if signal == libc::SIGINT { "SIGINT" } else { "SIGTERM" };
-        assert!(said.trim_end().ends_with("resumes from its finished work)") && said.contains(name), "{said}");
+        assert!(said.trim_end().ends_with("nothing half-written kept") && said.contains(name), "{said}");
     }
 
     // A study: interrupted, nothing half-written stays, and it resumes.
@@ -285,11 +285,14 @@ fn sigint_and_sigterm_remove_the_temporaries_and_exit_130_and_143() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
         .args(["run", "study.toml", "--out", "res"])
         .current_dir(dir)
-        .stderr(Stdio::null())
+        .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let exit = interrupt(&mut child, libc::SIGTERM, || dir.join("res/study.toml").exists());
     assert_eq!(exit, Some(143));
+    let mut said = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut said).unwrap();
+    assert!(said.trim_end().ends_with("again to resume from its finished work"), "{said}");
     assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
     assert!(!dir.join("res/results.csv").exists());
     succeeds(&asperity(dir, &["run", "study.toml", "--out", "res"]));

@@ -149,3 +149,61 @@ fn refuses_a_missing_law_and_a_bad_slip_distance() {
         assert!(!out.exists());
     }
 }
+
+/// A contact folder edited since `asperity contact` wrote it, full contact and an --out that
+/// cannot be written are refused, in one line naming the file or option (an --out before the
+/// normal solve).
+#[test]
+fn refuses_an_edited_contact_folder_full_contact_and_a_foreign_out_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let (contact, out) = (dir.path().join("contact"), dir.path().join("slide"));
+    let s = surface();
+    let size = ["--size", "8e-6,6e-6"];
+    let o = asperity(
+        &[&["contact", s.to_str().unwrap()][..], &size, &["--load", "2mN", "--out", contact.to_str().unwrap()]]
+            .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let law = ["--mu-s", "0.6", "--mu-d", "0.4", "--out", out.to_str().unwrap()];
+    let refused = |input: &Path, extra: &[&str], needle: &str| {
+        let o = asperity(&[&["slide", input.to_str().unwrap()][..], extra, &law].concat());
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        // A topography's normal solve says its own lines first.
+        let last = err.trim().lines().last().unwrap_or_default();
+        assert!(!o.status.success() && last.starts_with("error: ") && last.contains(needle), "{needle}: {err}");
+        assert_eq!(err.matches("error").count(), 1, "{err}");
+        assert!(!out.exists());
+    };
+    let map = contact.join("pressure-000.npy");
+    let p: Array2<f64> = read_npy(&map).unwrap();
+    // Three times the pressure: taken before as a load of 6 mN under the name of 2 mN.
+    ndarray_npy::write_npy(&map, &p.mapv(|x| 3.0 * x)).unwrap();
+    refused(&contact, &[], "pressure-000.npy: carries 6.0");
+    let mut negative = p.clone();
+    negative[[0, 0]] = -1e9;
+    ndarray_npy::write_npy(&map, &negative).unwrap();
+    refused(&contact, &[], "pressure-000.npy: pressure at row 0, column 0 is -1000000000 Pa");
+    ndarray_npy::write_npy(&map, &p).unwrap();
+    let json = contact.join("contact.json");
+    let text = std::fs::read_to_string(&json).unwrap();
+    std::fs::write(&json, text.replace("\"pressure-000.npy\"", "\"../contact/pressure-000.npy\"")).unwrap();
+    refused(&contact, &[], "must name a file of its own folder");
+    std::fs::write(&json, text).unwrap();
+    // 1 kN presses the whole periodic window into contact.
+    refused(&s, &[&size[..], &["--load", "1kN"]].concat(), "full contact");
+    // A folder of the user's: refused before the normal solve, whose line is never printed.
+    let mine = dir.path().join("mine");
+    std::fs::create_dir(&mine).unwrap();
+    std::fs::write(mine.join("notes.txt"), "mine").unwrap();
+    let o = asperity(
+        &[
+            &["slide", s.to_str().unwrap()][..],
+            &size,
+            &["--load", "2mN", "--mu-s", "0.6", "--mu-d", "0.4", "--out", mine.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--out") && !err.contains("normal solve"), "{err}");
+    assert_eq!(std::fs::read_to_string(mine.join("notes.txt")).unwrap(), "mine");
+}

@@ -25,6 +25,14 @@ use asperity::Result;
 /// process with 130 and 143 (locks go with the process); SIGPIPE, a reader such as `head` that
 /// stops early, ends it quietly as it ends any Unix tool (Rust ignores it by default, which
 /// turns every later print into a panic).
+/// Set once a study run starts: its stop message then says that it resumes.
+static RESUMABLE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// A stop from now on is of a study run, which resumes when run again.
+pub fn stop_resumes() {
+    RESUMABLE.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
 pub fn handle_signals() -> std::io::Result<()> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     // SAFETY: restoring a signal's default disposition, before any other thread exists.
@@ -37,10 +45,13 @@ pub fn handle_signals() -> std::io::Result<()> {
             // Held to the end: no writer gets to report a removed temporary and exit first.
             let _held = asperity::output::remove_temporaries();
             let name = if signal == SIGINT { "SIGINT" } else { "SIGTERM" };
+            let resume = if RESUMABLE.load(std::sync::atomic::Ordering::SeqCst) {
+                "; run the same command again to resume from its finished work"
+            } else {
+                ""
+            };
             // On a line of its own, below a progress bar.
-            eprintln!(
-                "\nasperity: stopped by {name}; its temporaries removed, nothing half-written kept (a study run again resumes from its finished work)"
-            );
+            eprintln!("\nasperity: stopped by {name}; its temporaries removed, nothing half-written kept{resume}");
             std::process::exit(128 + signal);
         }
     })?;

@@ -281,6 +281,44 @@ pub fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
     Ok(pressure)
 }
 
+/// The pressure map [Pa] of one load of a contact folder: `file`, as `contact.json` (at
+/// `json_path`) names it, a file of the folder itself, of shape `grid` (ny, nx), its pressures
+/// finite and not negative and carrying the folder's load `load_n` [N] on pixels of
+/// `pixel_area` [m²] (a map edited since asperity wrote it is refused, not taken at another
+/// load).
+pub fn read_load_map(
+    json_path: &Path,
+    file: &str,
+    load_n: f64,
+    grid: (usize, usize),
+    pixel_area: f64,
+    limits: &Limits,
+) -> Result<(PathBuf, Array2<f64>)> {
+    let plain = Path::new(file).file_name().is_some_and(|name| name == file) && !file.contains(['/', '\\']);
+    if !plain {
+        return Err(Error::file(json_path, format!("pressure_file {file:?} must name a file of its own folder")));
+    }
+    let path = json_path.with_file_name(file);
+    let pressure = read_pressure(&path, limits)?;
+    if pressure.dim() != grid {
+        let ((a, b), (ny, nx)) = (pressure.dim(), grid);
+        return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));
+    }
+    if let Some(((i, j), p)) = pressure.indexed_iter().find(|(_, p)| !(p.is_finite() && **p >= 0.0)) {
+        return Err(Error::file(&path, format!("pressure at row {i}, column {j} is {p} Pa: not a contact pressure")));
+    }
+    let carried = pressure.sum() * pixel_area;
+    if !((carried - load_n).abs() <= 1e-6 * load_n) {
+        return Err(Error::file(
+            &path,
+            format!(
+                "carries {carried:.6e} N, not the load {load_n:e} N that contact.json gives it: not the map asperity contact wrote"
+            ),
+        ));
+    }
+    Ok((path, pressure))
+}
+
 /// The path of `DIR/contact.json`, written by `asperity contact`, and what `T` reads of it.
 pub fn read_contact_json<T: DeserializeOwned>(dir: &Path, limits: &Limits) -> Result<(PathBuf, T)> {
     let json_path = dir.join("contact.json");
@@ -316,13 +354,9 @@ fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> R
         (Some(i), _) => i,
     };
     let load = &contact.loads[index];
-    let path = dir.join(&load.pressure_file);
-    let pressure = read_pressure(&path, limits)?;
-    if pressure.dim() != (ny, nx) {
-        let (a, b) = pressure.dim();
-        return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));
-    }
-    Ok(Input { pressure, path, pixel_area: Some(lx / nx as f64 * (ly / ny as f64)), load: Some((index, load.load_n)) })
+    let area = lx / nx as f64 * (ly / ny as f64);
+    let (path, pressure) = read_load_map(&json_path, &load.pressure_file, load.load_n, (ny, nx), area, limits)?;
+    Ok(Input { pressure, path, pixel_area: Some(area), load: Some((index, load.load_n)) })
 }
 
 fn print_summary(r: &Report) {

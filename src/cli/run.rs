@@ -71,6 +71,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         print!("{DEFAULT_STUDY}");
         return Ok(());
     }
+    super::stop_resumes();
     let start = Instant::now();
     let study = prepare(args.study.as_deref(), args.quick, &args.limits)?.waiting(args.wait).sharded(args.shard);
 

@@ -65,7 +65,7 @@ pub struct SlideArgs {
     /// mu_d over an accumulated slip d_c (default: at once on the first slip).
     #[arg(long, value_name = "DC", allow_hyphen_values = true, value_parser = super::length)]
     slip_distance: Option<f64>,
-    /// Ramp the tangential force to Q [N] under Coulomb friction at mu_s and write that
+    /// Ramp the tangential force to Q [N, or with a unit: 0.2mN] under Coulomb friction at mu_s and write that
     /// partial-slip state, instead of the path to sliding.
     #[arg(long, value_name = "Q", allow_negative_numbers = true, value_parser = super::force)]
     tangential_force: Option<f64>,
@@ -180,7 +180,18 @@ pub fn run(args: SlideArgs) -> Result<()> {
         }
     }
     let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
+    // Before the normal solve: an --out that cannot be written is said at once.
+    let out = StagedDir::new(&args.out, "slide")?;
     let normal = normal_pressure(&args, e_star)?;
+    if normal.boundary == Boundary::Periodic && normal.pressure.iter().all(|p| *p > 0.0) {
+        return Err(Error::invalid(
+            "--load",
+            format!(
+                "at {:e} N every point of the periodic window touches (full contact): the periodic half-space has no stiffness for a uniform shift, so there is no sliding onset to find; lower the load or solve with --free",
+                normal.load
+            ),
+        ));
+    }
     let mut solver = TangentialSolver::new(
         &normal.pressure,
         normal.shape,
@@ -189,7 +200,6 @@ pub fn run(args: SlideArgs) -> Result<()> {
         normal.boundary,
         options,
     )?;
-    let out = StagedDir::new(&args.out, "slide")?;
     let input = args.read.file.display().to_string();
     let start = Instant::now();
     let work_report =
@@ -424,12 +434,9 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limi
             )
         })?,
     };
-    let path = dir.join(&entry.pressure_file);
-    let pressure = super::onset::read_pressure(&path, limits)?;
-    if pressure.dim() != (ny, nx) {
-        let (a, b) = pressure.dim();
-        return Err(Error::file(&path, format!("shape ({a}, {b}) differs from the grid ({ny}, {nx}) of contact.json")));
-    }
+    let area = lx / nx as f64 * (ly / ny as f64);
+    let (_, pressure) =
+        super::onset::read_load_map(&json_path, &entry.pressure_file, entry.load_n, (ny, nx), area, limits)?;
     Ok(Normal {
         pressure: pressure.iter().copied().collect(),
         shape: (ny, nx),
