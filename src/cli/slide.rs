@@ -273,7 +273,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             boundary: normal.boundary.name(),
             contact_points,
             law: law_report(&args, &law),
-            load_n: onset.normal_force,
+            load_n: normal.load,
             static_force_n: onset.static_force,
             static_coefficient: onset.static_coefficient(),
             dynamic_coefficient: law.mu_d,
