@@ -162,7 +162,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let out = StagedDir::new(&args.out, "contact")?;
     let mut order: Vec<usize> = (0..args.load.len()).collect();
     order.sort_by(|&a, &b| args.load[a].total_cmp(&args.load[b]));
-    let bar = super::progress_bar(args.load.len() as u64, "solving");
+    let bar = super::progress_bar(args.load.len() as u64, "solving", true);
     let mut entries: Vec<Option<LoadEntry>> = (0..args.load.len()).map(|_| None).collect();
     let mut warnings = Vec::new();
     for index in order {

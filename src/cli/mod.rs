@@ -298,15 +298,19 @@ pub fn stiffness(s: &str) -> std::result::Result<f64, String> {
 /// Time between progress lines when stderr is not a terminal (a batch log).
 pub const BATCH_PROGRESS: std::time::Duration = std::time::Duration::from_secs(5);
 
-/// A progress bar on stderr for long work, hidden when stderr is not a terminal.
-pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
+/// A progress bar on stderr for long work, hidden when stderr is not a terminal; with `eta`
+/// when its positions come at an even pace.
+pub fn progress_bar(len: u64, what: &str, eta: bool) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(len);
+    let eta = if eta { ", eta {eta}" } else { "" };
     bar.set_style(
         indicatif::ProgressStyle::with_template(&format!(
-            "{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed_precise}}, eta {{eta}}] {{msg}}"
+            "{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed_precise}}{eta}] {{msg}}"
         ))
         .expect("valid progress template"),
     );
+    // The elapsed time goes on through a long solve.
+    bar.enable_steady_tick(std::time::Duration::from_secs(1));
     bar
 }
 

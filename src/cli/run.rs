@@ -75,7 +75,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     let start = Instant::now();
     let study = prepare(args.study.as_deref(), args.quick, &args.limits)?.waiting(args.wait).sharded(args.shard);
 
-    let bar = super::progress_bar(0, "solving");
+    let bar = super::progress_bar(0, "solving", true);
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
     let batch = !std::io::stderr().is_terminal();
     let last_line = Mutex::new(Instant::now());

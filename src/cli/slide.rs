@@ -234,7 +234,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
     } else {
         // Level 0 is the path from δ = 0, levels 1… the refinements of the step holding the
         // largest force; the bar shows the finest level reached.
-        let bar = super::progress_bar(SLIDE_LEVELS as u64 + 1, "sliding");
+        let bar = super::progress_bar(SLIDE_LEVELS as u64 + 1, "sliding", false);
         let batch = !std::io::stderr().is_terminal();
         let mut last_line = Instant::now();
         let onset = elastic_onset(&mut solver, &law, |p| {
