@@ -157,7 +157,7 @@ fn contact_and_onset_replace_only_their_own_earlier_output() {
     // onset: never into contact's output, its own is replaced.
     let onset = |out: &str| asperity(dir, &["onset", "out", "--mu-s", "0.6", "--mu-d", "0.4", "--out", out]);
     let e = refusal(&onset("out"));
-    assert!(e.contains("holds no output of `asperity onset`"), "{e}");
+    assert!(e.contains("holds the output of `asperity contact`, not of `asperity onset`"), "{e}");
     succeeds(&onset("onset"));
     succeeds(&onset("onset"));
     assert!(names(&dir.join("onset")).contains(&"manifest.json".to_string()));

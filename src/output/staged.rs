@@ -135,7 +135,13 @@ impl StagedDir {
         let manifest = fs::read_to_string(&path).ok().and_then(|t| serde_json::from_str::<Manifest>(&t).ok());
         let manifest = match manifest {
             Some(m) if m.written_by == self.written_by => m,
-            _ => {
+            Some(m) => {
+                return refuse(format!(
+                    "holds the output of `{}`, not of `{}` (its {MANIFEST} says so)",
+                    m.written_by, self.written_by
+                ))
+            }
+            None => {
                 return refuse(format!(
                     "is not empty and holds no output of `{}` (no {MANIFEST} of it)",
                     self.written_by
@@ -201,7 +207,8 @@ mod tests {
         let s = StagedDir::new(&other, "test").unwrap();
         write_json(&s.path("a.json"), &1).unwrap();
         s.commit().unwrap();
-        assert!(StagedDir::new(&other, "else").unwrap_err().to_string().contains("`asperity else`"));
+        let e = StagedDir::new(&other, "else").unwrap_err().to_string();
+        assert!(e.contains("holds the output of `asperity test`, not of `asperity else`"), "{e}");
 
         // Its own output with a file added by hand: refused, before and at commit.
         fs::write(other.join("notes.txt"), "mine").unwrap();
