@@ -176,7 +176,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
     let (bodies, e_star) = args.material.bodies()?;
     if let Some(q) = args.tangential_force {
         if !(q > 0.0 && q.is_finite()) {
-            return Err(Error::invalid("--tangential-force", format!("must be positive and finite, got {q} N")));
+            return Err(Error::invalid("--tangential-force", format!("must be positive and finite, got {q:e} N")));
         }
     }
     let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
@@ -324,7 +324,7 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
         }
         (None, Some(dc)) => {
             if !(dc > 0.0 && dc.is_finite()) {
-                return Err(Error::invalid("--slip-distance", format!("must be positive and finite, got {dc} m")));
+                return Err(Error::invalid("--slip-distance", format!("must be positive and finite, got {dc:e} m")));
             }
             Weakening::Linear(dc)
         }

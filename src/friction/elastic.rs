@@ -623,7 +623,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
     if !(force > 0.0 && force < mu * normal_force) {
         return Err(Error::invalid(
             "--tangential-force",
-            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force} N", mu * normal_force),
+            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force:e} N", mu * normal_force),
         ));
     }
     let law = SlipLaw { mu_s: mu, mu_d: mu, weakening: Weakening::Instant };
@@ -647,7 +647,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
             return Err(Error::invalid(
                 "--tangential-force",
                 format!(
-                    "the interface slides as a whole at {:.6e} N ({:.6} μN), below {force} N: a partial-slip state needs less",
+                    "the interface slides as a whole at {:.6e} N ({:.6} μN), below {force:e} N: a partial-slip state needs less",
                     point.force_n,
                     point.force_n / (mu * normal_force)
                 ),
