@@ -308,7 +308,7 @@ pub fn read_load_map(
         return Err(Error::file(&path, format!("pressure at row {i}, column {j} is {p} Pa: not a contact pressure")));
     }
     let carried = pressure.sum() * pixel_area;
-    if !((carried - load_n).abs() <= 1e-6 * load_n) {
+    if (carried - load_n).abs() > 1e-6 * load_n.abs() || load_n <= 0.0 {
         return Err(Error::file(
             &path,
             format!(
