@@ -140,6 +140,8 @@ fn refuses_a_missing_law_and_a_bad_slip_distance() {
         (&[][..], "--mu-s"),
         (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "-1nm"][..], "--slip-distance"),
         (&["--mu-s", "0.3", "--mu-d", "0.4"][..], "--mu-s"),
+        // A missing required argument is named (clap's first line alone named none).
+        (&["--curve", "curve.csv"][..], "error: --curve-unit <LENGTH> must be given"),
     ] {
         let mut a: Vec<&str> = base.to_vec();
         a.extend_from_slice(extra);

@@ -78,6 +78,11 @@ pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
     }
 }
 
+/// Clap's own first line of an error.
+fn first_line(e: &clap::Error) -> String {
+    e.render().to_string().lines().next().unwrap_or("error: invalid usage").to_string()
+}
+
 /// The longest error line printed [characters].
 const USAGE_LINE_CHARS: usize = 300;
 
@@ -104,7 +109,13 @@ fn usage_line(e: &clap::Error) -> String {
             };
             format!("error: {o}: {} is not a valid value{valid}", quantity::quoted(value))
         }
-        _ => e.render().to_string().lines().next().unwrap_or("error: invalid usage").to_string(),
+        (ErrorKind::MissingRequiredArgument, _) => match e.get(ContextKind::InvalidArg) {
+            Some(ContextValue::Strings(missing)) => {
+                format!("error: {} must be given (see --help)", missing.join(", "))
+            }
+            _ => first_line(e),
+        },
+        _ => first_line(e),
     };
     one_short_line(&line)
 }

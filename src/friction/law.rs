@@ -122,6 +122,10 @@ pub enum CurveError {
     Window(String),
 }
 
+/// The largest friction coefficient a curve may hold: no measured one comes near it (clean
+/// metals in vacuum reach a few), so a larger value is a unit or column mistake.
+pub const MAX_CURVE_COEFFICIENT: f64 = 10.0;
+
 /// Parse a friction–displacement curve: CSV with the displacement in the first column and
 /// the friction coefficient (friction force over normal force) in the second; further
 /// columns are ignored, an optional header line and `#` comment lines are skipped. The
@@ -148,6 +152,11 @@ pub fn parse_curve(text: &str) -> std::result::Result<Vec<(f64, f64)>, String> {
         };
         if !(x.is_finite() && y.is_finite()) {
             return Err(format!("line {line}: values must be finite, got {x}, {y}"));
+        }
+        if y > MAX_CURVE_COEFFICIENT {
+            return Err(format!(
+                "line {line}: friction coefficient {y:e} is above {MAX_CURVE_COEFFICIENT}, higher than any measured one (a unit or column mistake?)"
+            ));
         }
         if let Some(&(prev, _)) = points.last() {
             if x < prev {
@@ -266,6 +275,9 @@ mod tests {
         assert!(parse_curve("0,0.1\n1\n").unwrap_err().contains("two columns"));
         assert!(parse_curve("1,0.1\n0,0.2\n").unwrap_err().contains("decreases"));
         assert!(parse_curve("0,0.1\n1,NaN\n").unwrap_err().contains("finite"));
+        let e = parse_curve("0,0.1\n1,5e300\n2,0.2\n").unwrap_err();
+        assert!(e.starts_with("line 2: friction coefficient 5e300 is above 10"), "{e}");
+        assert!(parse_curve("0,0.1\n1,10\n2,0.2\n").is_ok());
         let pts = parse_curve("0,0.1\n1,0.2\n").unwrap();
         assert!(matches!(law_from_curve(&pts, None), Err(CurveError::Content(r)) if r.contains("last point")));
         let pts = parse_curve("0,0.5\n1,0.2\n2,0.2\n").unwrap();
