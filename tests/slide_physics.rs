@@ -356,6 +356,11 @@ fn rough_pressure(n: usize, l: f64, load: f64) -> Vec<f64> {
     solver.pressure().to_vec()
 }
 
+/// The tangential solver on the contact set of [`rough_pressure`].
+fn rough_solver(n: usize, l: f64, load: f64) -> TangentialSolver {
+    periodic_solver(&rough_pressure(n, l, load), n, l)
+}
+
 #[test]
 fn rough_contact_stiffness_ratio() {
     // Campañá, Persson & Müser (2011): k_t / k_n → 2(1 − ν)/(2 − ν). The normal stiffness of
@@ -381,8 +386,7 @@ fn rough_contact_stiffness_ratio() {
 #[test]
 fn slip_weakening_distance_to_zero_is_the_instant_drop() {
     let (n, l) = (32, 3.2e-6);
-    let p = rough_pressure(n, l, 5e-5);
-    let mut solver = periodic_solver(&p, n, l);
+    let mut solver = rough_solver(n, l, 5e-5);
     let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
     let scale = inst.peak.point.displacement_m;
     let mut errors = Vec::new();
@@ -402,8 +406,7 @@ fn slip_weakening_distance_to_zero_is_the_instant_drop() {
 #[test]
 fn coulomb_friction_gives_the_sliding_force() {
     let (n, l) = (64, 6.4e-6);
-    let p = rough_pressure(n, l, 5e-4);
-    let mut solver = periodic_solver(&p, n, l);
+    let mut solver = rough_solver(n, l, 5e-4);
     let onset = elastic_onset(&mut solver, &instant(0.5, 0.5), |_| {}).unwrap();
     let last = onset.curve.last().unwrap();
     let largest = onset.curve.iter().map(|c| c.force_n).fold(0.0, f64::max);
@@ -431,8 +434,7 @@ fn coulomb_friction_gives_the_sliding_force() {
 fn static_force_is_the_curves_largest_at_the_finest_steps() {
     for (n, load) in [(64, 5e-4), (64, 2e-3)] {
         let l = n as f64 * 1e-7;
-        let p = rough_pressure(n, l, load);
-        let mut solver = periodic_solver(&p, n, l);
+        let mut solver = rough_solver(n, l, load);
         let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
         let curve = &onset.curve;
         let top = (0..curve.len()).fold(0, |b, i| if curve[i].force_n > curve[b].force_n { i } else { b });
