@@ -218,6 +218,11 @@ impl TangentialSolver {
         self.refresh();
     }
 
+    /// Relative norm of the projected gradient at which a solve has converged.
+    pub fn tolerance(&self) -> f64 {
+        self.options.tolerance
+    }
+
     /// u = K q on the contact points, from scratch.
     fn refresh(&mut self) {
         self.operator.apply(&self.traction, &mut self.displacement);
@@ -226,6 +231,11 @@ impl TangentialSolver {
     /// Solve for the targets `target` b_i [m] and bounds `bound` g_i [Pa] (one per contact
     /// point), starting from the last traction.
     pub fn solve(&mut self, target: &[[f64; 2]], bound: &[f64]) -> Result<TangentialReport> {
+        self.solve_within(target, bound, self.options.tolerance)
+    }
+
+    /// [`solve`](Self::solve) to another relative norm of the projected gradient.
+    pub fn solve_within(&mut self, target: &[[f64; 2]], bound: &[f64], tolerance: f64) -> Result<TangentialReport> {
         let m = self.points.len();
         assert!(target.len() == m && bound.len() == m, "one target and one bound per contact point");
         let scale = (target.iter().map(|b| b[0] * b[0] + b[1] * b[1]).sum::<f64>()).sqrt();
@@ -250,8 +260,7 @@ impl TangentialSolver {
             }
             1.9 / self.lipschitz.expect("estimated above")
         };
-        let mut count =
-            Iterations::new("tangential solver", self.options.max_iterations, self.options.tolerance, STALL);
+        let mut count = Iterations::new("tangential solver", self.options.max_iterations, tolerance, STALL);
         let mut exact = true;
         // Whether the search direction starts afresh from the free gradient.
         let mut restart = true;
@@ -270,7 +279,7 @@ impl TangentialSolver {
                 })
                 .reduce(|| (0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
             let residual = (free + chopped).sqrt() / scale;
-            if residual <= self.options.tolerance {
+            if residual <= tolerance {
                 if exact {
                     return Ok(TangentialReport { iterations: count.done(), applications, residual });
                 }
@@ -502,7 +511,7 @@ impl TangentialSolver {
 
     /// K's diagonal [m/Pa]: the displacement of the first contact point under its own unit
     /// traction (the same at every point: the kernel at zero offset).
-    fn diagonal(&mut self, applications: &mut usize) -> f64 {
+    pub fn diagonal(&mut self, applications: &mut usize) -> f64 {
         if let Some(k) = self.diagonal {
             return k;
         }
