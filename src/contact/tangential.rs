@@ -136,11 +136,9 @@ impl TangentialSolver {
         if !(size.0 > 0.0 && size.1 > 0.0 && size.0.is_finite() && size.1.is_finite()) {
             return Err(Error::invalid("--size", format!("must be positive and finite, got {}×{} m", size.0, size.1)));
         }
-        if !(options.tolerance > 0.0 && options.tolerance.is_finite()) {
-            return Err(Error::invalid(
-                "--tolerance",
-                format!("must be positive and finite, got {}", options.tolerance),
-            ));
+        if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
+            // At 1 or above the untouched start (q = 0) has already converged.
+            return Err(Error::invalid("--tolerance", format!("must lie in (0, 1), got {}", options.tolerance)));
         }
         if options.max_iterations == 0 {
             return Err(Error::invalid("--max-iter", "must be at least 1"));

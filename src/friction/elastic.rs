@@ -37,6 +37,9 @@ const REFINE: usize = 4;
 /// 10 and 100 mN, 1500² at 0.1, 0.3 and 1 mN) for 0.64–0.74 of the applications, 0.67 at
 /// 1500², 10 mN (1.2e-6); at 1000 times, by up to 5e-5, as do looser refinements.
 const COARSE_TOLERANCE: f64 = 100.0;
+/// ... but never looser than this (measured above) nor than the tolerance itself: with
+/// `--tolerance 1e-4` a path at 1e-2 moved the drop by 9e-4.
+const COARSEST: f64 = 1e-4;
 /// Steps of a force ramp up to its stuck estimate Q / k_t.
 const RAMP_STEPS: usize = 64;
 /// Steps after which a path that has not reached total sliding is an error.
@@ -547,7 +550,8 @@ impl Steps {
     ) -> Result<bool> {
         path.go_back(start);
         let tolerance = path.solver.tolerance();
-        path.tolerance = if level == 0 { COARSE_TOLERANCE * tolerance } else { tolerance };
+        path.tolerance =
+            if level == 0 { (COARSE_TOLERANCE * tolerance).min(COARSEST).max(tolerance) } else { tolerance };
         for k in 1..=MAX_STEPS {
             let before = path.state.clone();
             let delta = start.delta + h * k as f64;
