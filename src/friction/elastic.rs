@@ -280,10 +280,13 @@ struct Path<'a> {
     target: Vec<[f64; 2]>,
     bound: Vec<f64>,
     work: SlideWork,
-    /// The settled state before the current one, when the step between them had no cascade:
-    /// its displacement [m] and traction. The traction is affine in δ while no point changes
-    /// class, so the next step starts from the line through the two.
-    previous: Option<(f64, Vec<[f64; 2]>)>,
+    /// The last step's length [m] and the change of the traction over its first solve (before
+    /// its cascade) [Pa]. The next step starts from the settled traction plus that change,
+    /// scaled to its length: the response of nearly the same free set to a like increment
+    /// (exactly the line through the two settled states when there was no cascade). Measured:
+    /// the first solves take about 40 % fewer applications; from the line through the settled
+    /// states after a cascade (their change holds the cascade's drops) they took more.
+    first_change: Option<(f64, Vec<[f64; 2]>)>,
     /// Relative norm of the projected gradient the solves stop at.
     tolerance: f64,
 }
@@ -307,7 +310,7 @@ impl<'a> Path<'a> {
             target: vec![[0.0; 2]; m],
             bound: vec![0.0; m],
             work: SlideWork::default(),
-            previous: None,
+            first_change: None,
             tolerance,
         }
     }
@@ -331,7 +334,7 @@ impl<'a> Path<'a> {
     }
 
     fn go_back(&mut self, state: &State) {
-        self.previous = None;
+        self.first_change = None;
         self.state = state.clone();
         self.solver.set_traction(&state.traction);
     }
@@ -347,14 +350,10 @@ impl<'a> Path<'a> {
             self.target[i] = [delta - st.slip[i][0], -st.slip[i][1]];
             self.bound[i] = self.law.mu(st.path[i], st.slipped[i]) * p[i];
         }
-        if let Some((before, q0)) = &self.previous {
-            let t = (delta - st.delta) / (st.delta - before);
-            let guess: Vec<[f64; 2]> = st
-                .traction
-                .iter()
-                .zip(q0)
-                .map(|(q, q0)| [q[0] + t * (q[0] - q0[0]), q[1] + t * (q[1] - q0[1])])
-                .collect();
+        if let Some((h, change)) = &self.first_change {
+            let t = (delta - st.delta) / h;
+            let guess: Vec<[f64; 2]> =
+                st.traction.iter().zip(change).map(|(q, d)| [q[0] + t * d[0], q[1] + t * d[1]]).collect();
             self.solver.set_traction(&guess);
             self.work.applications += 1;
         }
@@ -369,7 +368,12 @@ impl<'a> Path<'a> {
             self.solve()?;
             let point = self.point(delta);
             visit(self, point);
-            first.get_or_insert(point);
+            if first.is_none() {
+                let change = self.solver.traction().iter().zip(&self.state.traction);
+                self.first_change =
+                    Some((delta - self.state.delta, change.map(|(q, q0)| [q[0] - q0[0], q[1] - q0[1]]).collect()));
+                first = Some(point);
+            }
             // The slip of this increment, and the bounds it implies.
             let (q, u, p) = (self.solver.traction(), self.solver.displacement(), self.solver.pressure());
             let mut same = true;
@@ -410,8 +414,7 @@ impl<'a> Path<'a> {
             }
         }
         st.slipped = slipped;
-        let before = std::mem::replace(&mut st.traction, q.to_vec());
-        self.previous = (rounds == 1).then_some((st.delta, before));
+        st.traction = q.to_vec();
         st.delta = delta;
         let settled = self.point(delta);
         Ok((first.unwrap_or(settled), settled))
