@@ -22,8 +22,9 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
+use rustfft::num_complex::Complex;
+use rustfft::num_traits::Zero;
+use rustfft::{Fft, FftNum, FftPlanner};
 
 /// Spectrum rows (qx) transposed and transformed together in the column passes: 16 rows of
 /// 1500 values are 384 KiB, at home in L2.
@@ -33,42 +34,43 @@ const BAND: usize = 16;
 /// complex values fill one cache line.
 const GROUP: usize = 8;
 
-/// A plan for 2-D real FFTs on an (ny, nx) grid.
-pub struct Fft2 {
+/// A plan for 2-D real FFTs on an (ny, nx) grid, in double (`f64`, the default) or single
+/// (`f32`) precision.
+pub struct Fft2<T: FftNum = f64> {
     ny: usize,
     nx: usize,
-    r2c: Arc<dyn RealToComplex<f64>>,
-    c2r: Arc<dyn ComplexToReal<f64>>,
-    col_forward: Arc<dyn Fft<f64>>,
-    col_inverse: Arc<dyn Fft<f64>>,
+    r2c: Arc<dyn RealToComplex<T>>,
+    c2r: Arc<dyn ComplexToReal<T>>,
+    col_forward: Arc<dyn Fft<T>>,
+    col_inverse: Arc<dyn Fft<T>>,
     /// Number of parallel tasks, one work slot each.
     tasks: usize,
 }
 
 /// Working memory for one [`Fft2`], owned by the caller and reused across transforms.
-pub struct Fft2Work {
+pub struct Fft2Work<T: FftNum = f64> {
     /// Half spectrum in natural layout (ny, nx/2 + 1), between the forward row and column passes.
-    half: Vec<Complex64>,
+    half: Vec<Complex<T>>,
     /// One slot per task.
-    slots: Vec<Slot>,
+    slots: Vec<Slot<T>>,
 }
 
 /// The buffers of one task.
-struct Slot {
+struct Slot<T> {
     /// A real grid row (nx).
-    line: Vec<f64>,
+    line: Vec<T>,
     /// FFT scratch.
-    scratch: Vec<Complex64>,
+    scratch: Vec<Complex<T>>,
     /// [`GROUP`] rows of the half spectrum, natural layout.
-    group: Vec<Complex64>,
+    group: Vec<Complex<T>>,
 }
 
-impl Fft2 {
+impl<T: FftNum> Fft2<T> {
     /// Plan transforms for an (ny, nx) grid.
     pub fn new(ny: usize, nx: usize) -> Self {
         assert!(ny >= 1 && nx >= 2, "FFT grid must be at least 1×2, got {ny}×{nx}");
-        let mut real = RealFftPlanner::<f64>::new();
-        let mut complex = FftPlanner::<f64>::new();
+        let mut real = RealFftPlanner::<T>::new();
+        let mut complex = FftPlanner::<T>::new();
         Fft2 {
             ny,
             nx,
@@ -95,12 +97,12 @@ impl Fft2 {
     }
 
     /// A zeroed spectrum buffer.
-    pub fn make_spectrum(&self) -> Vec<Complex64> {
-        large_buffer(self.spectrum_len(), Complex64::default())
+    pub fn make_spectrum(&self) -> Vec<Complex<T>> {
+        large_buffer(self.spectrum_len(), Complex::zero())
     }
 
     /// Working memory for this plan.
-    pub fn make_work(&self) -> Fft2Work {
+    pub fn make_work(&self) -> Fft2Work<T> {
         let scratch = [
             self.r2c.get_scratch_len(),
             self.c2r.get_scratch_len(),
@@ -112,12 +114,12 @@ impl Fft2 {
         .unwrap_or(0)
         .max(1);
         Fft2Work {
-            half: large_buffer(self.ny * self.nxh(), Complex64::default()),
+            half: large_buffer(self.ny * self.nxh(), Complex::zero()),
             slots: (0..self.tasks)
                 .map(|_| Slot {
-                    line: vec![0.0; self.nx],
-                    scratch: vec![Complex64::default(); scratch],
-                    group: vec![Complex64::default(); GROUP * self.nxh()],
+                    line: vec![T::zero(); self.nx],
+                    scratch: vec![Complex::zero(); scratch],
+                    group: vec![Complex::zero(); GROUP * self.nxh()],
                 })
                 .collect(),
         }
@@ -132,7 +134,14 @@ impl Fft2 {
 
     /// Forward transform of `input` (shape (in_ny, in_nx), placed at the grid's top-left corner,
     /// zeros elsewhere) into `spectrum` (transposed layout).
-    pub fn forward(&self, input: &[f64], in_ny: usize, in_nx: usize, spectrum: &mut [Complex64], work: &mut Fft2Work) {
+    pub fn forward(
+        &self,
+        input: &[T],
+        in_ny: usize,
+        in_nx: usize,
+        spectrum: &mut [Complex<T>],
+        work: &mut Fft2Work<T>,
+    ) {
         assert!(in_ny <= self.ny && in_nx <= self.nx && input.len() == in_ny * in_nx);
         self.forward_rows(
             in_ny,
@@ -151,11 +160,11 @@ impl Fft2 {
     /// grid's top-left corner). Unnormalised.
     pub fn inverse(
         &self,
-        spectrum: &mut [Complex64],
-        output: &mut [f64],
+        spectrum: &mut [Complex<T>],
+        output: &mut [T],
         out_ny: usize,
         out_nx: usize,
-        work: &mut Fft2Work,
+        work: &mut Fft2Work<T>,
     ) {
         assert!(out_ny <= self.ny && out_nx <= self.nx && output.len() == out_ny * out_nx);
         self.inverse_columns(spectrum, work, |_, _| ());
@@ -173,15 +182,15 @@ impl Fft2 {
     pub fn forward_rows<S: Send>(
         &self,
         rows: usize,
-        work: &mut Fft2Work,
+        work: &mut Fft2Work<T>,
         state: S,
         split: impl Fn(S, usize) -> (S, S) + Sync,
-        fill: impl Fn(&mut S, usize, &mut [f64]) -> bool + Sync,
+        fill: impl Fn(&mut S, usize, &mut [T]) -> bool + Sync,
     ) {
         let nxh = self.nxh();
         assert!(rows <= self.ny);
         let (live, zero) = work.half.split_at_mut(rows * nxh);
-        zero.par_iter_mut().for_each(|c| *c = Complex64::default());
+        zero.par_iter_mut().for_each(|c| *c = Complex::zero());
         row_blocks(
             0..rows,
             &mut work.slots,
@@ -193,14 +202,14 @@ impl Fft2 {
             },
             &|ys, (mut s, (first, out)), slot| {
                 for y in ys {
-                    slot.line.fill(0.0);
+                    slot.line.fill(T::zero());
                     let o = &mut out[(y - first) * nxh..][..nxh];
                     if fill(&mut s, y, &mut slot.line) {
                         self.r2c
                             .process_with_scratch(&mut slot.line, o, &mut slot.scratch)
                             .expect("buffer sizes match the plan");
                     } else {
-                        o.fill(Complex64::default());
+                        o.fill(Complex::zero());
                     }
                 }
             },
@@ -212,9 +221,9 @@ impl Fft2 {
     /// in cache; its results are stored in `out[kx]` (an empty `out` keeps none).
     pub fn forward_columns<A: Send>(
         &self,
-        work: &mut Fft2Work,
-        spectrum: &mut [Complex64],
-        each: impl Fn(usize, &mut [Complex64]) -> A + Sync,
+        work: &mut Fft2Work<T>,
+        spectrum: &mut [Complex<T>],
+        each: impl Fn(usize, &mut [Complex<T>]) -> A + Sync,
         out: &mut [A],
     ) {
         let (ny, nxh) = (self.ny, self.nxh());
@@ -223,7 +232,7 @@ impl Fft2 {
         let per_task = nxh.div_ceil(self.tasks);
         let fft = &*self.col_forward;
         let half = &work.half;
-        let run = |task: usize, chunk: &mut [Complex64], slot: &mut Slot, mut results: Option<&mut [A]>| {
+        let run = |task: usize, chunk: &mut [Complex<T>], slot: &mut Slot<T>, mut results: Option<&mut [A]>| {
             let kx0 = task * per_task;
             for (b, band) in chunk.chunks_mut(BAND * ny).enumerate() {
                 // This band of the transpose, then its transforms while it is in cache.
@@ -256,9 +265,9 @@ impl Fft2 {
     /// spectrum row (a kernel product, say) before its inverse FFT along qy.
     pub fn inverse_columns(
         &self,
-        spectrum: &mut [Complex64],
-        work: &mut Fft2Work,
-        each: impl Fn(usize, &mut [Complex64]) + Sync,
+        spectrum: &mut [Complex<T>],
+        work: &mut Fft2Work<T>,
+        each: impl Fn(usize, &mut [Complex<T>]) + Sync,
     ) {
         let ny = self.ny;
         assert_eq!(spectrum.len(), self.spectrum_len());
@@ -279,12 +288,12 @@ impl Fft2 {
     /// with the caller's state cut into blocks as in [`Fft2::forward_rows`].
     pub fn inverse_rows<S: Send>(
         &self,
-        spectrum: &[Complex64],
+        spectrum: &[Complex<T>],
         rows: usize,
-        work: &mut Fft2Work,
+        work: &mut Fft2Work<T>,
         state: S,
         split: impl Fn(S, usize) -> (S, S) + Sync,
-        consume: impl Fn(&mut S, usize, &[f64]) + Sync,
+        consume: impl Fn(&mut S, usize, &[T]) + Sync,
     ) {
         let (ny, nx, nxh) = (self.ny, self.nx, self.nxh());
         assert!(rows <= ny && spectrum.len() == self.spectrum_len());
@@ -302,9 +311,9 @@ impl Fft2 {
                     let row = &mut slot.group[r * nxh..][..nxh];
                     // The field is real: round-off in the imaginary parts of the real-valued
                     // modes (qx = 0 and the Nyquist column) is dropped, as it must be.
-                    row[0].im = 0.0;
+                    row[0].im = T::zero();
                     if nx % 2 == 0 {
-                        row[nxh - 1].im = 0.0;
+                        row[nxh - 1].im = T::zero();
                     }
                     self.c2r
                         .process_with_scratch(row, &mut slot.line, &mut slot.scratch)
@@ -360,12 +369,12 @@ pub fn large_buffer<T: Clone>(len: usize, value: T) -> Vec<T> {
     v
 }
 
-fn row_blocks<S: Send>(
+fn row_blocks<S: Send, T: Send>(
     rows: Range<usize>,
-    slots: &mut [Slot],
+    slots: &mut [Slot<T>],
     state: S,
     split: &(impl Fn(S, usize) -> (S, S) + Sync),
-    body: &(impl Fn(Range<usize>, S, &mut Slot) + Sync),
+    body: &(impl Fn(Range<usize>, S, &mut Slot<T>) + Sync),
 ) {
     if slots.len() <= 1 || rows.len() <= 1 {
         body(rows, state, &mut slots[0]);
@@ -381,6 +390,7 @@ fn row_blocks<S: Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rustfft::num_complex::Complex64;
 
     fn field(ny: usize, nx: usize) -> Vec<f64> {
         (0..ny * nx).map(|i| ((i * 7919) % 101) as f64 / 101.0 - 0.3 + (i as f64 * 0.01).sin()).collect()

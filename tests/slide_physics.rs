@@ -127,6 +127,32 @@ fn box_operator_is_the_window_operator_inside_the_box() {
     }
 }
 
+#[test]
+fn single_precision_operator_is_the_double_within_its_round_off() {
+    // The loose solves apply K in single precision: it must be the same operator to about
+    // f32's round-off (and really single: not bit for bit the double).
+    let (ny, nx, l) = (96, 128, 12.8e-6);
+    let size = (l, l * ny as f64 / nx as f64);
+    let c = ShearCompliance::of(&[SI]);
+    for (boundary, (by, bx)) in
+        [(Boundary::Periodic, (96, 128)), (Boundary::Periodic, (60, 90)), (Boundary::Free, (20, 30))]
+    {
+        let mut double = TangentialInfluence::window((ny, nx), size, c, boundary, (by, bx));
+        let mut single = double.single();
+        let (sy, sx) = double.shape();
+        let value = |i: usize, k: usize| 1e8 * ((((i * 7919 + k * 31) % 101) as f64 / 101.0) - 0.4);
+        let (qx, qy): (Vec<f64>, Vec<f64>) = (0..sy * sx).map(|i| (value(i, 0), value(i, 1))).unzip();
+        let (mut ux, mut uy, mut vx, mut vy) =
+            (vec![0.0; sy * sx], vec![0.0; sy * sx], vec![0.0; sy * sx], vec![0.0; sy * sx]);
+        double.apply([&qx, &qy], [&mut ux, &mut uy]);
+        single.apply([&qx, &qy], [&mut vx, &mut vy]);
+        let diff: f64 = ux.iter().zip(&vx).chain(uy.iter().zip(&vy)).map(|(a, b)| (a - b).powi(2)).sum();
+        let norm: f64 = ux.iter().chain(&uy).map(|a| a * a).sum();
+        let relative = (diff / norm).sqrt();
+        assert!(relative < 1e-6 && relative > 1e-10, "{boundary:?} {by}×{bx}: relative L2 difference {relative:.2e}");
+    }
+}
+
 /// A Hertz contact on a free boundary: elastic sphere (radius R) of `material` on a rigid flat.
 struct Hertz {
     material: Material,

@@ -49,6 +49,12 @@ const CHUNK: usize = 4096;
 /// Iterations without a new best residual after which the solve changes method.
 const STALL: usize = 25;
 
+/// Solves stopping at this relative residual or above (the path from δ = 0 with the default
+/// tolerance stops at 1e-4) apply K in single precision: its round-off, a relative 1e-7 to
+/// 5e-7 measured on 256² to 1500² windows, stays a hundredth of the residual, and the
+/// transforms take 1.3–1.7 times less time.
+const SINGLE: f64 = 5e-5;
+
 /// Proportioning constant Γ: a proportioning step is taken when the chopped gradient exceeds Γ
 /// times the (reduced) free gradient.
 const GAMMA: f64 = 1.0;
@@ -244,8 +250,9 @@ impl TangentialSolver {
         }
         let mut applications = 0;
         // The displacement of the last solve is exact for its traction: recompute it only
-        // where the new bounds cut the traction.
-        if project(&mut self.traction, bound) {
+        // where the new bounds cut the traction, or in the precision of this solve.
+        let switched = self.operator.set_single(tolerance >= SINGLE);
+        if project(&mut self.traction, bound) || switched {
             self.refresh();
             applications += 1;
         }
@@ -664,8 +671,15 @@ fn dense_is_cheaper(m: usize, g: usize) -> bool {
 /// K on the contact points.
 enum ShearOperator {
     /// Through the transforms of the contact set's bounding box: the points' flat indices in
-    /// the box, and the box's input and output grids (x, y).
-    Grid { influence: Box<TangentialInfluence>, local: Vec<usize>, field_in: [Vec<f64>; 2], field_out: [Vec<f64>; 2] },
+    /// the box, and the box's input and output grids (x, y). The transforms run in single
+    /// precision while `single` holds the operator in it.
+    Grid {
+        influence: Box<TangentialInfluence>,
+        single: Option<Box<TangentialInfluence<f32>>>,
+        local: Vec<usize>,
+        field_in: [Vec<f64>; 2],
+        field_out: [Vec<f64>; 2],
+    },
     /// As a dense matrix: the (xx, xy, yy) coefficients of every pair, row-major [m/Pa].
     Dense { m: usize, coefficients: Vec<[f64; 3]> },
 }
@@ -689,23 +703,38 @@ impl ShearOperator {
         let local = points.iter().map(|&i| (i / nx - y0) * bx + (i % nx - x0)).collect();
         ShearOperator::Grid {
             influence: Box::new(influence),
+            single: None,
             local,
             field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
             field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
         }
     }
 
+    /// Apply K in single precision from now on (`true`) or in double; whether that changed
+    /// anything (a dense operator is always applied in double precision).
+    fn set_single(&mut self, on: bool) -> bool {
+        let ShearOperator::Grid { influence, single, .. } = self else { return false };
+        if on == single.is_some() {
+            return false;
+        }
+        *single = on.then(|| Box::new(influence.single()));
+        true
+    }
+
     /// `out = K v` on the contact points.
     fn apply(&mut self, v: &[[f64; 2]], out: &mut [[f64; 2]]) {
         match self {
-            ShearOperator::Grid { influence, local, field_in, field_out } => {
+            ShearOperator::Grid { influence, single, local, field_in, field_out } => {
                 // Points off the contact set are never written: the input grids stay zero there.
                 for (&i, v) in local.iter().zip(v) {
                     field_in[0][i] = v[0];
                     field_in[1][i] = v[1];
                 }
                 let [ox, oy] = field_out;
-                influence.apply([&field_in[0], &field_in[1]], [ox, oy]);
+                match single {
+                    Some(single) => single.apply([&field_in[0], &field_in[1]], [ox, oy]),
+                    None => influence.apply([&field_in[0], &field_in[1]], [ox, oy]),
+                }
                 out.par_iter_mut().zip(local.par_iter()).with_min_len(CHUNK).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
             }
             ShearOperator::Dense { m, coefficients } => {
