@@ -18,22 +18,22 @@
 //! The solve is MPRGP (Dostál's modified proportioning with reduced gradient projections)
 //! carried over from boxes to disks: conjugate gradient steps on the points below their bound
 //! and on the turning of the tractions held on it (a turn costs, besides K's energy, the
-//! bound's curvature, the slip over the bound: the Lagrangian's Hessian); expansion steps
-//! that put many points on their bounds at once (along the projected path past the first
-//! bound to the minimum of an energy model, else as far as the bounds allow and a projected
-//! gradient step of fixed length 1.9/‖K‖, which alone put about ten points on their bounds
-//! per step at 1500², 10 mN, where ‖K‖ is 45 times K's diagonal); proportioning steps that
-//! release points whose gradient pulls them off their bounds, taken when that part of the
-//! gradient outweighs the free part. The conjugate gradient is preconditioned by the Hessian's diagonal, K's diagonal
-//! plus the curvature term: a point that slipped far in one increment has a curvature up to 10⁴
-//! times K's diagonal, and without it such points set the iteration count (measured: 0.47 of
-//! the iterations at 256², 10 mN, 0.13 at 1500², 1 mN). One application of K (two FFT pairs)
-//! per iteration, a second one after an expansion or a release that needed projecting:
-//! 1.24–1.53 applications per iteration on the sliding paths of `slide` (the preconditioned
-//! conjugate gradient takes fewer iterations between them), against 1.4 for the projected
-//! conjugate gradient of Polonsky & Keer that stalled whenever the set of points on their
-//! bound changed. Should the turning of many tractions at once keep it from progressing (no
-//! new best residual in 25 iterations), the solve finishes with the accelerated projected
+//! bound's curvature, the slip over the bound: the Lagrangian's Hessian); expansion steps that
+//! put many points on their bounds at once (along the projected path past the first bound to
+//! the minimum of an energy model, else as far as the bounds allow and a projected gradient
+//! step of fixed length 1.9/‖K‖, which alone put about ten points on their bounds per step at
+//! 1500², 10 mN, where ‖K‖ is 45 times K's diagonal); proportioning steps that release points
+//! whose gradient pulls them off their bounds, taken when that part of the gradient outweighs
+//! the free part. The conjugate gradient is preconditioned by the Hessian's diagonal, K's
+//! diagonal plus the curvature term: a point that slipped far in one increment has a curvature
+//! up to 10⁴ times K's diagonal, and without it such points set the iteration count (measured:
+//! 0.47 of the iterations at 256², 10 mN, 0.13 at 1500², 1 mN). One application of K (two FFT
+//! pairs) per iteration, a second one after an expansion or a release that needed projecting:
+//! 1.46–1.54 applications per iteration on the sliding paths of `slide` from 86 points on (the
+//! preconditioned conjugate gradient takes fewer iterations between them), against 1.4 for the
+//! projected conjugate gradient of Polonsky & Keer that stalled whenever the set of points on
+//! their bound changed. Should the turning of many tractions at once keep it from progressing
+//! (no new best residual in 25 iterations), the solve finishes with the accelerated projected
 //! gradient (FISTA with adaptive restart), slower but sure to converge.
 //!
 //! Convergence: the projected gradient's norm relative to the target's, both over the contact
