@@ -38,7 +38,8 @@
 //!
 //! Convergence: the projected gradient's norm relative to the target's, both over the contact
 //! points, below the tolerance, on a displacement that is exact (recomputed from scratch).
-//! Loose solves (tolerance 5e-5 or above) apply K in single precision.
+//! Solves at a tolerance of 1e-6 or above apply K in single precision; below 5e-5 they are
+//! checked in double precision once converged (and go on in double should the check fail).
 
 use rayon::prelude::*;
 
@@ -52,11 +53,15 @@ const CHUNK: usize = 4096;
 /// Iterations without a new best residual after which the solve changes method.
 const STALL: usize = 25;
 
-/// Solves stopping at this relative residual or above (the path from δ = 0 with the default
-/// tolerance stops at 1e-4) apply K in single precision: its round-off, a relative 1e-7 to
-/// 5e-7 measured on 256² to 1500² windows, stays a hundredth of the residual, and the
-/// transforms take 1.3–1.7 times less time.
-const SINGLE: f64 = 5e-5;
+/// Solves stopping at this relative residual or above apply K in single precision: its
+/// round-off, a relative 1e-7 to 5e-7 measured on 256² to 1500² windows, is below it, and the
+/// transforms take 1.3–1.7 times less time. Tighter solves run in double throughout.
+const SINGLE: f64 = 1e-6;
+
+/// A single-precision solve stopping below this residual (where the round-off is more than a
+/// hundredth of it) is checked in double precision once converged, and goes on in double if
+/// the check fails; so is one that stalls in single precision.
+const CHECKED: f64 = 5e-5;
 
 /// Steps tried by the projected search of an expansion, from the first bound to the conjugate
 /// gradient step (geometric ladder). Measured at 1500², 10 mN: 24 tried up to the conjugate
@@ -259,9 +264,12 @@ impl TangentialSolver {
         }
         let mut applications = 0;
         // The displacement of the last solve is exact for its traction: recompute it only
-        // where the new bounds cut the traction, or in the precision of this solve.
-        let switched = self.operator.set_single(tolerance >= SINGLE);
-        if project(&mut self.traction, bound) || switched {
+        // where the new bounds cut the traction, or when this solve needs double precision
+        // and the last ran in single.
+        let single = tolerance >= SINGLE;
+        let to_double = self.operator.set_single(single) && !single;
+        let mut check = single && tolerance < CHECKED;
+        if project(&mut self.traction, bound) || to_double {
             self.refresh();
             applications += 1;
         }
@@ -294,6 +302,16 @@ impl TangentialSolver {
                 .reduce(|| (0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
             let residual = (free + chopped).sqrt() / scale;
             if residual <= tolerance {
+                if exact && check {
+                    check = false;
+                    if self.operator.set_single(false) {
+                        self.refresh();
+                        applications += 1;
+                        restart = true;
+                        count.forget_best();
+                        continue;
+                    }
+                }
                 if exact {
                     return Ok(TangentialReport { iterations: count.done(), applications, residual });
                 }
@@ -307,7 +325,17 @@ impl TangentialSolver {
                 count.forget_best();
                 continue;
             }
-            if count.next(residual)? && !accelerated && step > 0.0 {
+            let stalled = count.next(residual)?;
+            if stalled && self.operator.set_single(false) {
+                // Perhaps on the single precision's round-off: go on in double.
+                check = false;
+                self.refresh();
+                applications += 1;
+                exact = true;
+                restart = true;
+                continue;
+            }
+            if stalled && !accelerated && step > 0.0 {
                 // Should the turning of many tractions at once keep it from converging, the
                 // solve finishes with the accelerated projected gradient, which cannot stall.
                 accelerated = true;
@@ -770,10 +798,11 @@ fn dense_is_cheaper(m: usize, g: usize) -> bool {
 enum ShearOperator {
     /// Through the transforms of the contact set's bounding box: the points' flat indices in
     /// the box, and the box's input and output grids (x, y). The transforms run in single
-    /// precision while `single` holds the operator in it.
+    /// precision, on the operator's copy made on first use, while `in_single` holds.
     Grid {
         influence: Box<TangentialInfluence>,
         single: Option<Box<TangentialInfluence<f32>>>,
+        in_single: bool,
         local: Vec<usize>,
         field_in: [Vec<f64>; 2],
         field_out: [Vec<f64>; 2],
@@ -802,6 +831,7 @@ impl ShearOperator {
         ShearOperator::Grid {
             influence: Box::new(influence),
             single: None,
+            in_single: false,
             local,
             field_in: [vec![0.0; by * bx], vec![0.0; by * bx]],
             field_out: [vec![0.0; by * bx], vec![0.0; by * bx]],
@@ -811,25 +841,28 @@ impl ShearOperator {
     /// Apply K in single precision from now on (`true`) or in double; whether that changed
     /// anything (a dense operator is always applied in double precision).
     fn set_single(&mut self, on: bool) -> bool {
-        let ShearOperator::Grid { influence, single, .. } = self else { return false };
-        if on == single.is_some() {
+        let ShearOperator::Grid { influence, single, in_single, .. } = self else { return false };
+        if on == *in_single {
             return false;
         }
-        *single = on.then(|| Box::new(influence.single()));
+        if on && single.is_none() {
+            *single = Some(Box::new(influence.single()));
+        }
+        *in_single = on;
         true
     }
 
     /// `out = K v` on the contact points.
     fn apply(&mut self, v: &[[f64; 2]], out: &mut [[f64; 2]]) {
         match self {
-            ShearOperator::Grid { influence, single, local, field_in, field_out } => {
+            ShearOperator::Grid { influence, single, in_single, local, field_in, field_out } => {
                 // Points off the contact set are never written: the input grids stay zero there.
                 for (&i, v) in local.iter().zip(v) {
                     field_in[0][i] = v[0];
                     field_in[1][i] = v[1];
                 }
                 let [ox, oy] = field_out;
-                match single {
+                match single.as_mut().filter(|_| *in_single) {
                     Some(single) => single.apply([&field_in[0], &field_in[1]], [ox, oy]),
                     None => influence.apply([&field_in[0], &field_in[1]], [ox, oy]),
                 }
