@@ -261,9 +261,9 @@ pub struct ElasticOnset {
 }
 
 impl ElasticOnset {
-    /// F_S / N.
+    /// F_S / N, as mu_d times the drop: exactly mu_d when F_S is the sliding force μ_d N.
     pub fn static_coefficient(&self) -> f64 {
-        self.static_force / self.normal_force
+        self.mu_d * self.friction_drop()
     }
 
     /// F_S / (mu_d N).
@@ -463,7 +463,11 @@ impl<'a> Path<'a> {
         let p = self.solver.pressure();
         let traction: Vec<[f64; 2]> =
             (0..p.len()).map(|i| [self.law.mu(st.path[i], st.slipped[i]) * p[i], 0.0]).collect();
-        let force = traction.iter().map(|q| q[0]).sum::<f64>() * self.solver.pixel_area();
+        // μ_d N (N summed as the onset sums it) plus what the points off mu_d add: a fully
+        // weakened interface gives μ_d N to the bit, a drop of exactly 1, not 1 − 2e-15.
+        let area = self.solver.pixel_area();
+        let excess: f64 = traction.iter().zip(p).map(|(q, p)| q[0] - self.law.mu_d * p).sum();
+        let force = self.law.mu_d * (p.iter().sum::<f64>() * area) + excess * area;
         Snapshot {
             point: SlidePoint { displacement_m: f64::INFINITY, force_n: force, stick_points: 0, slip_points: p.len() },
             traction,
@@ -598,7 +602,16 @@ impl Steps {
                 return Ok(false);
             }
         }
-        Err(Error::invalid("sliding onset", format!("no total sliding after {MAX_STEPS} displacement steps")))
+        let reached = format!("no total sliding after {MAX_STEPS} displacement steps (δ = {:.3e} m)", path.state.delta);
+        Err(Error::invalid(
+            "sliding onset",
+            match path.law.weakening {
+                Weakening::Linear(dc) if dc > path.state.delta => {
+                    format!("{reached}: the slip-weakening distance {dc:.3e} m is longer; give a shorter one")
+                }
+                _ => reached,
+            },
+        ))
     }
 
     /// The live step with the largest force (the first of equals).
