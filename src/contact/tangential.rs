@@ -213,6 +213,11 @@ impl TangentialSolver {
         &self.pressure
     }
 
+    /// The normal force N = Σ p · a [N] (one sum, so that every N of a solver is the same bits).
+    pub fn normal_force(&self) -> f64 {
+        self.pressure.iter().sum::<f64>() * self.pixel_area()
+    }
+
     /// Shear traction q [Pa] at the contact points, from the last solve.
     pub fn traction(&self) -> &[[f64; 2]] {
         &self.traction
@@ -268,7 +273,6 @@ impl TangentialSolver {
         // and the last ran in single.
         let single = tolerance >= SINGLE;
         let to_double = self.operator.set_single(single) && !single;
-        let mut check = single && tolerance < CHECKED;
         if project(&mut self.traction, bound) || to_double {
             self.refresh();
             applications += 1;
@@ -302,15 +306,13 @@ impl TangentialSolver {
                 .reduce(|| (0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
             let residual = (free + chopped).sqrt() / scale;
             if residual <= tolerance {
-                if exact && check {
-                    check = false;
-                    if self.operator.set_single(false) {
-                        self.refresh();
-                        applications += 1;
-                        restart = true;
-                        count.forget_best();
-                        continue;
-                    }
+                // The check: false once in double precision (or for a dense operator).
+                if exact && tolerance < CHECKED && self.operator.set_single(false) {
+                    self.refresh();
+                    applications += 1;
+                    restart = true;
+                    count.forget_best();
+                    continue;
                 }
                 if exact {
                     return Ok(TangentialReport { iterations: count.done(), applications, residual });
@@ -328,7 +330,6 @@ impl TangentialSolver {
             let stalled = count.next(residual)?;
             if stalled && self.operator.set_single(false) {
                 // Perhaps on the single precision's round-off: go on in double.
-                check = false;
                 self.refresh();
                 applications += 1;
                 exact = true;

@@ -463,11 +463,10 @@ impl<'a> Path<'a> {
         let p = self.solver.pressure();
         let traction: Vec<[f64; 2]> =
             (0..p.len()).map(|i| [self.law.mu(st.path[i], st.slipped[i]) * p[i], 0.0]).collect();
-        // μ_d N (N summed as the onset sums it) plus what the points off mu_d add: a fully
-        // weakened interface gives μ_d N to the bit, a drop of exactly 1, not 1 − 2e-15.
-        let area = self.solver.pixel_area();
+        // μ_d N (the onset's N) plus what the points off mu_d add: a fully weakened interface
+        // gives μ_d N to the bit, a drop of exactly 1, not 1 − 2e-15.
         let excess: f64 = traction.iter().zip(p).map(|(q, p)| q[0] - self.law.mu_d * p).sum();
-        let force = self.law.mu_d * (p.iter().sum::<f64>() * area) + excess * area;
+        let force = self.law.mu_d * self.solver.normal_force() + excess * self.solver.pixel_area();
         Snapshot {
             point: SlidePoint { displacement_m: f64::INFINITY, force_n: force, stick_points: 0, slip_points: p.len() },
             traction,
@@ -639,7 +638,7 @@ pub fn elastic_onset(
     mut progress: impl FnMut(SlideProgress),
 ) -> Result<ElasticOnset> {
     let area = solver.pixel_area();
-    let normal_force: f64 = solver.pressure().iter().sum::<f64>() * area;
+    let normal_force = solver.normal_force();
     let mut path = Path::new(solver, law);
     let k = path.stuck_stiffness()?;
     if !(k > 0.0 && k.is_finite()) {
@@ -715,8 +714,7 @@ pub fn elastic_onset(
 /// A partial-slip state under Coulomb friction (coefficient `mu`): the tangential force ramped
 /// to `force` [N] by increasing δ, located to a relative 1e-6.
 pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<(Snapshot, SlideWork)> {
-    let area = solver.pixel_area();
-    let normal_force: f64 = solver.pressure().iter().sum::<f64>() * area;
+    let normal_force = solver.normal_force();
     if !(force > 0.0 && force < mu * normal_force) {
         return Err(Error::invalid(
             "--tangential-force",
