@@ -169,9 +169,17 @@ impl<T: FftNum> Fft2<T> {
         assert!(out_ny <= self.ny && out_nx <= self.nx && output.len() == out_ny * out_nx);
         self.inverse_columns(spectrum, work, |_, _| ());
         let split = |st, mid| split_rows_mut(st, mid, out_nx);
-        self.inverse_rows(spectrum, out_ny, work, (0, output), split, |(first, rows), y, line| {
-            rows[(y - *first) * out_nx..][..out_nx].copy_from_slice(&line[..out_nx]);
-        });
+        self.inverse_rows(
+            spectrum,
+            out_ny,
+            |_| true,
+            work,
+            (0, output),
+            split,
+            |(first, rows), y, line| {
+                rows[(y - *first) * out_nx..][..out_nx].copy_from_slice(&line[..out_nx]);
+            },
+        );
     }
 
     /// The row pass of a forward transform, the first half of [`Fft2::forward`] for callers
@@ -284,12 +292,15 @@ impl<T: FftNum> Fft2<T> {
     }
 
     /// The row pass of an inverse transform, after [`Fft2::inverse_columns`] on `spectrum`:
-    /// `consume(state, y, line)` receives row y (length nx) of the result for y in `0..rows`,
-    /// with the caller's state cut into blocks as in [`Fft2::forward_rows`].
+    /// `consume(state, y, line)` receives row y (length nx) of the result for each y in
+    /// `0..rows` that the caller `wanted` (the others are not transformed), with the caller's
+    /// state cut into blocks as in [`Fft2::forward_rows`].
+    #[allow(clippy::too_many_arguments)]
     pub fn inverse_rows<S: Send>(
         &self,
         spectrum: &[Complex<T>],
         rows: usize,
+        wanted: impl Fn(usize) -> bool + Sync,
         work: &mut Fft2Work<T>,
         state: S,
         split: impl Fn(S, usize) -> (S, S) + Sync,
@@ -298,16 +309,32 @@ impl<T: FftNum> Fft2<T> {
         let (ny, nx, nxh) = (self.ny, self.nx, self.nxh());
         assert!(rows <= ny && spectrum.len() == self.spectrum_len());
         row_blocks(0..rows, &mut work.slots, state, &split, &|ys, mut s, slot| {
-            let mut y0 = ys.start;
-            while y0 < ys.end {
-                // A few rows of the transpose at a time: each spectrum row gives one cache line.
-                let group = (ys.end - y0).min(GROUP);
-                for kx in 0..nxh {
-                    for (r, v) in spectrum[kx * ny + y0..][..group].iter().enumerate() {
-                        slot.group[r * nxh + kx] = *v;
+            let mut next = ys.clone().filter(|&y| wanted(y)).peekable();
+            while next.peek().is_some() {
+                // A few rows of the transpose at a time: each spectrum row gives one cache line
+                // when they are consecutive.
+                let mut chosen = [0; GROUP];
+                let mut group = 0;
+                for y in next.by_ref().take(GROUP) {
+                    chosen[group] = y;
+                    group += 1;
+                }
+                let chosen = &chosen[..group];
+                if chosen[group - 1] - chosen[0] == group - 1 {
+                    for kx in 0..nxh {
+                        for (r, v) in spectrum[kx * ny + chosen[0]..][..group].iter().enumerate() {
+                            slot.group[r * nxh + kx] = *v;
+                        }
+                    }
+                } else {
+                    for kx in 0..nxh {
+                        let column = &spectrum[kx * ny..][..ny];
+                        for (r, &y) in chosen.iter().enumerate() {
+                            slot.group[r * nxh + kx] = column[y];
+                        }
                     }
                 }
-                for r in 0..group {
+                for (r, &y) in chosen.iter().enumerate() {
                     let row = &mut slot.group[r * nxh..][..nxh];
                     // The field is real: round-off in the imaginary parts of the real-valued
                     // modes (qx = 0 and the Nyquist column) is dropped, as it must be.
@@ -318,9 +345,8 @@ impl<T: FftNum> Fft2<T> {
                     self.c2r
                         .process_with_scratch(row, &mut slot.line, &mut slot.scratch)
                         .expect("buffer sizes match the plan");
-                    consume(&mut s, y0 + r, &slot.line);
+                    consume(&mut s, y, &slot.line);
                 }
-                y0 += group;
             }
         });
     }

@@ -724,6 +724,7 @@ impl ContactSolver {
         fft.inverse_rows(
             spectrum,
             ny,
+            |_| true,
             work,
             (0, &mut self.displacement[..]),
             |s, mid| split_rows_mut(s, mid, nx),
@@ -993,6 +994,7 @@ impl ContactSolver {
         fft.inverse_rows(
             spectrum,
             ny,
+            |_| true,
             work,
             (0, &mut self.displacement[..], rows, &mut self.pending[..], &mut self.row_sums[..]),
             |(first, u, rows, pending, sums), mid| {
