@@ -51,6 +51,9 @@ pub struct Fft2<T: FftNum = f64> {
 pub struct Fft2Work<T: FftNum = f64> {
     /// Half spectrum in natural layout (ny, nx/2 + 1), between the forward row and column passes.
     half: Vec<Complex<T>>,
+    /// Whether each row of `half` holds anything: the others are zero, whatever `half` holds
+    /// there, and the column pass does not read them.
+    nonzero: Vec<bool>,
     /// One slot per task.
     slots: Vec<Slot<T>>,
 }
@@ -115,6 +118,7 @@ impl<T: FftNum> Fft2<T> {
         .max(1);
         Fft2Work {
             half: large_buffer(self.ny * self.nxh(), Complex::zero()),
+            nonzero: vec![false; self.ny],
             slots: (0..self.tasks)
                 .map(|_| Slot {
                     line: vec![T::zero(); self.nx],
@@ -197,28 +201,29 @@ impl<T: FftNum> Fft2<T> {
     ) {
         let nxh = self.nxh();
         assert!(rows <= self.ny);
-        let (live, zero) = work.half.split_at_mut(rows * nxh);
-        zero.par_iter_mut().for_each(|c| *c = Complex::zero());
+        let (nonzero, zero) = work.nonzero.split_at_mut(rows);
+        zero.fill(false);
         row_blocks(
             0..rows,
             &mut work.slots,
-            (state, (0, live)),
-            &|(s, out), mid| {
+            (state, ((0, &mut work.half[..rows * nxh]), (0, nonzero))),
+            &|(s, (out, flags)), mid| {
                 let (a, b) = split(s, mid);
                 let (oa, ob) = split_rows_mut(out, mid, nxh);
-                ((a, oa), (b, ob))
+                let (fa, fb) = split_rows_mut(flags, mid, 1);
+                ((a, (oa, fa)), (b, (ob, fb)))
             },
-            &|ys, (mut s, (first, out)), slot| {
+            &|ys, (mut s, ((first, out), (_, flags))), slot| {
                 for y in ys {
                     slot.line.fill(T::zero());
                     let o = &mut out[(y - first) * nxh..][..nxh];
-                    if fill(&mut s, y, &mut slot.line) {
+                    let holds = fill(&mut s, y, &mut slot.line);
+                    if holds {
                         self.r2c
                             .process_with_scratch(&mut slot.line, o, &mut slot.scratch)
                             .expect("buffer sizes match the plan");
-                    } else {
-                        o.fill(Complex::zero());
                     }
+                    flags[y - first] = holds;
                 }
             },
         );
@@ -239,15 +244,19 @@ impl<T: FftNum> Fft2<T> {
         assert!(out.is_empty() || out.len() == nxh);
         let per_task = nxh.div_ceil(self.tasks);
         let fft = &*self.col_forward;
-        let half = &work.half;
+        let (half, nonzero) = (&work.half, &work.nonzero);
         let run = |task: usize, chunk: &mut [Complex<T>], slot: &mut Slot<T>, mut results: Option<&mut [A]>| {
             let kx0 = task * per_task;
             for (b, band) in chunk.chunks_mut(BAND * ny).enumerate() {
                 // This band of the transpose, then its transforms while it is in cache.
                 let width = band.len() / ny;
                 for y in 0..ny {
-                    for (k, v) in half[y * nxh + kx0 + b * BAND..][..width].iter().enumerate() {
-                        band[k * ny + y] = *v;
+                    if nonzero[y] {
+                        for (k, v) in half[y * nxh + kx0 + b * BAND..][..width].iter().enumerate() {
+                            band[k * ny + y] = *v;
+                        }
+                    } else {
+                        (0..width).for_each(|k| band[k * ny + y] = Complex::zero());
                     }
                 }
                 for (k, row) in band.chunks_exact_mut(ny).enumerate() {
@@ -448,6 +457,39 @@ mod tests {
                     let got = spec[kx * ny + ky];
                     assert!((got - want).norm() < 1e-9, "{ny}x{nx} mode ({kx},{ky}): {got} vs {want}");
                 }
+            }
+        }
+    }
+
+    /// Rows the caller reports empty are zero in the spectrum, whatever an earlier transform
+    /// left in the work buffers.
+    #[test]
+    fn rows_reported_empty_are_zero_after_a_full_transform() {
+        let (ny, nx) = (9, 12);
+        let plan = Fft2::new(ny, nx);
+        let mut work = plan.make_work();
+        let mut spec = plan.make_spectrum();
+        plan.forward(&field(ny, nx), ny, nx, &mut spec, &mut work);
+        let mut f = field(ny, nx);
+        let empty = |y: usize| y % 3 == 1;
+        for y in (0..ny).filter(|&y| empty(y)) {
+            f[y * nx..(y + 1) * nx].fill(0.0);
+        }
+        plan.forward_rows(
+            ny,
+            &mut work,
+            (0, &f[..]),
+            |st, mid| split_rows(st, mid, nx),
+            |(first, rows), y, line| {
+                line.copy_from_slice(&rows[(y - *first) * nx..][..nx]);
+                !empty(y)
+            },
+        );
+        plan.forward_columns(&mut work, &mut spec, |_, _| (), &mut []);
+        for kx in 0..nx / 2 + 1 {
+            for ky in 0..ny {
+                let want = dft(&f, ny, nx, kx, ky);
+                assert!((spec[kx * ny + ky] - want).norm() < 1e-9, "mode ({kx},{ky})");
             }
         }
     }
