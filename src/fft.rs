@@ -321,7 +321,8 @@ impl<T: FftNum> Fft2<T> {
             let mut next = ys.clone().filter(|&y| wanted(y)).peekable();
             while next.peek().is_some() {
                 // A few rows of the transpose at a time: each spectrum row gives one cache line
-                // when they are consecutive.
+                // when they are consecutive. That case (every row, as the normal solver wants)
+                // keeps its slice copy: gathering it row by row took the sweep 4–6 % longer.
                 let mut chosen = [0; GROUP];
                 let mut group = 0;
                 for y in next.by_ref().take(GROUP) {
