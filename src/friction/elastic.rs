@@ -178,6 +178,12 @@ impl SlipLaw {
         lo
     }
 
+    /// Whether a point's coefficient never rises as it slips, so that a cascade only lowers the
+    /// force (a measured μ(slip) may rise again).
+    fn only_falls(&self) -> bool {
+        !matches!(self.weakening, Weakening::Curve(_))
+    }
+
     /// Whether nothing changes once every point has slipped this far [m].
     fn settled(&self, slip: f64) -> bool {
         match &self.weakening {
@@ -263,7 +269,8 @@ pub struct ElasticOnset {
     pub critical: ClassShare,
     pub slipped: ClassShare,
     /// F(δ) along the path, in increasing δ: the coarse path with each refined step replaced by
-    /// its finer steps; at a δ where a cascade happens, the force before it and after it. Its
+    /// its finer steps; at a δ where a cascade happens, the force before it and after it (at the
+    /// end of refined steps, after it the coarse path's, from which the path goes on). Its
     /// largest force is F_S unless that is the sliding limit.
     pub curve: Vec<SlidePoint>,
     pub work: SlideWork,
@@ -353,8 +360,14 @@ impl<'a> Path<'a> {
 
     /// One increment to `delta`, with its cascade. `visit` sees every solved state (the state
     /// before its memory is updated) with its point on the curve. Returns the first state
-    /// (before the cascade) and the settled one.
-    fn step(&mut self, delta: f64, visit: &mut impl FnMut(&Self, SlidePoint)) -> Result<(SlidePoint, SlidePoint)> {
+    /// (before the cascade) and the settled one; without `cascade`, the settled one only when
+    /// the first solve has no cascade to follow (else the path's state is left as before).
+    fn step(
+        &mut self,
+        delta: f64,
+        cascade: bool,
+        visit: &mut impl FnMut(&Self, SlidePoint),
+    ) -> Result<(SlidePoint, Option<SlidePoint>)> {
         self.work.steps += 1;
         let p = self.solver.pressure();
         let st = &self.state;
@@ -410,6 +423,9 @@ impl<'a> Path<'a> {
             if same {
                 break;
             }
+            if !cascade {
+                return Ok((point, None));
+            }
             if rounds == MAX_CASCADE {
                 return Err(Error::invalid(
                     "sliding onset",
@@ -430,7 +446,7 @@ impl<'a> Path<'a> {
         st.traction = q.to_vec();
         st.delta = delta;
         let settled = self.point(delta);
-        Ok((first.unwrap_or(settled), settled))
+        Ok((first.unwrap_or(settled), Some(settled)))
     }
 
     /// The curve point of the solver's current state.
@@ -526,6 +542,8 @@ struct Step {
     points: Vec<SlidePoint>,
     /// The largest force it reached.
     largest: SlidePoint,
+    /// Its state after the cascade, from which the next step goes on.
+    settled: SlidePoint,
     /// While the step may hold F_S: the state at its start and the snapshot at `largest`.
     kept: Option<Box<(State, Snapshot)>>,
 }
@@ -543,6 +561,15 @@ impl Step {
     }
 }
 
+/// Where a refined run ends.
+#[derive(Clone, Copy)]
+struct RunEnd {
+    /// δ [m] at its end.
+    at: f64,
+    /// The coarse path's settled point there, when the path goes on from it.
+    coarse: Option<SlidePoint>,
+}
+
 /// The steps of a path: the coarse path with each refined step replaced by its finer steps.
 struct Steps {
     live: Vec<Step>,
@@ -555,16 +582,16 @@ struct Steps {
 }
 
 impl Steps {
-    /// Steps from `start` with length `h` to δ = `until`, or (`None`) to total sliding or until
-    /// no later state can exceed the largest settled force. Returns whether the path reached
-    /// total sliding.
+    /// Steps from `start` with length `h` to `until`, or (`None`) to total sliding or until no
+    /// later state can exceed the largest settled force. Returns whether the path reached total
+    /// sliding.
     fn run(
         &mut self,
         path: &mut Path,
         level: usize,
         start: &State,
         h: f64,
-        until: Option<f64>,
+        until: Option<RunEnd>,
         progress: &mut impl FnMut(SlideProgress),
     ) -> Result<bool> {
         path.go_back(start);
@@ -586,7 +613,13 @@ impl Steps {
                     }
                 }
             };
-            let (first, settled) = path.step(delta, &mut visit)?;
+            let last = until.is_some_and(|end| delta >= end.at * (1.0 - 1e-12));
+            // The cascade of a refined run's last step would only lead to the coarse path's
+            // state at its end, from which the following steps go on: its settled point on the
+            // curve is the coarse path's.
+            let coarse = until.and_then(|end| end.coarse).filter(|_| last && path.law.only_falls());
+            let (first, settled) = path.step(delta, coarse.is_none(), &mut visit)?;
+            let settled = settled.or(coarse).expect("a step without its cascade has the coarse path's point");
             let largest = largest.expect("a step solves");
             let mut points = vec![first];
             for p in [largest, settled] {
@@ -603,10 +636,10 @@ impl Steps {
             }
             self.settled = self.settled.max(settled.force_n);
             let kept = snapshot.map(|s| Box::new((before, s)));
-            self.live.push(Step { level, from: start.delta + h * (k - 1) as f64, points, largest, kept });
+            self.live.push(Step { level, from: start.delta + h * (k - 1) as f64, points, largest, settled, kept });
             progress(SlideProgress { level, point: settled, largest_force_n: self.largest, work: path.work });
-            if let Some(end) = until {
-                if delta >= end * (1.0 - 1e-12) {
+            if until.is_some() {
+                if last {
                     return Ok(false);
                 }
             } else if path.sliding(&settled) {
@@ -682,11 +715,11 @@ pub fn elastic_onset(
         let next = steps.live.iter().position(|s| (s.from - (step.from + h)).abs() <= 1e-9 * h);
         let end = match next {
             Some(j) if steps.live[j].level == level => {
-                steps.live.swap_remove(j);
-                step.from + 2.0 * h
+                let next = steps.live.swap_remove(j);
+                RunEnd { at: step.from + 2.0 * h, coarse: Some(next.settled) }
             }
-            Some(_) => step.from + h,
-            None => step.from + 2.0 * h,
+            Some(_) => RunEnd { at: step.from + h, coarse: Some(step.settled) },
+            None => RunEnd { at: step.from + 2.0 * h, coarse: None },
         };
         steps.run(&mut path, level + 1, &start, length(level + 1), Some(end), &mut progress)?;
     };
@@ -746,7 +779,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
     for k in 1..=MAX_STEPS {
         before = path.state.clone();
         lo = hi;
-        let (_, point) = path.step(h * k as f64, &mut none)?;
+        let point = path.step(h * k as f64, true, &mut none)?.1.expect("a step with its cascade settles");
         hi = (point.displacement_m, point.force_n);
         if hi.1 >= force {
             break;
@@ -795,5 +828,5 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
 fn force_at(path: &mut Path, start: &State, delta: f64) -> Result<f64> {
     path.go_back(start);
     let mut none = |_: &Path, _: SlidePoint| {};
-    Ok(path.step(delta, &mut none)?.1.force_n)
+    Ok(path.step(delta, true, &mut none)?.1.expect("a step with its cascade settles").force_n)
 }
