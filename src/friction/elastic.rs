@@ -638,13 +638,11 @@ impl Steps {
             let kept = snapshot.map(|s| Box::new((before, s)));
             self.live.push(Step { level, from: start.delta + h * (k - 1) as f64, points, largest, settled, kept });
             progress(SlideProgress { level, point: settled, largest_force_n: self.largest, work: path.work });
-            if until.is_some() {
-                if last {
-                    return Ok(false);
-                }
-            } else if path.sliding(&settled) {
+            if last {
+                return Ok(false);
+            } else if until.is_none() && path.sliding(&settled) {
                 return Ok(true);
-            } else if path.ceiling() <= self.settled {
+            } else if until.is_none() && path.ceiling() <= self.settled {
                 return Ok(false);
             }
         }
