@@ -341,6 +341,48 @@ impl TangentialInfluence {
         TangentialInfluence { ny: self.ny, nx: self.nx, fft, kernel, spectrum, work, rows: self.rows.clone() }
     }
 
+    /// The inverse operator (the traction under a unit displacement) near the origin: its
+    /// coefficients (xx, xy, yy) [Pa/m] at the offsets (dy, dx) of the fields' points with
+    /// |dy|, |dx| ≤ `radius`, from the inverse of the kernel at every wavevector (a mode the
+    /// kernel leaves out, such as the periodic k = 0, is left out of the inverse too).
+    pub fn inverse_near(&self, radius: usize) -> Vec<((i64, i64), [f64; 3])> {
+        let (gy, gx) = self.fft.shape();
+        let norm = 1.0 / (gy * gx) as f64;
+        let [kxx, kxy, kyy] = &self.kernel;
+        let mut kernel = [kxx.clone(), kxy.clone(), kyy.clone()];
+        for i in 0..kxx.len() {
+            let (a, b, c) = (kxx[i], kxy[i], kyy[i]);
+            let det = a * c - b * b;
+            // The kernels hold the transform's normalisation once; their inverse must too.
+            let s = if det > 0.0 { norm * norm / det } else { 0.0 };
+            kernel[0][i] = c * s;
+            kernel[1][i] = -b * s;
+            kernel[2][i] = a * s;
+        }
+        let (ny, nx) = (self.ny, self.nx);
+        let mut inverse = TangentialInfluence::with_kernels(ny, nx, Fft2::new(gy, gx), kernel);
+        let mut unit = vec![0.0; ny * nx];
+        unit[0] = 1.0;
+        let zero = vec![0.0; ny * nx];
+        let [mut g_xx, mut g_yx, mut g_xy, mut g_yy] = std::array::from_fn(|_| vec![0.0; ny * nx]);
+        inverse.apply([&unit, &zero], [&mut g_xx, &mut g_yx]);
+        inverse.apply([&zero, &unit], [&mut g_xy, &mut g_yy]);
+        // xx and yy are even in each offset, xy odd in each: the corner's responses give all.
+        let r = radius as i64;
+        let mut taps = Vec::new();
+        for dy in -r..=r {
+            for dx in -r..=r {
+                let (ay, ax) = (dy.unsigned_abs() as usize, dx.unsigned_abs() as usize);
+                if ay < ny && ax < nx {
+                    let k = ay * nx + ax;
+                    let sign = (dy.signum() * dx.signum()) as f64;
+                    taps.push(((dy, dx), [g_xx[k], sign * 0.5 * (g_xy[k] + g_yx[k]), g_yy[k]]));
+                }
+            }
+        }
+        taps
+    }
+
     /// From now on take the tractions outside the rows marked in `rows` (one flag per row of
     /// the fields) as zero and leave the displacements there unwritten: their row transforms
     /// are skipped (the contact points of a rough contact lie in fewer than half of their
