@@ -33,9 +33,10 @@
 //! slow (1500² stand-in ball with its wafer at 10 mN: the sliding onset's iterations 4 151 →
 //! 1 959). One application of K (two FFT pairs) per iteration, a second one after an expansion
 //! or a release that needed projecting, against 1.4 for the projected conjugate gradient of
-//! Polonsky & Keer that stalled whenever the set of points on their bound changed. Should the turning of many tractions at once keep it from progressing
-//! (no new best residual in 25 iterations), the solve finishes with the accelerated projected
-//! gradient (FISTA with adaptive restart), slower but sure to converge.
+//! Polonsky & Keer that stalled whenever the set of points on their bound changed. Should the
+//! turning of many tractions at once keep it from progressing (no new best residual in 25
+//! iterations), the solve finishes with the accelerated projected gradient (FISTA with
+//! adaptive restart), slower but sure to converge.
 //!
 //! Convergence: the projected gradient's norm relative to the target's, both over the contact
 //! points, below the tolerance, on a displacement that is exact (recomputed from scratch).
@@ -499,8 +500,8 @@ impl TangentialSolver {
 
     /// preconditioned ← z = S P N P S φ: the free gradient φ through K's inverse near the
     /// diagonal N (scaled to 1 on it), where S scales a point by √(k / (k + c)) (k K's diagonal,
-    /// c the point's curvature term: 1 at a free point) and P keeps only the part along the
-    /// bound at the points held on it. Symmetric and positive: with N's diagonal alone it is
+    /// c the point's curvature term, zero at a free point) and P keeps only the part along the
+    /// bound at the points held on it (φ has no other there). Symmetric and positive: with N's diagonal alone it is
     /// the Hessian's diagonal, k / (k + c).
     fn precondition(&mut self, target: &[[f64; 2]], bound: &[f64], k: f64) {
         self.scaled
