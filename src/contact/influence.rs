@@ -177,6 +177,24 @@ pub struct TangentialInfluence<T: FftNum = f64> {
     rows: Vec<bool>,
 }
 
+/// An operator's coefficients at any offset (dy, dx) between two points of its fields:
+/// [`TangentialInfluence::offsets`].
+pub struct Offsets {
+    nx: usize,
+    xx: Vec<f64>,
+    xy: Vec<f64>,
+    yy: Vec<f64>,
+}
+
+impl Offsets {
+    /// (xx, xy, yy) at offset (dy, dx): xx and yy are even in each offset, xy odd in each, so
+    /// the responses at the non-negative offsets give all.
+    pub fn at(&self, dy: i64, dx: i64) -> [f64; 3] {
+        let k = dy.unsigned_abs() as usize * self.nx + dx.unsigned_abs() as usize;
+        [self.xx[k], (dy.signum() * dx.signum()) as f64 * self.xy[k], self.yy[k]]
+    }
+}
+
 impl TangentialInfluence {
     /// The periodic operator on an (ny, nx) window of size (lx, ly) [m].
     pub fn periodic(ny: usize, nx: usize, (lx, ly): (f64, f64), c: ShearCompliance) -> Self {
@@ -359,28 +377,31 @@ impl TangentialInfluence {
             kernel[1][i] = -b * s;
             kernel[2][i] = a * s;
         }
+        let mut inverse = TangentialInfluence::with_kernels(self.ny, self.nx, Fft2::new(gy, gx), kernel);
+        let near = inverse.offsets();
+        let r = radius as i64;
+        (-r..=r)
+            .flat_map(|dy| (-r..=r).map(move |dx| (dy, dx)))
+            .filter(|&(dy, dx)| dy.unsigned_abs() < self.ny as u64 && dx.unsigned_abs() < self.nx as u64)
+            .map(|(dy, dx)| ((dy, dx), near.at(dy, dx)))
+            .collect()
+    }
+
+    /// The coefficients (xx, xy, yy) at every offset of two points of the fields, from the
+    /// responses to unit tractions at their corner (every row transformed, as before
+    /// [`only_rows`](Self::only_rows)).
+    pub fn offsets(&mut self) -> Offsets {
+        assert!(self.rows.is_empty(), "every row's response");
         let (ny, nx) = (self.ny, self.nx);
-        let mut inverse = TangentialInfluence::with_kernels(ny, nx, Fft2::new(gy, gx), kernel);
         let mut unit = vec![0.0; ny * nx];
         unit[0] = 1.0;
         let zero = vec![0.0; ny * nx];
-        let [mut g_xx, mut g_yx, mut g_xy, mut g_yy] = std::array::from_fn(|_| vec![0.0; ny * nx]);
-        inverse.apply([&unit, &zero], [&mut g_xx, &mut g_yx]);
-        inverse.apply([&zero, &unit], [&mut g_xy, &mut g_yy]);
-        // xx and yy are even in each offset, xy odd in each: the corner's responses give all.
-        let r = radius as i64;
-        let mut taps = Vec::new();
-        for dy in -r..=r {
-            for dx in -r..=r {
-                let (ay, ax) = (dy.unsigned_abs() as usize, dx.unsigned_abs() as usize);
-                if ay < ny && ax < nx {
-                    let k = ay * nx + ax;
-                    let sign = (dy.signum() * dx.signum()) as f64;
-                    taps.push(((dy, dx), [g_xx[k], sign * 0.5 * (g_xy[k] + g_yx[k]), g_yy[k]]));
-                }
-            }
-        }
-        taps
+        let [mut xx, mut yx, mut xy, mut yy] = std::array::from_fn(|_| vec![0.0; ny * nx]);
+        self.apply([&unit, &zero], [&mut xx, &mut yx]);
+        self.apply([&zero, &unit], [&mut xy, &mut yy]);
+        // The cross kernel is symmetric (xy = yx); average the two round-offs.
+        xy.iter_mut().zip(&yx).for_each(|(a, b)| *a = 0.5 * (*a + b));
+        Offsets { nx, xx, xy, yy }
     }
 
     /// From now on take the tractions outside the rows marked in `rows` (one flag per row of

@@ -928,31 +928,15 @@ impl ShearOperator {
     /// traction at the box's corner: the kernel is even in each offset (xx, yy) or odd in
     /// each (xy), so these give every pair.
     fn dense(mut self) -> Self {
-        let ShearOperator::Grid { influence, local, .. } = &self else { return self };
+        let ShearOperator::Grid { influence, local, .. } = &mut self else { return self };
         let bx = influence.shape().1;
-        let local = local.clone();
+        let offsets = influence.offsets();
         let m = local.len();
-        let mut response = |traction: [f64; 2]| {
-            // The corner (0, 0) of the box need not be a contact point: apply on the grid.
-            let ShearOperator::Grid { influence, field_in, field_out, .. } = &mut self else { unreachable!() };
-            field_in[0].fill(0.0);
-            field_in[1].fill(0.0);
-            field_in[0][0] = traction[0];
-            field_in[1][0] = traction[1];
-            let [ox, oy] = field_out;
-            influence.apply([&field_in[0], &field_in[1]], [ox, oy]);
-            (ox.clone(), oy.clone())
-        };
-        let (g_xx, g_yx) = response([1.0, 0.0]);
-        let (g_xy, g_yy) = response([0.0, 1.0]);
         let mut coefficients = Vec::with_capacity(m * m);
-        for &i in &local {
+        for &i in local.iter() {
             let (yi, xi) = ((i / bx) as i64, (i % bx) as i64);
-            for &j in &local {
-                let (dy, dx) = (yi - (j / bx) as i64, xi - (j % bx) as i64);
-                let k = dy.unsigned_abs() as usize * bx + dx.unsigned_abs() as usize;
-                let sign = (dy.signum() * dx.signum()) as f64;
-                coefficients.push([g_xx[k], sign * 0.5 * (g_xy[k] + g_yx[k]), g_yy[k]]);
+            for &j in local.iter() {
+                coefficients.push(offsets.at(yi - (j / bx) as i64, xi - (j % bx) as i64));
             }
         }
         ShearOperator::Dense { m, coefficients }
