@@ -947,8 +947,11 @@ impl ShearOperator {
 /// stuck problem of the 1500² stand-in ball at 10 mN (a scalar 1/q kernel, 7 952 points) the
 /// conjugate gradient takes 36 iterations without, 15 with radius 1, 16 with 2, 14 with 4 and
 /// 12 with the whole inverse (an FFT pair more per iteration); at 256², 100 mN the sliding
-/// onset takes 2 647, 2 642 and 2 590 applications with radius 1, 2 and 4 (3 681 without).
-const NEAR: usize = 2;
+/// onset takes 2 647, 2 642 and 2 590 applications with radius 1, 2 and 4 (3 681 without);
+/// with the stand-in ball and its wafer at 1500² (mu_s 0.6, mu_d 0.4) radius 4 against 2
+/// takes 3 483 against 3 922 at 10 mN, 3 884 against 4 491 at 31.6 mN and 6 130 against 7 681
+/// at 100 mN (160 against 197 s); radius 6 at 31.6 mN 3 696.
+const NEAR: usize = 4;
 
 /// K's inverse near the diagonal on the contact points, scaled to 1 on it (its xx
 /// coefficient at zero offset): the inverse is short-ranged (the traction under a unit
@@ -956,50 +959,66 @@ const NEAR: usize = 2;
 /// 1/r), so its nearest offsets give most of it. Applied to the free gradient, it damps the
 /// rough modes K leaves slow, at the cost of a pass over the points' neighbours.
 struct NearInverse {
-    /// Offsets (dy, dx) and coefficients (xx, xy, yy).
-    taps: Vec<((i64, i64), [f64; 3])>,
-    /// Each contact point's cell (y · bx + x) in the operator's box.
-    cells: Vec<u32>,
-    /// The contact point at each cell of the box, or `u32::MAX`.
-    point_at: Vec<u32>,
-    /// The box's shape (by, bx).
-    shape: (usize, usize),
+    /// The kept offsets' coefficients (xx, xy, yy).
+    coefficients: Vec<[f64; 3]>,
+    /// Each point's neighbours within the kept offsets, itself among them, as (point, index
+    /// into `coefficients`): point i's are `neighbours[first[i]..first[i + 1]]`. Listed once,
+    /// so that an application reads only the points that are there instead of looking up every
+    /// offset in the box's grid.
+    first: Vec<usize>,
+    neighbours: Vec<(u32, u32)>,
 }
 
 impl NearInverse {
     fn of(operator: &ShearOperator) -> Self {
         let ShearOperator::Grid { influence, local, .. } = operator else { unreachable!("made on the grid") };
-        let shape = influence.shape();
+        Self::with_taps(&Self::taps(influence), local, influence.shape())
+    }
+
+    /// K's inverse at offsets up to [`NEAR`] pixels, scaled to 1 on the diagonal; the diagonal
+    /// alone should the truncation lose positivity.
+    fn taps(influence: &TangentialInfluence) -> Vec<((i64, i64), [f64; 3])> {
         let mut taps = influence.inverse_near(NEAR);
         let centre = taps.iter().find(|(d, _)| *d == (0, 0)).expect("the zero offset").1[0];
         taps.iter_mut().for_each(|(_, g)| *g = g.map(|v| v / centre));
-        if !(centre > 0.0 && positive(&taps)) {
-            // Truncated, the inverse could lose its positivity: the diagonal alone then.
-            taps = vec![((0, 0), [1.0, 0.0, 1.0])];
+        if centre > 0.0 && positive(&taps) {
+            taps
+        } else {
+            vec![((0, 0), [1.0, 0.0, 1.0])]
         }
-        let cells: Vec<u32> = local.iter().map(|&c| c as u32).collect();
-        let mut point_at = vec![u32::MAX; shape.0 * shape.1];
-        cells.iter().enumerate().for_each(|(j, &c)| point_at[c as usize] = j as u32);
-        NearInverse { taps, cells, point_at, shape }
+    }
+
+    /// The operator with coefficients `taps` on the points at cells `cells` (y · bx + x) of a
+    /// box of shape (by, bx).
+    fn with_taps(taps: &[((i64, i64), [f64; 3])], cells: &[usize], (by, bx): (usize, usize)) -> Self {
+        let mut point_at = vec![u32::MAX; by * bx];
+        cells.iter().enumerate().for_each(|(j, &c)| point_at[c] = j as u32);
+        let (by, bx) = (by as i64, bx as i64);
+        let mut first = Vec::with_capacity(cells.len() + 1);
+        let mut neighbours = Vec::new();
+        for &c in cells {
+            first.push(neighbours.len());
+            let (y, x) = (c as i64 / bx, c as i64 % bx);
+            for (t, ((dy, dx), _)) in taps.iter().enumerate() {
+                let (yy, xx) = (y + dy, x + dx);
+                if (0..by).contains(&yy) && (0..bx).contains(&xx) {
+                    let j = point_at[(yy * bx + xx) as usize];
+                    if j != u32::MAX {
+                        neighbours.push((j, t as u32));
+                    }
+                }
+            }
+        }
+        first.push(neighbours.len());
+        NearInverse { coefficients: taps.iter().map(|t| t.1).collect(), first, neighbours }
     }
 
     /// `out = N v` on the contact points.
     fn apply(&self, v: &[[f64; 2]], out: &mut [[f64; 2]]) {
-        let (by, bx) = (self.shape.0 as i64, self.shape.1 as i64);
-        out.par_iter_mut().zip(self.cells.par_iter()).with_min_len(CHUNK).for_each(|(o, &c)| {
-            let (y, x) = (c as i64 / bx, c as i64 % bx);
-            *o = self.taps.iter().fold([0.0; 2], |[ax, ay], ((dy, dx), g)| {
-                let (yy, xx) = (y + dy, x + dx);
-                if !(0..by).contains(&yy) || !(0..bx).contains(&xx) {
-                    return [ax, ay];
-                }
-                match self.point_at[(yy * bx + xx) as usize] {
-                    u32::MAX => [ax, ay],
-                    j => {
-                        let w = v[j as usize];
-                        [ax + g[0] * w[0] + g[1] * w[1], ay + g[1] * w[0] + g[2] * w[1]]
-                    }
-                }
+        out.par_iter_mut().enumerate().with_min_len(CHUNK).for_each(|(i, o)| {
+            *o = self.neighbours[self.first[i]..self.first[i + 1]].iter().fold([0.0; 2], |[ax, ay], &(j, t)| {
+                let (w, g) = (v[j as usize], self.coefficients[t as usize]);
+                [ax + g[0] * w[0] + g[1] * w[1], ay + g[1] * w[0] + g[2] * w[1]]
             });
         });
     }
@@ -1096,9 +1115,10 @@ mod tests {
         let c = ShearCompliance { a: 1.0 / 50e9, b: 0.26 / 50e9 };
         let points: Vec<usize> = (0..64 * 64).collect();
         let operator = ShearOperator::grid(&points, (64, 64), (1.3e-6, 1.3e-6), c, Boundary::Periodic);
-        let near = NearInverse::of(&operator);
-        assert_eq!(near.taps.len(), (2 * NEAR + 1).pow(2), "the truncated inverse, not the diagonal alone");
-        assert!(near.taps.iter().any(|(d, g)| *d == (0, 0) && g[0] == 1.0));
+        let ShearOperator::Grid { influence, .. } = &operator else { unreachable!("made on the grid") };
+        let taps = NearInverse::taps(influence);
+        assert_eq!(taps.len(), (2 * NEAR + 1).pow(2), "the truncated inverse, not the diagonal alone");
+        assert!(taps.iter().any(|(d, g)| *d == (0, 0) && g[0] == 1.0));
         let heavy: Vec<_> = [(0, 0), (0, 1), (0, -1), (1, 0), (-1, 0)]
             .into_iter()
             .map(|d| (d, if d == (0, 0) { [1.0, 0.0, 1.0] } else { [-0.3, 0.0, -0.3] }))
@@ -1128,7 +1148,8 @@ mod tests {
             let mut solver =
                 TangentialSolver::new(&pressure, (n, n), (2e-6, 2e-6), c, Boundary::Periodic, options).unwrap();
             if diagonal_only {
-                solver.near_inverse.taps = vec![((0, 0), [1.0, 0.0, 1.0])];
+                let ShearOperator::Grid { influence, local, .. } = &solver.operator else { unreachable!("a grid") };
+                solver.near_inverse = NearInverse::with_taps(&[((0, 0), [1.0, 0.0, 1.0])], local, influence.shape());
             }
             let m = solver.points().len();
             let report = solver.solve(&vec![[1e-9, 0.0]; m], &vec![f64::INFINITY; m]).unwrap();
