@@ -181,17 +181,17 @@ pub struct TangentialInfluence<T: FftNum = f64> {
 /// [`TangentialInfluence::offsets`].
 pub struct Offsets {
     nx: usize,
-    xx: Vec<f64>,
-    xy: Vec<f64>,
-    yy: Vec<f64>,
+    /// (xx, xy, yy) at the non-negative offsets, row-major: one cache line per offset.
+    table: Vec<[f64; 3]>,
 }
 
 impl Offsets {
     /// (xx, xy, yy) at offset (dy, dx): xx and yy are even in each offset, xy odd in each, so
     /// the responses at the non-negative offsets give all.
+    #[inline]
     pub fn at(&self, dy: i64, dx: i64) -> [f64; 3] {
-        let k = dy.unsigned_abs() as usize * self.nx + dx.unsigned_abs() as usize;
-        [self.xx[k], (dy.signum() * dx.signum()) as f64 * self.xy[k], self.yy[k]]
+        let [xx, xy, yy] = self.table[dy.unsigned_abs() as usize * self.nx + dx.unsigned_abs() as usize];
+        [xx, (dy.signum() * dx.signum()) as f64 * xy, yy]
     }
 }
 
@@ -401,7 +401,8 @@ impl TangentialInfluence {
         self.apply([&zero, &unit], [&mut xy, &mut yy]);
         // The cross kernel is symmetric (xy = yx); average the two round-offs.
         xy.iter_mut().zip(&yx).for_each(|(a, b)| *a = 0.5 * (*a + b));
-        Offsets { nx, xx, xy, yy }
+        let table = (0..ny * nx).map(|k| [xx[k], xy[k], yy[k]]).collect();
+        Offsets { nx, table }
     }
 
     /// From now on take the tractions outside the rows marked in `rows` (one flag per row of
