@@ -334,8 +334,14 @@ impl<'a> Path<'a> {
         }
     }
 
-    fn solve(&mut self, tolerance: f64) -> Result<()> {
-        let report = self.solver.solve_within(&self.target, &self.bound, tolerance)?;
+    /// Solve the increment, after the bounds changed at the points `changed` alone (a
+    /// cascade's round) or at all (a step's first solve: `changed` empty).
+    fn solve(&mut self, tolerance: f64, changed: &[usize]) -> Result<()> {
+        let report = if changed.is_empty() {
+            self.solver.solve_within(&self.target, &self.bound, tolerance)?
+        } else {
+            self.solver.solve_after_change(&self.target, &self.bound, tolerance, changed)?
+        };
         self.work.solves += 1;
         self.work.iterations += report.iterations;
         self.work.applications += report.applications;
@@ -346,7 +352,7 @@ impl<'a> Path<'a> {
     fn stuck_stiffness(&mut self) -> Result<f64> {
         self.target.iter_mut().for_each(|b| *b = [1.0, 0.0]);
         self.bound.fill(f64::INFINITY);
-        self.solve(self.tolerance)?;
+        self.solve(self.tolerance, &[])?;
         let k = self.solver.force()[0];
         self.solver.set_traction(&self.state.traction);
         Ok(k)
@@ -395,9 +401,11 @@ impl<'a> Path<'a> {
         let compliance = self.solver.diagonal(&mut self.work.applications);
         let mut rounds = 0;
         let mut first = None;
+        let mut changed = Vec::new();
         loop {
             let tolerance = if rounds == 0 { self.tolerance } else { self.cascade_tolerance };
-            self.solve(tolerance)?;
+            self.solve(tolerance, &changed)?;
+            changed.clear();
             let slip_noise = tolerance * rms;
             let point = self.point(delta);
             visit(self, point);
@@ -424,6 +432,7 @@ impl<'a> Path<'a> {
                 if (g - self.bound[i]).abs() > SETTLED * self.bound[i] + noise {
                     same = false;
                     self.bound[i] = g;
+                    changed.push(i);
                 }
             }
             rounds += 1;
