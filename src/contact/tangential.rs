@@ -188,12 +188,28 @@ impl TangentialSolver {
                 operator.only_contact_rows()
             };
         }
-        Ok(TangentialSolver {
+        let pressure = points.iter().map(|&i| pressure[i]).collect();
+        Ok(Self::assemble(shape, size, operator, options, points, pressure, near_inverse))
+    }
+
+    /// The solver on `points` (flat indices) with their `pressure`, K as `operator`, from zero
+    /// traction.
+    fn assemble(
+        shape: (usize, usize),
+        size: (f64, f64),
+        operator: ShearOperator,
+        options: TangentialOptions,
+        points: Vec<usize>,
+        pressure: Vec<f64>,
+        near_inverse: NearInverse,
+    ) -> Self {
+        let m = points.len();
+        TangentialSolver {
             shape,
             size,
             operator,
             options,
-            pressure: points.iter().map(|&i| pressure[i]).collect(),
+            pressure,
             points,
             traction: vec![[0.0; 2]; m],
             displacement: vec![[0.0; 2]; m],
@@ -207,7 +223,7 @@ impl TangentialSolver {
             scaled: vec![[0.0; 2]; m],
             lipschitz: None,
             diagonal: None,
-        })
+        }
     }
 
     /// Grid shape (ny, nx).
@@ -587,29 +603,19 @@ impl TangentialSolver {
         bound: &[f64],
         tolerance: f64,
     ) -> Result<(Vec<[f64; 2]>, usize)> {
-        let n = near.len();
-        let pick = |v: &[[f64; 2]]| near.iter().map(|&i| v[i]).collect::<Vec<_>>();
-        let mut sub = TangentialSolver {
-            shape: self.shape,
-            size: self.size,
-            operator: self.operator.subset(near),
-            options: self.options,
-            points: near.iter().map(|&i| self.points[i]).collect(),
-            pressure: near.iter().map(|&i| self.pressure[i]).collect(),
-            traction: pick(&self.traction),
-            displacement: vec![[0.0; 2]; n],
-            direction: vec![[0.0; 2]; n],
-            product: vec![[0.0; 2]; n],
-            previous_traction: vec![[0.0; 2]; n],
-            previous_displacement: vec![[0.0; 2]; n],
-            curvature: vec![0.0; n],
-            near_inverse: self.near_inverse.subset(near, self.points.len()),
-            preconditioned: vec![[0.0; 2]; n],
-            scaled: vec![[0.0; 2]; n],
-            // K's largest eigenvalue on a subset is at most that on the whole.
-            lipschitz: self.lipschitz,
-            diagonal: self.diagonal,
-        };
+        let mut sub = Self::assemble(
+            self.shape,
+            self.size,
+            self.operator.subset(near),
+            self.options,
+            near.iter().map(|&i| self.points[i]).collect(),
+            near.iter().map(|&i| self.pressure[i]).collect(),
+            self.near_inverse.subset(near, self.points.len()),
+        );
+        near.iter().zip(&mut sub.traction).for_each(|(&i, q)| *q = self.traction[i]);
+        // K's largest eigenvalue on a subset is at most that on the whole.
+        sub.lipschitz = self.lipschitz;
+        sub.diagonal = self.diagonal;
         sub.refresh();
         // The targets less what the held tractions displace there.
         let sub_target: Vec<[f64; 2]> = near
