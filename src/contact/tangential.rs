@@ -64,8 +64,8 @@ const STALL: usize = 25;
 /// it, and the transforms take 1.3–1.7 times less time. Tighter solves run in double
 /// throughout. A check in double precision of the single-precision solves below 5e-5 once
 /// converged (stop 27) moved the sliding onset's drop by 4e-7 (1500² with its wafer, 10 mN,
-/// mu_s 0.6, mu_d 0.4: 1.0011980 without) and 3e-7 (31.6 mN) for 10 % and 7 % of the
-/// applications, each check a transform in double: not done.
+/// mu_s 0.6, mu_d 0.4: 1.0011985 with, 1.0011981 without) and 3e-7 (31.6 mN) for 9 % and 7 %
+/// of the applications, each check a transform in double: not done.
 const SINGLE: f64 = 1e-6;
 
 /// Steps tried by the projected search of an expansion, from the first bound to the conjugate
@@ -274,6 +274,14 @@ impl TangentialSolver {
         self.refresh();
     }
 
+    /// [`set_traction`](Self::set_traction) cut onto the disks |q_i| ≤ `bound` first, so that
+    /// a solve with those bounds starts from it without recomputing its displacement.
+    pub fn set_traction_within(&mut self, traction: &[[f64; 2]], bound: &[f64]) {
+        self.traction.copy_from_slice(traction);
+        cut_onto_disks(&mut self.traction, bound);
+        self.refresh();
+    }
+
     /// Relative norm of the projected gradient at which a solve has converged.
     pub fn tolerance(&self) -> f64 {
         self.options.tolerance
@@ -311,14 +319,7 @@ impl TangentialSolver {
             self.take_cuts(&cuts, to_double, &mut applications);
         }
         // The fixed step ᾱ ∈ (0, 2/‖K‖] of the expansion steps; not needed without bounds.
-        let step = if bound.iter().all(|g| g.is_infinite()) {
-            0.0
-        } else {
-            if self.lipschitz.is_none() {
-                self.lipschitz = Some(self.largest_eigenvalue(&mut applications));
-            }
-            1.9 / self.lipschitz.expect("estimated above")
-        };
+        let step = if bound.iter().all(|g| g.is_infinite()) { 0.0 } else { 1.9 / self.lipschitz(&mut applications) };
         let mut count = Iterations::new("tangential solver", self.options.max_iterations, tolerance, STALL);
         let mut exact = true;
         // Whether the search direction starts afresh from the free gradient.
@@ -502,10 +503,11 @@ impl TangentialSolver {
     /// tolerance: each group of nearby points as a dense problem of its own, the groups side
     /// by side (their interaction left to what follows). The whole is then solved from there,
     /// as before, and often has converged at the one application that checks it (with one
-    /// group of at most 1 024 points, 108 of the 180 rounds at 1500², 31.6 mN that lowered
-    /// fewer than 10 bounds; those rounds took 2 applications each, 6.5 before). The result is the whole's, to its tolerance: at
+    /// group of at most 1 024 points, 108 of the 180 rounds at 1500², 31.6 mN solved near
+    /// first, 176 of which lowered fewer than 10 bounds; those took 2 applications each, 6.5
+    /// before). The result is the whole's, to its tolerance: at
     /// 1500², 10 mN the drop with and without is 1.0011956 either way at a tolerance of 1e-7
-    /// (2e-8 apart), 1.0011972 and 1.0011981 at 1e-6 (the path's cascades differ within it).
+    /// (2e-8 apart), 1.0011958 and 1.0011981 at 1e-6 (the path's cascades differ within it).
     /// The iterations reported include those of the groups' solves; the applications, of the
     /// transforms only.
     pub fn solve_after_change(
@@ -534,9 +536,7 @@ impl TangentialSolver {
         if !groups.is_empty() {
             let cuts = cut_onto_disks(&mut self.traction, bound);
             self.take_cuts(&cuts, false, &mut applications);
-            if self.lipschitz.is_none() {
-                self.lipschitz = Some(self.largest_eigenvalue(&mut applications));
-            }
+            self.lipschitz(&mut applications);
             let solved: Vec<_> = groups.iter().map(|near| self.solve_near(near, target, bound, tolerance)).collect();
             for (near, result) in groups.iter().zip(solved) {
                 // A group that does not converge keeps its tractions: the whole's solve follows.
@@ -854,6 +854,15 @@ impl TangentialSolver {
         *self.diagonal.insert(out[0][0])
     }
 
+    /// The largest eigenvalue of K on the contact set [m/Pa], estimated on first need.
+    fn lipschitz(&mut self, applications: &mut usize) -> f64 {
+        if let Some(l) = self.lipschitz {
+            return l;
+        }
+        let l = self.largest_eigenvalue(applications);
+        *self.lipschitz.insert(l)
+    }
+
     /// The largest eigenvalue of K restricted to the contact set, by power iteration, with a
     /// margin for what the iteration has not yet reached.
     fn largest_eigenvalue(&mut self, applications: &mut usize) -> f64 {
@@ -906,7 +915,7 @@ const ROUND_OFF: f64 = 1e-12;
 /// at most 3 073, 51 s; 8 192 in all 2 778, 49 s (the dense solves' cost).
 const LOCAL_RADIUS: i64 = 8;
 
-/// The largest group: its dense operator holds 1 024² pairs of three coefficients, 24 MB.
+/// The largest group: its dense operator holds 1 024² pairs of three coefficients, 24 MiB.
 const LOCAL_POINTS: usize = 1024;
 
 /// Local solves are made while their groups' pairs (Σ n²) are at most this many times g·log₂g

@@ -383,16 +383,9 @@ impl<'a> Path<'a> {
         }
         if let Some((h, change)) = &self.first_change {
             let t = (delta - st.delta) / h;
-            // Within the bounds already: the solve would otherwise recompute its displacement
-            // once more after cutting it.
-            let guess: Vec<[f64; 2]> = (st.traction.iter().zip(change).zip(&self.bound))
-                .map(|((q, d), g)| {
-                    let q = [q[0] + t * d[0], q[1] + t * d[1]];
-                    let s = (g / q[0].hypot(q[1])).min(1.0);
-                    [q[0] * s, q[1] * s]
-                })
-                .collect();
-            self.solver.set_traction(&guess);
+            let guess: Vec<[f64; 2]> =
+                st.traction.iter().zip(change).map(|(q, d)| [q[0] + t * d[0], q[1] + t * d[1]]).collect();
+            self.solver.set_traction_within(&guess, &self.bound);
             self.work.applications += 1;
         }
         let mut slipped = st.slipped.clone();
