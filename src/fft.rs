@@ -249,16 +249,7 @@ impl<T: FftNum> Fft2<T> {
             let kx0 = task * per_task;
             for (b, band) in chunk.chunks_mut(BAND * ny).enumerate() {
                 // This band of the transpose, then its transforms while it is in cache.
-                let width = band.len() / ny;
-                for y in 0..ny {
-                    if nonzero[y] {
-                        for (k, v) in half[y * nxh + kx0 + b * BAND..][..width].iter().enumerate() {
-                            band[k * ny + y] = *v;
-                        }
-                    } else {
-                        (0..width).for_each(|k| band[k * ny + y] = Complex::zero());
-                    }
-                }
+                transpose_band(half, nonzero, kx0 + b * BAND, band, ny, nxh);
                 for (k, row) in band.chunks_exact_mut(ny).enumerate() {
                     fft.process_with_scratch(row, &mut slot.scratch);
                     let a = each(kx0 + b * BAND + k, row);
@@ -276,6 +267,40 @@ impl<T: FftNum> Fft2<T> {
                 .zip(out.par_chunks_mut(per_task))
                 .for_each(|((task, (chunk, slot)), r)| run(task, chunk, slot, Some(r)));
         }
+    }
+
+    /// The column passes of two fields' forward transforms, a product of their spectra and the
+    /// column passes of the inverse transforms, fused: after [`Fft2::forward_rows`] of each
+    /// field into its own work, `each(kx, a, b)` replaces the two spectrum rows of one qx
+    /// (all qy) by the spectra to invert while they are in cache, and `spectra` receive the
+    /// results transformed back along qy (transposed layout), for [`Fft2::inverse_rows`]. The
+    /// spectra pass through memory once instead of three times (forward, product, inverse).
+    pub fn convolve_columns(
+        &self,
+        [first, second]: [&mut Fft2Work<T>; 2],
+        [sa, sb]: [&mut [Complex<T>]; 2],
+        each: impl Fn(usize, &mut [Complex<T>], &mut [Complex<T>]) + Sync,
+    ) {
+        let (ny, nxh) = (self.ny, self.nxh());
+        assert!(sa.len() == self.spectrum_len() && sb.len() == self.spectrum_len());
+        let per_task = nxh.div_ceil(self.tasks);
+        let Fft2Work { half: ha, nonzero: na, slots } = first;
+        let (ha, na, hb, nb) = (&*ha, &*na, &second.half, &second.nonzero);
+        let chunks = sa.par_chunks_mut(per_task * ny).zip(sb.par_chunks_mut(per_task * ny));
+        chunks.zip(slots.par_iter_mut()).enumerate().for_each(|(task, ((ca, cb), slot))| {
+            let bands = ca.chunks_mut(BAND * ny).zip(cb.chunks_mut(BAND * ny));
+            for (b, (band_a, band_b)) in bands.enumerate() {
+                let kx = task * per_task + b * BAND;
+                transpose_band(ha, na, kx, band_a, ny, nxh);
+                transpose_band(hb, nb, kx, band_b, ny, nxh);
+                self.col_forward.process_with_scratch(band_a, &mut slot.scratch);
+                self.col_forward.process_with_scratch(band_b, &mut slot.scratch);
+                let rows = band_a.chunks_exact_mut(ny).zip(band_b.chunks_exact_mut(ny));
+                rows.enumerate().for_each(|(k, (a, b))| each(kx + k, a, b));
+                self.col_inverse.process_with_scratch(band_a, &mut slot.scratch);
+                self.col_inverse.process_with_scratch(band_b, &mut slot.scratch);
+            }
+        });
     }
 
     /// The column pass of an inverse transform, in place: `each(kx, row)` prepares every
@@ -359,6 +384,28 @@ impl<T: FftNum> Fft2<T> {
                 }
             }
         });
+    }
+}
+
+/// Columns kx0.. of the half spectrum (natural layout (ny, nxh), rows not `nonzero` read as
+/// zero) into `band`, transposed: one row of ny values per column, as many as `band` holds.
+fn transpose_band<T: FftNum>(
+    half: &[Complex<T>],
+    nonzero: &[bool],
+    kx0: usize,
+    band: &mut [Complex<T>],
+    ny: usize,
+    nxh: usize,
+) {
+    let width = band.len() / ny;
+    for y in 0..ny {
+        if nonzero[y] {
+            for (k, v) in half[y * nxh + kx0..][..width].iter().enumerate() {
+                band[k * ny + y] = *v;
+            }
+        } else {
+            (0..width).for_each(|k| band[k * ny + y] = Complex::zero());
+        }
     }
 }
 

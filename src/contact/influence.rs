@@ -171,7 +171,8 @@ pub struct TangentialInfluence<T: FftNum = f64> {
     /// Kernels xx, xy, yy in the spectrum layout, normalisation folded in.
     kernel: [Vec<T>; 3],
     spectrum: [Vec<Complex<T>>; 2],
-    work: Fft2Work<T>,
+    /// One work per field (x, y): their row passes' half spectra meet in one column pass.
+    works: [Fft2Work<T>; 2],
     /// Rows of the fields that can hold tractions and whose displacements are wanted
     /// (empty: all); see [`only_rows`](Self::only_rows).
     rows: Vec<bool>,
@@ -340,8 +341,8 @@ impl TangentialInfluence {
             k
         });
         let spectrum = [fft.make_spectrum(), fft.make_spectrum()];
-        let work = fft.make_work();
-        TangentialInfluence { ny, nx, fft, kernel, spectrum, work, rows: Vec::new() }
+        let works = [fft.make_work(), fft.make_work()];
+        TangentialInfluence { ny, nx, fft, kernel, spectrum, works, rows: Vec::new() }
     }
 
     /// The same operator in single precision: its kernels rounded to `f32`, transforms in
@@ -355,8 +356,8 @@ impl TangentialInfluence {
             v
         });
         let spectrum = [fft.make_spectrum(), fft.make_spectrum()];
-        let work = fft.make_work();
-        TangentialInfluence { ny: self.ny, nx: self.nx, fft, kernel, spectrum, work, rows: self.rows.clone() }
+        let works = [fft.make_work(), fft.make_work()];
+        TangentialInfluence { ny: self.ny, nx: self.nx, fft, kernel, spectrum, works, rows: self.rows.clone() }
     }
 
     /// The inverse operator (the traction under a unit displacement) near the origin: its
@@ -431,13 +432,11 @@ impl<T: FftNum + Into<f64>> TangentialInfluence<T> {
     /// (q_x, q_y) [Pa], all row-major (ny, nx), computed in the precision T; only in the rows
     /// of [`only_rows`](Self::only_rows) once it is set.
     pub fn apply(&mut self, q: [&[f64]; 2], u: [&mut [f64]; 2]) {
-        use rayon::prelude::*;
-        let TangentialInfluence { ny, nx, fft, kernel, spectrum, work, rows } = self;
+        let TangentialInfluence { ny, nx, fft, kernel, spectrum, works, rows } = self;
         let (ny, nx) = (*ny, *nx);
         let rows: &[bool] = rows;
         let live = |y: usize| rows.get(y).is_none_or(|l| *l);
-        let [sx, sy] = spectrum;
-        for (q, s) in q.into_iter().zip([&mut *sx, &mut *sy]) {
+        for (q, work) in q.into_iter().zip(works.iter_mut()) {
             let split = |st, mid| split_rows(st, mid, nx);
             fft.forward_rows(ny, work, (0, q), split, |(first, rows), y, line| {
                 if !live(y) {
@@ -447,20 +446,24 @@ impl<T: FftNum + Into<f64>> TangentialInfluence<T> {
                 line[..nx].iter_mut().zip(row).for_each(|(l, v)| *l = T::from_f64(*v).expect("a float converts"));
                 true
             });
-            fft.forward_columns(work, s, |_, _| (), &mut []);
         }
+        // The kernel's rows (one qx, all qy) beside the spectra's, in the column pass.
         let [kxx, kxy, kyy] = &*kernel;
-        sx.par_iter_mut().zip(sy.par_iter_mut()).zip(kxx.par_iter().zip(kxy.par_iter()).zip(kyy.par_iter())).for_each(
-            |((x, y), ((kxx, kxy), kyy))| {
+        let gy = fft.shape().0;
+        let [sx, sy] = spectrum;
+        let [wx, wy] = works;
+        fft.convolve_columns([&mut *wx, &mut *wy], [&mut *sx, &mut *sy], |kx, x, y| {
+            let at = kx * gy..(kx + 1) * gy;
+            let kernels = kxx[at.clone()].iter().zip(&kxy[at.clone()]).zip(&kyy[at]);
+            for ((x, y), ((kxx, kxy), kyy)) in x.iter_mut().zip(y.iter_mut()).zip(kernels) {
                 let (a, b) = (*x, *y);
                 *x = a * *kxx + b * *kxy;
                 *y = a * *kxy + b * *kyy;
-            },
-        );
+            }
+        });
         for (s, u) in [sx, sy].into_iter().zip(u) {
-            fft.inverse_columns(s, work, |_, _| ());
             let split = |st, mid| split_rows_mut(st, mid, nx);
-            fft.inverse_rows(s, ny, live, work, (0, u), split, |(first, rows), y, line| {
+            fft.inverse_rows(s, ny, live, wx, (0, u), split, |(first, rows), y, line| {
                 let row = &mut rows[(y - *first) * nx..][..nx];
                 row.iter_mut().zip(&line[..nx]).for_each(|(v, l)| *v = (*l).into());
             });
