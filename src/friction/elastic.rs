@@ -20,6 +20,7 @@
 use serde::Serialize;
 
 use super::ClassShare;
+use crate::contact::tangential::magnitude;
 use crate::contact::TangentialSolver;
 use crate::error::{Error, Result};
 
@@ -417,7 +418,7 @@ impl<'a> Path<'a> {
                 }
                 let d = [self.target[i][0] - u[i][0], self.target[i][1] - u[i][1]];
                 slipped[i] = true;
-                let s = self.state.path[i] + d[0].hypot(d[1]);
+                let s = self.state.path[i] + magnitude(d);
                 let g = self.law.settling_bound(s, self.bound[i], p[i], compliance);
                 // The solve leaves an error of about `slip_noise` in the slips; a bound change
                 // no larger than it carries would follow it round after round.
@@ -448,7 +449,7 @@ impl<'a> Path<'a> {
             if at_bound(q[i], self.bound[i]) {
                 let d = [self.target[i][0] - u[i][0], self.target[i][1] - u[i][1]];
                 st.slip[i] = [st.slip[i][0] + d[0], st.slip[i][1] + d[1]];
-                st.path[i] += d[0].hypot(d[1]);
+                st.path[i] += magnitude(d);
             }
         }
         st.slipped = slipped;
@@ -521,7 +522,7 @@ impl<'a> Path<'a> {
 }
 
 fn at_bound(q: [f64; 2], g: f64) -> bool {
-    q[0].hypot(q[1]) >= g * (1.0 - ON_BOUND)
+    magnitude(q) >= g * (1.0 - ON_BOUND)
 }
 
 /// Where a path is, after each displacement step.
