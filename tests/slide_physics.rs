@@ -499,6 +499,31 @@ fn coulomb_friction_gives_the_sliding_force() {
 /// F_S is the largest force on the curve, in a stretch of the finest steps: a coarse step's
 /// force before its cascade, which finer steps lower, is never taken for it.
 #[test]
+fn the_first_step_leaps_to_the_floor_and_stays_below_it() {
+    // The path from δ = 0 starts with one step to μ_d N / k_t: its force cannot pass μ_d N,
+    // which F_S is never below, so it is never refined; the following steps shorten towards
+    // the coarse length as the force nears μ_d N.
+    let (n, load) = (64, 2e-3);
+    let l = n as f64 * 1e-7;
+    let mut solver = rough_solver(n, l, load);
+    let m = solver.points().len();
+    solver.solve(&vec![[1e-9, 0.0]; m], &vec![f64::INFINITY; m]).unwrap();
+    let kt = solver.force()[0] / 1e-9;
+    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+    let floor = 0.4 * onset.normal_force;
+    let first = onset.curve[1];
+    eprintln!("first step to δ {:.6e} m, F {:.6e} N, floor {floor:.6e} N", first.displacement_m, first.force_n);
+    assert!((first.displacement_m / (floor / kt) - 1.0).abs() < 1e-6, "{first:?}");
+    assert!(first.force_n < floor && first.force_n > 0.5 * floor, "{first:?}");
+    assert!(onset.static_force >= floor);
+    // Step lengths never grow along the path from δ = 0 (the curve's coarse part).
+    let coarse: Vec<f64> = onset.curve.iter().map(|c| c.displacement_m).collect();
+    let h0 = 0.6 * onset.normal_force / kt / 16.0;
+    assert!(coarse.windows(2).all(|w| w[1] - w[0] <= floor / kt * (1.0 + 1e-9)), "{coarse:?}");
+    assert!(coarse.windows(2).any(|w| (w[1] - w[0] - h0).abs() < 1e-6 * h0), "coarse steps of μ_s N / (16 k_t)");
+}
+
+#[test]
 fn static_force_is_the_curves_largest_at_the_finest_steps() {
     for (n, load) in [(64, 5e-4), (64, 2e-3)] {
         let l = n as f64 * 1e-7;

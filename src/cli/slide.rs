@@ -256,7 +256,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
                     eprintln!("sliding: {line} after {:.0} s", start.elapsed().as_secs_f64());
                 }
             } else {
-                bar.set_position(bar.position().max(p.level as u64));
+                bar.set_position(bar.position().max(p.level.min(SLIDE_LEVELS) as u64));
                 bar.set_message(line);
             }
         });
