@@ -610,6 +610,10 @@ struct Steps {
     settled: f64,
     /// Steps more than this below `largest` [N] can never hold F_S; their states are dropped.
     band: f64,
+    /// How far below `largest` [N] a step may still hold F_S: `band`, or twice k_t times the
+    /// length of the step that reached `largest` when it is longer (a leap whose force passed
+    /// the floor, which refinement may lower by up to k_t times its length).
+    reach: f64,
 }
 
 impl Steps {
@@ -658,7 +662,7 @@ impl Steps {
                 _ => uniform,
             };
             let delta = to;
-            let floor = self.largest - self.band;
+            let floor = self.largest - self.reach;
             let mut largest: Option<SlidePoint> = None;
             let mut snapshot = None;
             let mut visit = |p: &Path, point: SlidePoint| {
@@ -685,7 +689,8 @@ impl Steps {
             }
             if largest.force_n > self.largest {
                 self.largest = largest.force_n;
-                let floor = self.largest - self.band;
+                self.reach = self.band.max(2.0 * self.stiffness * (to - from));
+                let floor = self.largest - self.reach;
                 for s in self.live.iter_mut().filter(|s| s.largest.force_n < floor) {
                     s.kept = None;
                 }
@@ -756,7 +761,8 @@ pub fn elastic_onset(
     // F_S. Twice that, for a measured law's rising bounds. (A longer step's force stays below
     // the floor, which F_S is not below.)
     let floor = law.lowest() * normal_force;
-    let mut steps = Steps { live: Vec::new(), stiffness: k, floor, largest: 0.0, settled: 0.0, band: 2.0 * k * h0 };
+    let band = 2.0 * k * h0;
+    let mut steps = Steps { live: Vec::new(), stiffness: k, floor, largest: 0.0, settled: 0.0, band, reach: band };
     let origin = path.state.clone();
     // Past total sliding the tractions turn towards x: F tends to the sliding force Σ μ p a,
     // reached as δ → ∞.
