@@ -624,8 +624,8 @@ impl Steps {
     /// before the cascade stays below the floor, which F_S is not below: such a step does not
     /// hold F_S and is not refined. The first step takes k = k_t, which its force cannot pass;
     /// the next ones the rise per unit δ of the last step's first solve, as the path softens
-    /// (at 1500², 100 mN 1.3 k_t/k after the first step, 14 after the sixth): no such step has
-    /// passed the floor, and one that did would be refined as any other. Measured at 1500² with
+    /// (at 1500², 100 mN 1.3 k_t/k after the first step, 14 after the sixth): in the cases
+    /// measured no such step passed the floor, and one that did would be refined as any other. Measured at 1500² with
     /// its wafer, mu_d 0.4, against coarse steps from δ = 0: at 10, 31.6 and 100 mN 44, 37 and
     /// 49 % fewer applications with mu_s 0.6, 51, 49 and 68 % with 0.5 (the last also spared
     /// refinements below the sliding force); the drops moved by −1.5e-6 to −4.0e-6 (with k_t
