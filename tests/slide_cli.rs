@@ -196,6 +196,11 @@ fn refuses_an_edited_contact_folder_full_contact_and_a_foreign_out_first() {
     std::fs::write(&json, text.replace("\"pressure-000.npy\"", "\"../contact/pressure-000.npy\"")).unwrap();
     refused(&contact, &[], "must name a file of its own folder");
     std::fs::write(&json, text).unwrap();
+    // A study's output folder has no contact.json: said so, with what is wanted instead.
+    let study = dir.path().join("study");
+    std::fs::create_dir(&study).unwrap();
+    std::fs::write(study.join("results.csv"), "topography\n").unwrap();
+    refused(&study, &["--load", "2mN"], "holds no contact.json (it is a study's output): give a contact directory");
     // 1 kN presses the whole periodic window into contact.
     refused(&s, &[&size[..], &["--load", "1kN"]].concat(), "full contact");
     // A folder of the user's: refused before the normal solve, whose line is never printed.

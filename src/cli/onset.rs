@@ -322,6 +322,17 @@ pub fn read_load_map(
 /// The path of `DIR/contact.json`, written by `asperity contact`, and what `T` reads of it.
 pub fn read_contact_json<T: DeserializeOwned>(dir: &Path, limits: &Limits) -> Result<(PathBuf, T)> {
     let json_path = dir.join("contact.json");
+    if !json_path.exists() {
+        // A study's output folder is the likely mistake: it keeps no contact.json.
+        let study = if dir.join("results.csv").exists() { " (it is a study's output)" } else { "" };
+        return Err(Error::file(
+            dir,
+            format!(
+                "holds no contact.json{study}: give a contact directory written by `asperity contact --out DIR`, \
+                 or a surface file"
+            ),
+        ));
+    }
     let text = limits.read_text(&json_path)?;
     let contact =
         serde_json::from_str(&text).map_err(|e| Error::file(&json_path, format!("not a contact result: {e}")))?;
