@@ -115,7 +115,10 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
     let outcome = s
         .run(&out, false, &|e| {
             events.lock().unwrap().push(match e {
-                Progress::Start { total, done } => (total, done),
+                Progress::Start { total, done, onsets, .. } => {
+                    assert_eq!(onsets, 0, "equal sharing runs no onset");
+                    (total, done)
+                }
                 Progress::Solved { .. } => (0, 1),
                 // Equal sharing only: none (the count of events below would show one).
                 Progress::Slid { .. } => (0, 0),

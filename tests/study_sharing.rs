@@ -270,14 +270,20 @@ fn an_elastic_onset_finished_before_a_stop_is_not_run_again() {
 
     let slid = Mutex::new(Vec::new());
     let solved = Mutex::new(Vec::new());
+    let start = Mutex::new(None);
     let resumed = study
         .run(&out, false, &|event: Progress| match event {
             Progress::Slid { load_n, law, .. } => slid.lock().unwrap().push((load_n, law.to_string())),
             Progress::Solved { load_n, .. } => solved.lock().unwrap().push(load_n),
-            Progress::Start { .. } => {}
+            Progress::Start { total, done, onsets, onsets_done } => {
+                *start.lock().unwrap() = Some((total, done, onsets, onsets_done))
+            }
         })
         .unwrap();
     assert_eq!((resumed.solved, resumed.resumed, resumed.onsets_resumed), (2, 1, 1));
+    // The progress counts 3 solves and their 6 onsets: 1 solve done, and 3 onsets (its own
+    // two and the second load's first).
+    assert_eq!(start.into_inner().unwrap(), Some((3, 1, 6, 3)));
     let second_law = asperity::study::law_name(&laws[1]);
     let expected = [(loads[1], second_law.clone()), (loads[2], first_law.clone()), (loads[2], second_law.clone())];
     assert_eq!(slid.into_inner().unwrap(), expected);

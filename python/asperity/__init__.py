@@ -124,10 +124,11 @@ def run_study(
     ``out`` as the command line does (results.csv, results.json, study.toml, figures,
     index.html) and resumes a run of the same study that was stopped; ``fresh`` starts over.
     ``quick`` runs it on 256 × 256 points with 7 loads. ``progress``: True prints one line per
-    solve on stderr; a callable receives one dict per event (``{"event": "start", "total",
-    "done"}``, ``{"event": "solved", "topography", "load_n", "iterations", "seconds"}``, and
-    with elastic sharing ``{"event": "slid", "topography", "load_n", "law", "iterations",
-    "seconds"}`` per law before its solve's "solved").
+    solve and elastic onset on stderr; a callable receives one dict per event (``{"event":
+    "start", "total", "done", "onsets", "onsets_done"}``: the solves and the elastic onsets,
+    and how many of each an earlier run did; ``{"event": "solved", "topography", "load_n",
+    "iterations", "seconds"}``; and with elastic sharing ``{"event": "slid", "topography",
+    "load_n", "law", "iterations", "seconds"}`` per law before its solve's "solved").
     Ctrl-C stops the run once the solves under way are recorded; running it again resumes.
 
     Returns the rows of results.json: one dict per topography × sharing × law × load.
@@ -160,7 +161,8 @@ def _print_progress() -> Callable[[Dict[str, Any]], None]:
     def report(event: Dict[str, Any]) -> None:
         if event["event"] == "start":
             state.update(done=event["done"], total=event["total"])
-            print(f"asperity: {event['total']} solves, {event['done']} done before", file=sys.stderr)
+            onsets = f"; {event['onsets']} elastic onsets, {event['onsets_done']} done before" if event["onsets"] else ""
+            print(f"asperity: {event['total']} solves, {event['done']} done before{onsets}", file=sys.stderr)
         elif event["event"] == "slid":
             print(
                 f"asperity: {event['topography']} at {event['load_n']:.3e} N: elastic onset of "

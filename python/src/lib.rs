@@ -849,7 +849,7 @@ fn study_from_json(json: &str) -> asperity::Result<StudyConfig> {
 
 /// A study event, owned, for the thread that reports it.
 enum Event {
-    Start { total: usize, done: usize },
+    Start { total: usize, done: usize, onsets: usize, onsets_done: usize },
     Slid { topography: String, load_n: f64, law: String, iterations: usize, seconds: f64 },
     Solved { topography: String, load_n: f64, iterations: usize, seconds: f64 },
 }
@@ -886,7 +886,9 @@ fn _run_study(
             let events = events;
             study.run(&out, fresh, &|event| {
                 let _ = events.send(match event {
-                    Progress::Start { total, done } => Event::Start { total, done },
+                    Progress::Start { total, done, onsets, onsets_done } => {
+                        Event::Start { total, done, onsets, onsets_done }
+                    }
                     Progress::Slid { topography, load_n, law, iterations, seconds } => Event::Slid {
                         topography: topography.to_string(),
                         load_n,
@@ -913,10 +915,12 @@ fn _run_study(
                     if let (Some(callback), None) = (&progress, &raised) {
                         let dict = PyDict::new(py);
                         match event {
-                            Event::Start { total, done } => {
+                            Event::Start { total, done, onsets, onsets_done } => {
                                 dict.set_item("event", "start")?;
                                 dict.set_item("total", total)?;
                                 dict.set_item("done", done)?;
+                                dict.set_item("onsets", onsets)?;
+                                dict.set_item("onsets_done", onsets_done)?;
                             }
                             Event::Slid { topography, load_n, law, iterations, seconds } => {
                                 dict.set_item("event", "slid")?;

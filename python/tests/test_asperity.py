@@ -302,7 +302,7 @@ def test_a_study_from_a_dict_runs_and_resumes(tmp_path):
     events = []
     rows = ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=events.append)
     assert [r["load_n"] for r in rows] == [1e-4, 1e-3]
-    assert events[0] == {"event": "start", "total": 2, "done": 0}
+    assert events[0] == {"event": "start", "total": 2, "done": 0, "onsets": 0, "onsets_done": 0}
     assert [e["event"] for e in events[1:]] == ["solved", "solved"]
     # The rows are the direct calls' numbers (the default study's tolerance is 1e-8).
     t = ap.generate(size=10e-6, grid=48, hurst=0.8, rms=5e-9, sphere_radius=1e-3, seed=3)
@@ -316,6 +316,16 @@ def test_a_study_from_a_dict_runs_and_resumes(tmp_path):
     again = ap.run_study(SMALL_STUDY, out=tmp_path / "r")
     assert [{k: v for k, v in r.items() if k != "seconds"} for r in again] == \
         [{k: v for k, v in r.items() if k != "seconds"} for r in rows]
+
+
+def test_a_study_with_elastic_sharing_counts_its_onsets(tmp_path):
+    events = []
+    study = dict(SMALL_STUDY, model={"sharing": ["equal", "elastic"]})
+    rows = ap.run_study(study, out=tmp_path / "r", progress=events.append)
+    assert events[0] == {"event": "start", "total": 2, "done": 0, "onsets": 2, "onsets_done": 0}
+    # Each load's onset is reported before its solve.
+    assert [e["event"] for e in events[1:]] == ["slid", "solved", "slid", "solved"]
+    assert [r["sharing"] for r in rows].count("elastic") == 2
 
 
 def test_a_study_stops_when_its_progress_callback_raises(tmp_path):

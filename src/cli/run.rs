@@ -80,16 +80,22 @@ pub fn run(args: RunArgs) -> Result<()> {
     let batch = !std::io::stderr().is_terminal();
     let last_line = Mutex::new(Instant::now());
     let outcome = study.run(&args.out, args.fresh, &|event| match event {
-        Progress::Start { total, done } => {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
+        // The bar counts solves and elastic onsets alike: the onsets take most of the time.
+        Progress::Start { total, done, onsets, onsets_done } => {
+            bar.set_length((total + onsets) as u64);
+            bar.set_position((done + onsets_done) as u64);
             if batch {
-                eprintln!("solving: {total} solves, {done} done by an earlier run");
+                let onsets = match onsets {
+                    0 => String::new(),
+                    n => format!(" and {n} elastic onsets ({onsets_done} done by an earlier run), counted together"),
+                };
+                eprintln!("solving: {total} solves ({done} done by an earlier run){onsets}");
             }
         }
         Progress::Slid { topography, load_n, law, iterations, seconds } => {
             let what = format!("{topography} at {load_n:.3e} N: elastic onset of \"{law}\"");
             bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
+            bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             if batch && last.elapsed() >= super::BATCH_PROGRESS {
                 *last = Instant::now();
@@ -126,6 +132,14 @@ pub fn run(args: RunArgs) -> Result<()> {
     let grid = study.config().contact.grid.map_or(String::new(), |(nx, ny)| format!(" on {nx}×{ny}"));
     let seconds = start.elapsed().as_secs_f64();
     let (topographies, loads) = (study.topographies().len(), study.loads().len());
+    // What the solves are: the topographies, in each kind of solve, and their coarser copies.
+    let kinds = if study.config().contact.plastic.modes().len() > 1 { ", each elastic and plastic," } else { "" };
+    let solved = match study.coarse_copies() {
+        0 => format!("{topographies} topographies{grid}{kinds} × {loads} loads"),
+        n => format!(
+            "({topographies} topographies{grid}{kinds} and {n} coarser copies for the resolution figure) × {loads} loads"
+        ),
+    };
     // The onsets an interrupted solve had finished; the solve counts as solved now.
     let onsets = match outcome.onsets_resumed {
         0 => String::new(),
@@ -133,20 +147,17 @@ pub fn run(args: RunArgs) -> Result<()> {
         n => format!(", {n} elastic onsets of interrupted solves resumed"),
     };
     if let Some(shard) = args.shard {
-        let (solved, resumed, share) = (outcome.solved, outcome.resumed, outcome.share);
+        let (resumed, share) = (outcome.resumed, outcome.share);
         eprintln!(
-            "shard {shard} of {topographies} topographies{grid} × {loads} loads: {share} solves, {solved} solved, \
-             {resumed} resumed{onsets}, in {seconds:.1} s"
+            "shard {shard} of {solved}: {share} solves, {} solved, {resumed} resumed{onsets}, in {seconds:.1} s",
+            outcome.solved
         );
         eprintln!(
             "wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures"
         );
         return Ok(());
     }
-    eprintln!(
-        "{topographies} topographies{grid} × {loads} loads: {} solved, {} resumed{onsets}, in {seconds:.1} s",
-        outcome.solved, outcome.resumed
-    );
+    eprintln!("{solved}: {} solved, {} resumed{onsets}, in {seconds:.1} s", outcome.solved, outcome.resumed);
     eprintln!("wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml", outcome.rows.len());
     if !outcome.figures.is_empty() {
         eprintln!("wrote {} figures and {dir}/index.html", outcome.figures.len());

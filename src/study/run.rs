@@ -121,8 +121,10 @@ struct Claim {
 /// What the runner reports as it goes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Progress<'a> {
-    /// Before the first solve: `done` of the `total` solves were finished by an earlier run.
-    Start { total: usize, done: usize },
+    /// Before the first solve: `done` of the `total` solves were finished by an earlier run,
+    /// and `onsets_done` of the `onsets` elastic-sharing onsets those solves run (one per law
+    /// and solve of the study's own grid; they take most of such a run's time).
+    Start { total: usize, done: usize, onsets: usize, onsets_done: usize },
     /// The elastic-sharing onset of one law on a (topography, load) solve finished and was
     /// recorded (before that solve's `Solved`): its tangential solver iterations and seconds.
     /// Onsets an earlier run recorded are not run again, nor reported.
@@ -304,6 +306,12 @@ impl Study {
         &self.topographies
     }
 
+    /// How many coarser copies of the topographies the resolution figure solves at every load
+    /// ([`COARSENING`] per topography, or none without that figure).
+    pub fn coarse_copies(&self) -> usize {
+        self.coarse.len()
+    }
+
     /// The friction laws, one per law of the study file or per hold time of an aging law.
     pub fn laws(&self) -> &[FrictionLaw] {
         &self.laws
@@ -351,13 +359,24 @@ impl Study {
         let _claim = self.claim(dir, fresh, &pieces)?;
 
         let share: usize = pieces.iter().map(|p| p.loads.len()).sum();
-        let recorded = |p: &Piece| {
+        let per_solve = |p: &Piece| self.onsets_per_solve(sweeps[p.sweep].0);
+        let onsets: usize = pieces.iter().map(|p| p.loads.len() * per_solve(p)).sum();
+        // The solves, and the onsets, an earlier run recorded: a recorded solve's own and those
+        // of a solve it stopped in.
+        let (mut resumed, mut onsets_done) = (0, 0);
+        for p in &pieces {
             let (u, plastic) = sweeps[p.sweep];
             let solves = self.solves_dir(dir, u, plastic);
-            p.loads.clone().filter(|k| solves.join(record_name(*k)).is_file()).count()
-        };
-        let resumed: usize = pieces.iter().map(recorded).sum();
-        if !progress(Progress::Start { total: share, done: resumed }).proceed() {
+            for k in p.loads.clone() {
+                if solves.join(record_name(k)).is_file() {
+                    resumed += 1;
+                    onsets_done += per_solve(p);
+                } else {
+                    onsets_done += (0..per_solve(p)).filter(|&l| solves.join(onset_name(k, l)).is_file()).count();
+                }
+            }
+        }
+        if !progress(Progress::Start { total: share, done: resumed, onsets, onsets_done }).proceed() {
             return Err(self.interrupted());
         }
         let tally = Tally::default();
@@ -662,6 +681,15 @@ impl Study {
             &self.config.model.sharing
         } else {
             &[Sharing::Equal]
+        }
+    }
+
+    /// The elastic-sharing onsets of each solve of sweep `u`: one per law, or none.
+    fn onsets_per_solve(&self, u: usize) -> usize {
+        if self.sharings(u).contains(&Sharing::Elastic) {
+            self.laws.len()
+        } else {
+            0
         }
     }
 
