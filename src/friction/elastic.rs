@@ -386,9 +386,9 @@ impl<'a> Path<'a> {
         self.work.steps += 1;
         let p = self.solver.pressure();
         let st = &self.state;
-        for i in 0..p.len() {
-            self.target[i] = [delta - st.slip[i][0], -st.slip[i][1]];
-            self.bound[i] = self.law.mu(st.path[i], st.slipped[i]) * p[i];
+        for (i, (target, bound)) in self.target.iter_mut().zip(&mut self.bound).enumerate() {
+            *target = [delta - st.slip[i][0], -st.slip[i][1]];
+            *bound = self.law.mu(st.path[i], st.slipped[i]) * p[i];
         }
         if let Some((h, change)) = &self.first_change {
             let t = (delta - st.delta) / h;

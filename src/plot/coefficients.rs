@@ -467,7 +467,9 @@ pub(super) fn hold_time(input: &FigureInput) -> Option<(Figure, String)> {
         return None;
     }
     // Measured points at the chosen load nearest theirs (within half a decade), else grey.
-    let mut by_load: Vec<(Vec<(f64, f64)>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); chosen.len() + 1];
+    // Per load: (hold time [s], drop) and the drop's standard deviation.
+    type Measured = (Vec<(f64, f64)>, Vec<f64>);
+    let mut by_load: Vec<Measured> = vec![(Vec::new(), Vec::new()); chosen.len() + 1];
     for p in input.experiments {
         let k = chosen
             .iter()

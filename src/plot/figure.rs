@@ -11,8 +11,8 @@ use plotters_backend::DrawingErrorKind;
 
 use super::style;
 
-/// What drawing on a plotters area returns, for the backend `DB`.
-pub type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+/// What drawing on a plotters area returns, for the backend `DB`: `T`, or the backend's error.
+pub type DrawResult<DB, T = ()> = Result<T, DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 /// Anything that draws itself onto an area of any backend (bitmap, SVG, a movie frame).
 pub trait Draw {
@@ -572,7 +572,7 @@ pub(super) fn typeset_width<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     text: &str,
     size: f64,
-) -> Result<i32, DrawingAreaErrorKind<DB::ErrorType>> {
+) -> DrawResult<DB, i32> {
     let mut width = 0;
     for (t, level) in pieces(text) {
         width += area.estimate_text_size(&t, &piece_font(level, size).into_text_style(area))?.0 as i32;

@@ -160,14 +160,22 @@ impl<'a> Layer<'a> {
 /// A chart on window coordinates [m].
 pub(super) type MapChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
+/// A map's axes as drawn.
+pub(super) struct MapAxes<'a, DB: DrawingBackend> {
+    pub chart: MapChart<'a, DB>,
+    /// The view fitted to the plotting area.
+    pub view: View,
+    /// The plotting area's size [px].
+    pub plot: (u32, u32),
+}
+
 /// Axes for a map on `area`: the view fitted to the plotting area, lengths labelled in the
-/// view's unit, the axis names only when `named`. Returns the chart, the fitted view and the
-/// plotting area's size [px].
+/// view's unit, the axis names only when `named`.
 pub(super) fn map_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     view: View,
     named: bool,
-) -> Result<(MapChart<'a, DB>, View, (u32, u32)), DrawingAreaErrorKind<DB::ErrorType>> {
+) -> DrawResult<DB, MapAxes<'a, DB>> {
     let (w, h) = area.dim_in_pixel();
     let plot = (w.saturating_sub(2 * MAP_MARGIN + Y_LABELS), h.saturating_sub(2 * MAP_MARGIN + X_LABELS));
     let view = view.fit(plot);
@@ -194,7 +202,7 @@ pub(super) fn map_chart<'a, DB: DrawingBackend>(
         .axis_desc_style((style::FONT, LABEL))
         .axis_style(BLACK.stroke_width(1))
         .draw()?;
-    Ok((chart, view, plot))
+    Ok(MapAxes { chart, view, plot })
 }
 
 /// Draw `layer` on `chart` (whose view is `view`, its plotting area `plot` px), each value
@@ -487,7 +495,7 @@ impl Draw for ContactMaps<'_> {
             let layer = Layer::on(snap, &values);
             let colour = |p: f64| pressure_colour(p / p_max);
             let window = View::window(snap);
-            let (chart, view, plot) = map_chart(&body, window, true)?;
+            let MapAxes { chart, view, plot } = map_chart(&body, window, true)?;
             draw_layer(&chart, view, plot, &layer, colour)?;
             let frame = [(window.x.0, window.y.0), (window.x.1, window.y.1)];
             chart.plotting_area().draw(&Rectangle::new(frame, style::GREY.mix(0.7).stroke_width(1)))?;
@@ -628,7 +636,7 @@ impl Draw for ClassMap<'_> {
             2 => style::SUBCRITICAL,
             _ => style::PRE_SLIDING,
         };
-        let (chart, view, plot) = map_chart(&map, View::contact(snap), true)?;
+        let MapAxes { chart, view, plot } = map_chart(&map, View::contact(snap), true)?;
         let layer = Layer::on(snap, &values);
         draw_layer(&chart, view, plot, &layer, colour)?;
         // Where a screen pixel shows several elements, the most loaded patch at full resolution.
@@ -732,7 +740,7 @@ impl Draw for RatioSnapshots<'_> {
             for (j, (snap, onset, view)) in layers.iter().enumerate() {
                 let cell = cells.clone().shrink((j as u32 * CELL, 0), (CELL, CELL));
                 let values = ratio_layer(snap, onset, *f);
-                let (chart, fitted, plot) = map_chart(&cell, *view, false)?;
+                let MapAxes { chart, view: fitted, plot } = map_chart(&cell, *view, false)?;
                 let mu_s = self.law.mu_s;
                 draw_layer(&chart, fitted, plot, &Layer::on(snap, &values), |v| ratio_value_colour(v, mu_s))?;
                 let (_, unit) = fitted.unit();

@@ -13,7 +13,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 use rayon::prelude::*;
 
-use super::maps::{draw_layer, map_chart, ratio_key, ratio_layer, ratio_value_colour, text, Layer, View, LEVELS};
+use super::maps::{
+    draw_layer, map_chart, ratio_key, ratio_layer, ratio_value_colour, text, Layer, MapAxes, View, LEVELS,
+};
 use super::{style, tick_label, Axis, Draw, DrawResult, Marker, Panel, Series};
 use crate::error::{Error, Result};
 use crate::friction::{Curve, ElementLoads, Loading, Onset};
@@ -81,7 +83,7 @@ impl Draw for Frame<'_> {
         text(&head, &state, (w as i32 / 2, 88), 19.0, (HPos::Center, VPos::Center))?;
 
         let (map, rest) = rest.split_vertically(580);
-        let (chart, view, plot) = map_chart(&map, self.view, true)?;
+        let MapAxes { chart, view, plot } = map_chart(&map, self.view, true)?;
         let mu_s = law.mu_s;
         draw_layer(&chart, view, plot, &Layer::on(self.snap, &values), |v| ratio_value_colour(v, mu_s))?;
         let (key, curve) = rest.split_vertically(110);

@@ -575,7 +575,7 @@ impl StudyConfig {
                     );
                 }
                 for (i, v) in values.iter().enumerate() {
-                    if !(v.0 > 0.0) {
+                    if v.0.is_nan() || v.0 <= 0.0 {
                         return at(&[loads, key("values"), Segment::Index(i)], format!("{} N is not positive", v.0));
                     }
                     if values[..i].contains(v) {
@@ -585,7 +585,7 @@ impl StudyConfig {
             }
             (None, Some(min), Some(max), Some(count)) => {
                 for (name, v) in [("min", min), ("max", max)] {
-                    if !(v.0 > 0.0) {
+                    if v.0.is_nan() || v.0 <= 0.0 {
                         return at(&[loads, key(name)], format!("{} N is not positive", v.0));
                     }
                 }
@@ -681,7 +681,7 @@ impl SurfaceSpec {
                     }
                 }
                 if let Some(p) = self.pixel_size {
-                    if !(p.0 > 0.0) {
+                    if p.0.is_nan() || p.0 <= 0.0 {
                         return at("pixel_size", format!("must be positive, got {} m", p.0));
                     }
                 }
@@ -779,7 +779,7 @@ impl LawSpec {
 
     fn check(&self) -> std::result::Result<(), String> {
         if let Some(t) = self.hold_time {
-            if !(t.0 > 0.0) {
+            if t.0.is_nan() || t.0 <= 0.0 {
                 return Err(format!("hold_time: {} s is not positive", t.0));
             }
         }
@@ -826,7 +826,7 @@ impl LawSpec {
             return Err("hold_times is empty".into());
         }
         for (i, t) in times.iter().enumerate() {
-            if !(t.0 > 0.0) {
+            if t.0.is_nan() || t.0 <= 0.0 {
                 return Err(format!("hold_times: {} s is not positive", t.0));
             }
             if times[..i].contains(t) {
