@@ -224,7 +224,7 @@ fn bad_input_is_one_line_and_leaves_no_output() {
         (&["p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--shear-stiffness", "0"], "error: --shear-stiffness:"),
         (&["two", "--mu-s", "0.6", "--mu-d", "0.4"], "error: --load-index: two/contact.json holds 2 loads"),
         (&["two", "--mu-s", "0.6", "--mu-d", "0.4", "--load-index", "2"], "error: --load-index: 2 is out of range"),
-        (&["empty", "--mu-s", "0.6", "--mu-d", "0.4"], "error: empty/contact.json:"),
+        (&["empty", "--mu-s", "0.6", "--mu-d", "0.4"], "error: empty: holds no contact.json: give a contact directory"),
     ];
     for (args, expected) in cases {
         let out = asperity(&[&["onset"], *args, &["--out", "res"]].concat(), dir);
