@@ -128,6 +128,16 @@ fn ramps_a_tangential_force_from_a_contact_directory() {
     let o = asperity(&a.iter().map(String::as_str).collect::<Vec<_>>());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("--load") && err.contains("not among"), "{err}");
+    // No load given: the directory's loads are listed to choose from.
+    let a: Vec<&str> = a.iter().map(String::as_str).filter(|s| !["--load", "3mN"].contains(s)).collect();
+    let err = String::from_utf8_lossy(&asperity(&a).stderr).to_string();
+    assert!(err.contains("holds several loads, choose one [N]: 2e-4, 2e-3"), "{err}");
+    // A topography's reading options do nothing to a contact directory: refused.
+    let mut a = args("0.5mN");
+    a.extend(["--size".to_string(), "1e-6".to_string()]);
+    let o = asperity(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.starts_with("error: --size: not used with a contact directory"), "{err}");
 }
 
 #[test]

@@ -164,10 +164,11 @@ fn shards_record_the_elastic_onsets() {
     std::fs::write(dir.path().join("study.toml"), format!("{BALLS}{rest}")).unwrap();
     for shard in ["1/2", "2/2"] {
         let o = asperity(dir.path(), &["run", "study.toml", "--out", "r", "--shard", shard]);
-        assert!(stderr(&o).contains("3 solves, 3 solved"), "{}", stderr(&o));
+        // Two laws' onsets per solve.
+        assert!(stderr(&o).contains("3 solves, 3 solved, 0 resumed; 6 elastic onsets run, in"), "{}", stderr(&o));
     }
     let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
-    assert!(stderr(&o).contains("0 solved, 6 resumed"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("0 solved, 6 resumed, in"), "{}", stderr(&o));
     let rows = table(&dir.path().join("r/results.csv"));
     assert_eq!(rows.len(), 24);
     assert_eq!(rows.iter().filter(|r| r["sharing"] == "elastic" && !r["slide_iterations"].is_empty()).count(), 12);
@@ -220,6 +221,7 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
     assert_eq!((outcome.solved, outcome.resumed, outcome.onsets_resumed), (6, 0, parts));
     // Two laws' onsets for each solve run now, but those recorded before the stop.
     assert_eq!(slid.into_inner(), 2 * outcome.solved - parts);
+    assert_eq!(outcome.onsets, 2 * outcome.solved - parts);
     assert_eq!(outcome.rows.iter().filter(|r| r.sharing == asperity::study::Sharing::Elastic).count(), 12);
     // The solves' parts gave way to their records.
     for t in ["a", "b"] {

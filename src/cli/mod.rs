@@ -177,6 +177,18 @@ pub struct ReadArgs {
 }
 
 impl ReadArgs {
+    /// The first option of reading a topography that was given, if any: for an input that is
+    /// not read as one, where it would do nothing.
+    pub fn given(&self) -> Option<&'static str> {
+        let given = [
+            (self.channel.is_some(), "--channel"),
+            (self.size.is_some(), "--size"),
+            (self.height_unit.is_some(), "--height-unit"),
+            (self.format.is_some(), "--format"),
+        ];
+        given.into_iter().find(|(g, _)| *g).map(|(_, option)| option)
+    }
+
     pub fn options(&self) -> ReadOptions {
         ReadOptions {
             format: self.format.clone(),

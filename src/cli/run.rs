@@ -140,11 +140,13 @@ pub fn run(args: RunArgs) -> Result<()> {
             "({topographies} topographies{grid}{kinds} and {n} coarser copies for the resolution figure) × {loads} loads"
         ),
     };
-    // The onsets an interrupted solve had finished; the solve counts as solved now.
-    let onsets = match outcome.onsets_resumed {
-        0 => String::new(),
-        1 => ", 1 elastic onset of an interrupted solve resumed".to_string(),
-        n => format!(", {n} elastic onsets of interrupted solves resumed"),
+    // The elastic onsets run now, and those an interrupted solve had finished (the solve
+    // counts as solved now).
+    let onsets = match (outcome.onsets, outcome.onsets_resumed) {
+        (0, 0) => String::new(),
+        (run, 0) => format!("; {run} elastic onsets run"),
+        (run, 1) => format!("; {run} elastic onsets run, 1 of an interrupted solve resumed"),
+        (run, n) => format!("; {run} elastic onsets run, {n} of interrupted solves resumed"),
     };
     if let Some(shard) = args.shard {
         let (resumed, share) = (outcome.resumed, outcome.share);

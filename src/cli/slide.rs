@@ -80,7 +80,9 @@ pub struct SlideArgs {
     /// Iteration limit of one tangential solve.
     #[arg(long, value_name = "K", default_value_t = TangentialOptions::default().max_iterations)]
     max_iter: usize,
-    /// Output directory (replaced as a whole when the run completes).
+    /// Output directory, with a manifest.json of the files written: a new or empty folder, or
+    /// an earlier output of `asperity slide`, replaced as a whole when the run completes
+    /// (anything else is refused; nothing is left behind by a failed run).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
 }
@@ -373,6 +375,12 @@ fn law_report(args: &SlideArgs, law: &SlipLaw) -> LawReport {
 fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let path = &args.read.file;
     if path.is_dir() {
+        if let Some(option) = args.read.given() {
+            return Err(Error::invalid(
+                option,
+                "not used with a contact directory: its contact.json gives the surface",
+            ));
+        }
         return read_contact_dir(path, args.load, e_star, args.free, &args.read.limits.limits());
     }
     let load = args.load.ok_or_else(|| Error::invalid("--load", "give the normal load for a topography"))?;
@@ -420,18 +428,18 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limi
     if free && contact.boundary != Boundary::Free {
         return Err(Error::invalid("--free", format!("{} was solved with a periodic boundary", json_path.display())));
     }
+    let known = || contact.loads.iter().map(|l| format!("{:e}", l.load_n)).collect::<Vec<_>>().join(", ");
     let entry = match (load, &contact.loads[..]) {
         (_, []) => return Err(Error::file(&json_path, "it holds no load")),
         (None, [one]) => one,
         (None, _) => {
-            return Err(Error::invalid("--load", format!("{} holds several loads: choose one", json_path.display())))
+            return Err(Error::invalid(
+                "--load",
+                format!("{} holds several loads, choose one [N]: {}", json_path.display(), known()),
+            ))
         }
         (Some(n), loads) => loads.iter().find(|l| (l.load_n - n).abs() <= 1e-9 * n).ok_or_else(|| {
-            let known: Vec<String> = loads.iter().map(|l| format!("{:e}", l.load_n)).collect();
-            Error::invalid(
-                "--load",
-                format!("{n:e} N is not among the loads of {}: {}", json_path.display(), known.join(", ")),
-            )
+            Error::invalid("--load", format!("{n:e} N is not among the loads of {}: {}", json_path.display(), known()))
         })?,
     };
     let area = lx / nx as f64 * (ly / ny as f64);

@@ -143,8 +143,9 @@ pub struct Outcome {
     /// Of those, solves run now, and solves found finished by an earlier run.
     pub solved: usize,
     pub resumed: usize,
-    /// Elastic onsets of the solves run now that an earlier run had finished (and recorded)
-    /// before it stopped.
+    /// Elastic onsets run now, and those of the solves run now that an earlier run had
+    /// finished (and recorded) before it stopped.
+    pub onsets: usize,
     pub onsets_resumed: usize,
     /// Figures and report written.
     pub figures: Vec<PathBuf>,
@@ -157,8 +158,9 @@ pub struct Outcome {
 struct Tally {
     /// Solves finished now.
     solved: AtomicUsize,
-    /// Elastic onsets of those found recorded by an earlier run.
+    /// Elastic onsets run now, and those found recorded by an earlier run.
     onsets: AtomicUsize,
+    onsets_resumed: AtomicUsize,
 }
 
 /// A solve of a sweep as its elastic-sharing rows need it.
@@ -392,13 +394,15 @@ impl Study {
             let (u, plastic) = sweeps[pieces[k].sweep];
             self.sweep(dir, u, plastic, pieces[k].loads.clone(), progress, &tally)?;
         })?;
-        let (solved, onsets_resumed) = (tally.solved.into_inner(), tally.onsets.into_inner());
+        let solved = tally.solved.into_inner();
+        let (onsets, onsets_resumed) = (tally.onsets.into_inner(), tally.onsets_resumed.into_inner());
         if self.shard.is_some() {
             return Ok(Outcome {
                 rows: Vec::new(),
                 share,
                 solved,
                 resumed,
+                onsets,
                 onsets_resumed,
                 figures: Vec::new(),
                 warnings: Vec::new(),
@@ -462,7 +466,7 @@ impl Study {
         };
         let figures = crate::plot::study::render(dir, &input)?;
         let warnings = super::warnings(&rows);
-        Ok(Outcome { rows, share, solved, resumed, onsets_resumed, figures, warnings })
+        Ok(Outcome { rows, share, solved, resumed, onsets, onsets_resumed, figures, warnings })
     }
 
     /// The study as run, as a study file.
@@ -879,7 +883,7 @@ impl Study {
             let path = solves.join(onset_name(k, l));
             if path.is_file() {
                 rows.push(read_onset(&path, at, &law_label)?);
-                tally.onsets.fetch_add(1, Ordering::Relaxed);
+                tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
                 continue;
             }
             if tangential.is_none() {
@@ -897,6 +901,7 @@ impl Study {
             let row = Row::elastic(at.name, at.load, at.facts, law, &onset, seconds);
             output::write_json(&path, &row)?;
             rows.push(row);
+            tally.onsets.fetch_add(1, Ordering::Relaxed);
             let answer = progress(Progress::Slid {
                 topography: at.label,
                 load_n: at.load,
