@@ -18,17 +18,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Elastic normal contact of a topography at one or more loads: pressure maps and contact
-    /// statistics (boundary integral method).
+    // Each command's help is its arguments' doc: a summary (its line in `asperity --help`),
+    // then what `asperity COMMAND --help` adds.
     Contact(cli::contact::ContactArgs),
-    /// Static friction, friction drop and element classes from a pressure map (stick-slip model)
     Onset(cli::onset::Args),
-    /// Sliding onset with elastic interaction between the contact points (tangential solve on
-    /// the half-space): static friction, friction drop, shear maps
     Slide(cli::slide::SlideArgs),
-    /// Topographies: inspect, prepare, synthesise, analyse (`topo info | convert | generate | psd`).
     Topo(cli::topo::TopoArgs),
-    /// Static and dynamic friction after each hold of a slide-hold-slide trace
     Shs(cli::shs::Args),
     Run(cli::run::RunArgs),
     Slurm(cli::slurm::SlurmArgs),

@@ -229,3 +229,18 @@ fn refuses_an_edited_contact_folder_full_contact_and_a_foreign_out_first() {
     assert!(!o.status.success() && err.contains("--out") && !err.contains("normal solve"), "{err}");
     assert_eq!(std::fs::read_to_string(mine.join("notes.txt")).unwrap(), "mine");
 }
+
+/// `--help` says what the command takes and writes (the command's long doc, not only its
+/// summary line).
+#[test]
+fn help_states_the_input_and_the_outputs() {
+    let o = asperity(&["slide", "--help"]);
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{help}");
+    for needle in ["<SURFACE|CONTACT_DIR>", "output directory of `asperity contact`", "DIR/slide.json", "Cerruti"] {
+        assert!(help.contains(needle), "{needle}: {help}");
+    }
+    let summary = String::from_utf8_lossy(&asperity(&["--help"]).stdout).to_string();
+    let line = summary.lines().find(|l| l.trim_start().starts_with("slide ")).unwrap();
+    assert!(line.ends_with("static friction, friction drop, shear maps"), "{line}");
+}

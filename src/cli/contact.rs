@@ -15,10 +15,11 @@ use asperity::{Error, Result};
 use super::topo_tools::PrepareArgs;
 use super::{MaterialArgs, ReadArgs};
 
-/// Press a rigid rough surface on an elastic half-space (boundary integral method,
-/// Polonsky–Keer conjugate gradient at imposed load) and write the pressure maps.
+/// Elastic normal contact of a topography at one or more loads: pressure maps and contact
+/// statistics (boundary integral method).
 ///
-/// Writes DIR/contact.json and one DIR/pressure-NNN.npy (float64, Pa, shape ny×nx) per load,
+/// Presses a rigid rough surface on an elastic half-space (Polonsky–Keer conjugate gradient at
+/// imposed load). Writes DIR/contact.json and one DIR/pressure-NNN.npy (float64, Pa, shape ny×nx) per load,
 /// numbered in the order the loads are given. Loads are solved in increasing order, each
 /// starting from the previous solution. The surface is prepared as the study prepares a file
 /// (crop, missing points, detrend, resample, cap, wafer), but as read unless told otherwise.

@@ -11,9 +11,11 @@ use ndarray::Array2;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-/// Static friction coefficient, friction drop and the critical, pre-sliding and subcritical
-/// elements at the onset of sliding (the stick-slip transition model with equal load
-/// sharing), from a contact pressure map.
+/// Static friction, friction drop and element classes from a pressure map (stick-slip model).
+///
+/// The static friction coefficient, the friction drop and the critical, pre-sliding and
+/// subcritical elements at the onset of sliding (the stick-slip transition model with equal
+/// load sharing), from a contact pressure map.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// A pressure map PRESSURE.npy [Pa], shape (ny, nx), or the output directory of

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use asperity::shs::{self, Analysis, ShsOptions, ShsPoint, Stat, TraceFormat};
 use asperity::{plot, Error};
 
-/// Find every hold and restart in a slide-hold-slide friction trace and report, per restart,
+/// Static and dynamic friction after each hold of a slide-hold-slide trace.
+///
+/// Finds every hold and restart in a slide-hold-slide friction trace and reports, per restart,
 /// the hold time, the static peak F_S, the dynamic friction F_D (mean over a window after the
 /// peak), the normal force N, mu_s = F_S/N, mu_d = F_D/N and the friction drop F_S/F_D, then
 /// the restarts grouped by hold time (mean ± sample standard deviation). The initial slide

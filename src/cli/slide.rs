@@ -22,19 +22,25 @@ use asperity::{Error, Result};
 
 use super::{MaterialArgs, ReadArgs};
 
-/// Sliding onset with elastic interaction: the body is displaced rigidly along x, quasi-
-/// statically, and the shear tractions on the contact points follow from the elastic
-/// half-space (Cerruti) with a local law that has memory (mu_s until a point first slips, then
-/// mu_d, or a slip-weakening distance). The normal pressure is that of the normal solve and
-/// stays fixed; normal and tangential problems are uncoupled (exact for identical bodies,
+/// Sliding onset with elastic interaction between the contact points (tangential solve on the
+/// half-space): static friction, friction drop, shear maps.
+///
+/// The body is displaced rigidly along x, quasi-statically, and the shear tractions on the
+/// contact points follow from the elastic half-space (Cerruti) with a local law that has memory
+/// (mu_s until a point first slips, then mu_d, or a slip-weakening distance). The normal
+/// pressure is that of the normal solve (or of the contact directory given) and stays
+/// fixed; normal and tangential problems are uncoupled (exact for identical bodies,
 /// Goodman's approximation otherwise).
 ///
 /// Writes DIR/slide.json, DIR/curve.csv (displacement_m, force_n, stick_points, slip_points),
 /// DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy (int8: 0 no contact,
 /// 1 slipped, 2 critical, 3 stuck) at the peak force, or at the imposed --tangential-force.
 #[derive(Args)]
+#[command(mut_arg("file", |a| a.value_name("SURFACE|CONTACT_DIR").help(
+    "A topography file, in any format asperity reads (solved for --load first), or the output \
+     directory of `asperity contact` (its pressure at --load)"
+)))]
 pub struct SlideArgs {
-    /// A topography (solved for --load first), or the output directory of `asperity contact`.
     #[command(flatten)]
     read: ReadArgs,
     /// Normal load [N, or with a unit: 10mN]; with a contact directory, which of its loads.

@@ -8,8 +8,9 @@ use clap::Args;
 use asperity::study::slurm::SlurmJob;
 use asperity::{Error, Result};
 
-/// Write Slurm batch scripts that run a study on a cluster: a job array of N tasks, task I
-/// running `asperity run STUDY --out DIR --shard I/N`, and a job that assembles the table,
+/// Write Slurm batch scripts that run a study on a cluster, split into N shards.
+///
+/// A job array of N tasks, task I running `asperity run STUDY --out DIR --shard I/N`, and a job that assembles the table,
 /// figures and report once every task has succeeded (`asperity run STUDY --out DIR`, which
 /// solves nothing twice). With --submit, submits both (the second with
 /// --dependency=afterok:<the array's id>) and prints the job ids.

@@ -11,6 +11,8 @@ use asperity::topography::io;
 use super::{topo_tools, ReadArgs};
 use asperity::Result;
 
+/// Topographies: inspect, prepare, synthesise, analyse (`topo info | convert | generate | psd`).
+///
 /// Topography files: read them, whatever the instrument.
 #[derive(Args)]
 pub struct TopoArgs {
