@@ -152,6 +152,11 @@ fn refuses_a_missing_law_and_a_bad_slip_distance() {
         // Finite but too long to weaken within the path's steps: said so, with what to do.
         (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "1e300"][..], "give a shorter one"),
         (&["--mu-s", "0.3", "--mu-d", "0.4"][..], "--mu-s"),
+        // The ramp is under Coulomb friction: a weakening law would do nothing there.
+        (
+            &["--mu-s", "0.6", "--mu-d", "0.4", "--tangential-force", "0.5mN", "--slip-distance", "1nm"][..],
+            "'--tangential-force <Q>' cannot be used with '--slip-distance <DC>'",
+        ),
         // A missing required argument is named (clap's first line alone named none).
         (&["--curve", "curve.csv"][..], "error: --curve-unit <LENGTH> must be given"),
     ] {

@@ -32,8 +32,9 @@ use super::{MaterialArgs, ReadArgs};
 /// fixed; normal and tangential problems are uncoupled (exact for identical bodies,
 /// Goodman's approximation otherwise).
 ///
-/// Writes DIR/slide.json, DIR/curve.csv (displacement_m, force_n, stick_points, slip_points),
-/// DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy (int8: 0 no contact,
+/// Writes DIR/slide.json (its keys end in their unit: _n newtons, _m metres), DIR/curve.csv
+/// (displacement_m, force_n, stick_points, slip_points; a cascade of slips at one displacement
+/// adds rows at that displacement as the force falls), DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy (int8: 0 no contact,
 /// 1 slipped, 2 critical, 3 stuck) at the peak force, or at the imposed --tangential-force.
 #[derive(Args)]
 #[command(mut_arg("file", |a| a.value_name("SURFACE|CONTACT_DIR").help(
@@ -71,9 +72,17 @@ pub struct SlideArgs {
     /// mu_d over an accumulated slip d_c (default: at once on the first slip).
     #[arg(long, value_name = "DC", allow_hyphen_values = true, value_parser = super::length)]
     slip_distance: Option<f64>,
-    /// Ramp the tangential force to Q [N, or with a unit: 0.2mN] under Coulomb friction at mu_s and write that
-    /// partial-slip state, instead of the path to sliding.
-    #[arg(long, value_name = "Q", allow_negative_numbers = true, value_parser = super::force)]
+    /// Ramp the tangential force to Q [N, or with a unit: 0.2mN] under Coulomb friction at
+    /// mu_s (mu_d is not used) and write that partial-slip state instead of the path to
+    /// sliding: slide.json (tangential_force_n, displacement_m, stick_points, slip_points) and
+    /// the maps, no curve.csv.
+    #[arg(
+        long,
+        value_name = "Q",
+        allow_negative_numbers = true,
+        value_parser = super::force,
+        conflicts_with_all = ["slip_distance", "curve"]
+    )]
     tangential_force: Option<f64>,
     #[command(flatten)]
     material: MaterialArgs,
