@@ -104,6 +104,28 @@ fn bad_input_is_refused_in_one_line() {
     let gsf = common::sample("wafer-roughness.gsf");
     refused(&[gsf.to_str().unwrap(), "--size", "1e-6,1e-6", "--load", "1e-3"], "does not match");
     refused(&[dir.path().join("absent.npy").to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "absent.npy");
+    // The fixture's heights in nanometres (rms 14 nm), taken as metres: 78 m over an 8 µm
+    // window. Solved, one pixel carried the whole load at 512 GPa, without a word.
+    let nm = dir.path().join("nm.npy");
+    write_npy(&nm, &read_npy::<_, Array2<f64>>(&f).unwrap().mapv(|h| h * 1e9)).unwrap();
+    let nm = nm.to_str().unwrap();
+    refused(&[nm, size[0], size[1], "--load", "1e-3"], "nm.npy: the heights span 7.823e1 m, more than the 8.000e-6");
+    refused(&[nm, size[0], size[1], "--load", "1e-3"], "give their unit with --height-unit");
+    // With their unit they are the fixture.
+    let out = dir.path().join("with-unit");
+    let o = asperity(&[
+        "contact",
+        nm,
+        size[0],
+        size[1],
+        "--height-unit",
+        "nm",
+        "--load",
+        "1e-3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 #[test]

@@ -71,8 +71,8 @@ pub fn check_loads(loads: &[f64]) -> Result<()> {
 }
 
 /// The physical size (lx, ly) [m] of a surface the contact solver can take: heights known to
-/// be metres, no missing heights, at least 2×2 points and a known size; otherwise a one-line
-/// reason naming its file.
+/// be metres, no missing heights, at least 2×2 points, a known size and heights spanning less
+/// than the window is wide; otherwise a one-line reason naming its file.
 pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
     surface.require_metres()?;
     let bad = surface.heights.iter().filter(|h| !h.is_finite()).count();
@@ -88,9 +88,11 @@ pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
             surface.nx()
         )));
     }
-    surface
+    let size = surface
         .physical_size
-        .ok_or_else(|| surface.error("the file states no physical size: give it with --size LX[,LY] (metres)"))
+        .ok_or_else(|| surface.error("the file states no physical size: give it with --size LX[,LY] (metres)"))?;
+    surface.require_plausible_heights()?;
+    Ok(size)
 }
 
 /// The width of the band along a window's edges, as a fraction of its points along each axis

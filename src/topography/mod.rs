@@ -78,6 +78,27 @@ impl Topography {
         }))
     }
 
+    /// An error naming the file when the heights span more than the window is wide: no rough
+    /// surface measured in metres looks like that (nor can the half-space's small slopes hold
+    /// on it), while heights in nm or µm taken as metres do (a bare array's are taken as
+    /// metres). Without a physical size there is nothing to compare with.
+    pub fn require_plausible_heights(&self) -> crate::error::Result<()> {
+        let Some((lx, ly)) = self.physical_size else { return Ok(()) };
+        let (lo, hi) = self
+            .heights
+            .iter()
+            .filter(|h| h.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| (lo.min(h), hi.max(h)));
+        let span = hi - lo;
+        if span > lx.max(ly) {
+            return Err(self.error(format!(
+                "the heights span {span:.3e} m, more than the {lx:.3e} × {ly:.3e} m window is wide: not heights in \
+                 metres; give their unit with --height-unit U (study: height_unit), e.g. nm or µm"
+            )));
+        }
+        Ok(())
+    }
+
     /// Number of missing (`NaN`) points.
     pub fn missing_points(&self) -> usize {
         self.heights.iter().filter(|h| h.is_nan()).count()

@@ -56,6 +56,7 @@ impl Preparation {
         if topo.physical_size.is_none() {
             return Err(topo.error("the file states no physical size: give it with --size LX[,LY] (study: size)"));
         }
+        topo.require_plausible_heights()?;
         if let Some(window) = &self.crop {
             topo = crop(&topo, window)?;
         }
