@@ -19,8 +19,8 @@ use super::{MaterialArgs, ReadArgs};
 /// statistics (boundary integral method).
 ///
 /// Presses a rigid rough surface on an elastic half-space (Polonsky–Keer conjugate gradient at
-/// imposed load). Writes DIR/contact.json and one DIR/pressure-NNN.npy (float64, Pa, shape ny×nx) per load,
-/// numbered in the order the loads are given. Loads are solved in increasing order, each
+/// imposed load). Writes DIR/contact.json and one DIR/pressure-NNN.npy (float64, Pa, shape
+/// ny×nx) per load, numbered in the order the loads are given. Loads are solved in increasing order, each
 /// starting from the previous solution. The surface is prepared as the study prepares a file
 /// (crop, missing points, detrend, resample, cap, wafer), but as read unless told otherwise.
 /// Every load reports the share of it carried within 2 % of the window's edges

@@ -34,8 +34,9 @@ use super::{MaterialArgs, ReadArgs};
 ///
 /// Writes DIR/slide.json (its keys end in their unit: _n newtons, _m metres), DIR/curve.csv
 /// (displacement_m, force_n, stick_points, slip_points; a cascade of slips at one displacement
-/// adds rows at that displacement as the force falls), DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy (int8: 0 no contact,
-/// 1 slipped, 2 critical, 3 stuck) at the peak force, or at the imposed --tangential-force.
+/// adds rows at that displacement as the force falls), DIR/shear_x.npy and DIR/shear_y.npy
+/// (Pa) and DIR/classes.npy (int8: 0 no contact, 1 slipped, 2 critical, 3 stuck) at the peak
+/// force, or at the imposed --tangential-force.
 #[derive(Args)]
 #[command(mut_arg("file", |a| a.value_name("SURFACE|CONTACT_DIR").help(
     "A topography file, in any format asperity reads (solved for --load first), or the output \
@@ -89,7 +90,8 @@ pub struct SlideArgs {
     /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
     #[arg(long)]
     free: bool,
-    /// Tolerance of the tangential solve (relative norm of its projected gradient); the path from δ = 0 to the step holding F_S solves to 100 times it, at most 1e-4.
+    /// Tolerance of the tangential solve (relative norm of its projected gradient); the path
+    /// from δ = 0 to the step holding F_S solves to 100 times it, at most 1e-4.
     #[arg(long, value_name = "T", default_value_t = TangentialOptions::default().tolerance)]
     tolerance: f64,
     /// Iteration limit of one tangential solve.

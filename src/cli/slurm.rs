@@ -10,9 +10,9 @@ use asperity::{Error, Result};
 
 /// Write Slurm batch scripts that run a study on a cluster, split into N shards.
 ///
-/// A job array of N tasks, task I running `asperity run STUDY --out DIR --shard I/N`, and a job that assembles the table,
-/// figures and report once every task has succeeded (`asperity run STUDY --out DIR`, which
-/// solves nothing twice). With --submit, submits both (the second with
+/// A job array of N tasks, task I running `asperity run STUDY --out DIR --shard I/N`, and a
+/// job that assembles the table, figures and report once every task has succeeded (`asperity
+/// run STUDY --out DIR`, which solves nothing twice). With --submit, submits both (the second with
 /// --dependency=afterok:<the array's id>) and prints the job ids.
 ///
 /// The scripts go into DIR/slurm/ (shards.sh, assemble.sh; the jobs' logs beside them); DIR

@@ -14,8 +14,8 @@
 //! cascade, so the step holding the largest force is repeated from its start with finer
 //! steps, until that force lies in a step of the finest length; the path from δ = 0 takes
 //! longer steps while its force is far below μ_d N (for a law whose coefficients only fall),
-//! which F_S is never below, so that they hold no force worth refining. Once every point slides, the
-//! tractions turn towards x as δ grows and F tends to the sliding force Σ μ p a (μ_d N for the
+//! which F_S is never below, so that they hold no force worth refining. Once every point
+//! slides, the tractions turn towards x as δ grows and F tends to the sliding force Σ μ p a (μ_d N for the
 //! instant drop): F_S is never below it, though the path stops at total sliding with tractions
 //! still turned by the elastic coupling.
 
@@ -625,8 +625,8 @@ impl Steps {
     /// hold F_S and is not refined. The first step takes k = k_t, which its force cannot pass;
     /// the next ones the rise per unit δ of the last step's first solve, as the path softens
     /// (at 1500², 100 mN 1.3 k_t/k after the first step, 14 after the sixth): in the cases
-    /// measured no such step passed the floor, and one that did would be refined as any other. Measured at 1500² with
-    /// its wafer, mu_d 0.4, against coarse steps from δ = 0: at 10, 31.6 and 100 mN 44, 37 and
+    /// measured no such step passed the floor, and one that did would be refined as any other.
+    /// Measured at 1500² with its wafer, mu_d 0.4, against coarse steps from δ = 0: at 10, 31.6 and 100 mN 44, 37 and
     /// 49 % fewer applications with mu_s 0.6, 51, 49 and 68 % with 0.5 (the last also spared
     /// refinements below the sliding force); the drops moved by −1.5e-6 to −4.0e-6 (with k_t
     /// throughout, by −1.1e-6 to +1.4e-6, for 23–48 % fewer): the memory these steps leave
