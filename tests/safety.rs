@@ -198,6 +198,220 @@ fn failed_renames_and_links_leave_no_temporary() {
     assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
 }
 
+/// A named pipe at `path`.
+fn fifo(path: &Path) {
+    let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+}
+
+#[test]
+fn an_output_replaces_only_a_regular_file_and_never_an_input() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 8);
+    let before = std::fs::read(dir.join("s.npy")).unwrap();
+    std::fs::write(dir.join("trace.csv"), "time_s,friction_n,normal_n\n0,1,2\n").unwrap();
+    fifo(&dir.join("pipe.npy"));
+    fifo(&dir.join("pipe.png"));
+    std::os::unix::fs::symlink("pipe.npy", dir.join("to-pipe.npy")).unwrap();
+    std::fs::hard_link(dir.join("s.npy"), dir.join("hard.npy")).unwrap();
+    std::os::unix::fs::symlink("s.npy", dir.join("soft.npy")).unwrap();
+    std::os::unix::fs::symlink("trace.csv", dir.join("fig.svg")).unwrap();
+    let generate =
+        ["topo", "generate", "--size", "1um", "--grid", "8", "--hurst", "0.8", "--rms", "1nm", "--seed", "1"];
+    fn with<'a>(args: &[&'a str], out: &'a str) -> Vec<&'a str> {
+        [args, &[out]].concat()
+    }
+    for (args, what) in [
+        (with(&generate, "pipe.npy"), "pipe.npy: a named pipe (FIFO)"),
+        (with(&generate, "to-pipe.npy"), "to-pipe.npy: a named pipe (FIFO)"),
+        (with(&["topo", "convert", "s.npy", "--size", "1e-6"], "to-pipe.npy"), "to-pipe.npy: a named pipe (FIFO)"),
+        (vec!["shs", "trace.csv", "--plot", "pipe.png"], "pipe.png: a named pipe (FIFO)"),
+        (vec!["shs", "trace.csv", "--out", "pipe.npy"], "pipe.npy: a named pipe (FIFO)"),
+        // The input itself, by its name, a symbolic link or a hard link, and the figure's .svg.
+        (
+            with(&["topo", "convert", "s.npy", "--size", "1e-6", "--detrend", "plane"], "s.npy"),
+            "s.npy: is the input s.npy",
+        ),
+        (with(&["topo", "convert", "s.npy", "--size", "1e-6"], "soft.npy"), "soft.npy: is the input s.npy"),
+        (with(&["topo", "convert", "soft.npy", "--size", "1e-6"], "hard.npy"), "hard.npy: is the input soft.npy"),
+        (vec!["shs", "trace.csv", "--out", "trace.csv"], "trace.csv: is the input trace.csv"),
+        (vec!["shs", "trace.csv", "--out", "t.csv", "--plot", "fig.png"], "fig.svg: is the input trace.csv"),
+    ] {
+        let e = refusal(&asperity(dir, &args));
+        assert!(e.starts_with(&format!("error: {what}")), "{args:?}: {e}");
+    }
+    let kind = |n: &str| std::fs::symlink_metadata(dir.join(n)).unwrap().file_type();
+    use std::os::unix::fs::FileTypeExt;
+    assert!(kind("pipe.npy").is_fifo() && kind("pipe.png").is_fifo() && kind("to-pipe.npy").is_symlink());
+    assert_eq!(std::fs::read(dir.join("s.npy")).unwrap(), before);
+    assert_eq!(std::fs::read_to_string(dir.join("trace.csv")).unwrap(), "time_s,friction_n,normal_n\n0,1,2\n");
+    assert!(!dir.join("t.csv").exists() && !dir.join("fig.png").exists());
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+}
+
+#[test]
+fn a_folder_in_place_of_an_earlier_outputs_file_is_refused_and_never_moved() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 16);
+    let contact = || asperity(dir, &["contact", "s.npy", "--size", "1e-6", "--load", "1e-6", "--out", "out"]);
+    succeeds(&contact());
+    std::fs::remove_file(dir.join("out/contact.json")).unwrap();
+    std::fs::create_dir(dir.join("out/contact.json")).unwrap();
+    std::fs::write(dir.join("out/contact.json/notes.txt"), "mine").unwrap();
+    let e = refusal(&contact());
+    assert!(e.contains("out holds contact.json, a folder where `asperity contact` wrote a file"), "{e}");
+    assert_eq!(names(dir), ["out", "s.npy"]);
+    assert_eq!(std::fs::read_to_string(dir.join("out/contact.json/notes.txt")).unwrap(), "mine");
+}
+
+#[test]
+fn what_a_killed_command_left_beside_its_output_goes_with_the_next_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 384);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["contact", "s.npy", "--size", "1e-6", "--fields", "--out", "out"])
+        .args(["--load", "1e-7,3e-7,1e-6,3e-6,1e-5,3e-5,1e-4", "--tolerance", "1e-13"])
+        .current_dir(dir)
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    assert_eq!(interrupt(&mut child, libc::SIGKILL, || !temporaries(dir).is_empty()), None);
+    assert_eq!(temporaries(dir).len(), 1, "{:?}", temporaries(dir));
+    // A living process's temporary beside it stays (this test's own, named as asperity names it).
+    let mut living = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["contact", "s.npy", "--size", "1e-6", "--fields", "--out", "slow"])
+        .args(["--load", "1e-7,3e-7,1e-6,3e-6,1e-5,3e-5,1e-4", "--tolerance", "1e-13"])
+        .current_dir(dir)
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while temporaries(dir).len() < 2 {
+        assert!(start.elapsed() < Duration::from_secs(60), "the second run never started its output");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    succeeds(&asperity(dir, &["contact", "s.npy", "--size", "1e-6", "--load", "1e-6", "--out", "quick"]));
+    let left = temporaries(dir);
+    assert_eq!(left.len(), 1, "{left:?}");
+    let living_pid = living.id().to_string();
+    assert!(left[0].to_string_lossy().contains(&format!("p{living_pid}s")), "{left:?}");
+    living.kill().unwrap();
+    living.wait().unwrap();
+}
+
+#[test]
+fn sigint_at_any_moment_of_a_write_leaves_no_temporary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let p = Array2::from_shape_fn((96, 96), |(i, j)| ((i * 7 + j * 13) % 11) as f64 * 1e6);
+    ndarray_npy::write_npy(dir.join("p.npy"), &p).unwrap();
+    let snapshots: Vec<String> = (1..=20).map(|k| format!("{}", k as f64 / 20.0)).collect();
+    let mut interrupted = 0;
+    for i in 0..30 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["onset", "p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--out", "o", "--snapshots"])
+            .arg(snapshots.join(","))
+            .current_dir(dir)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        // Once the staging folder is there, at a moment that moves through the writes.
+        let start = Instant::now();
+        while temporaries(dir).is_empty() && child.try_wait().unwrap().is_none() {
+            assert!(start.elapsed() < Duration::from_secs(60));
+        }
+        std::thread::sleep(Duration::from_micros(200 * i));
+        unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
+        if child.wait().unwrap().code() == Some(130) {
+            interrupted += 1;
+        }
+        assert!(temporaries(dir).is_empty(), "run {i}: {:?}", temporaries(dir));
+        let _ = std::fs::remove_dir_all(dir.join("o"));
+    }
+    assert!(interrupted >= 10, "only {interrupted} of 30 runs were interrupted");
+}
+
+/// Every entry below `dir` that is not a folder, relative to it, sorted.
+fn files_below(dir: &Path) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() && !path.is_symlink() {
+            found.extend(
+                files_below(&path).into_iter().map(|f| format!("{}/{f}", path.file_name().unwrap().to_string_lossy())),
+            );
+        } else {
+            found.push(path.file_name().unwrap().to_string_lossy().into_owned());
+        }
+    }
+    found.sort();
+    found
+}
+
+#[test]
+fn fresh_removes_what_runs_wrote_and_nothing_else() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    let study = STUDY.replace("figures = []", "figures = [\"friction-drop\"]\npressure_maps = true");
+    std::fs::write(dir.join("study.toml"), &study).unwrap();
+    // Another study, its second topography named otherwise.
+    std::fs::write(dir.join("renamed.toml"), study.replace("name = \"study.lock\"", "name = \"ball\"")).unwrap();
+    succeeds(&run(dir, "study.toml", "R", &[]));
+    let r = dir.join("R");
+    // What a user puts in DIR, named as a run names its files, and a link in place of a run's file.
+    let mine = [
+        "figures/class-map.png",
+        "notes.txt",
+        "pressure/my-measurements/00.npy",
+        "snapshots/fingerprint.json-07.json",
+        "snapshots/lab-notes.json",
+        "solves/topographies/old-ball/07.json",
+    ];
+    for m in mine {
+        std::fs::create_dir_all(r.join(m).parent().unwrap()).unwrap();
+        std::fs::write(r.join(m), "mine").unwrap();
+    }
+    std::fs::remove_file(r.join("pressure/study.lock/01.npy")).unwrap();
+    std::os::unix::fs::symlink("../../notes.txt", r.join("pressure/study.lock/01.npy")).unwrap();
+    let o = run(dir, "renamed.toml", "R", &["--fresh"]);
+    succeeds(&o);
+    let err = stderr(&o);
+    let said: Vec<&str> = err.lines().filter(|l| l.starts_with("--fresh")).collect();
+    assert_eq!(said.len(), 1, "{err}");
+    let left: Vec<String> = mine.iter().chain(&["pressure/study.lock/01.npy"]).map(|m| format!("\"{m}\"")).collect();
+    assert!(said[0].starts_with("--fresh: left 7 file(s) in R that asperity did not write: "), "{}", said[0]);
+    for m in &left {
+        assert!(said[0].contains(m.as_str()), "{m}: {}", said[0]);
+    }
+    for m in mine {
+        assert_eq!(std::fs::read_to_string(r.join(m)).unwrap(), "mine", "{m}");
+    }
+    assert!(std::fs::symlink_metadata(r.join("pressure/study.lock/01.npy")).unwrap().file_type().is_symlink());
+    // The earlier study's files are gone, with the folders they alone were in.
+    assert!(!r.join("pressure/study.lock/00.npy").exists() && !r.join("solves/topographies/study.lock").exists());
+    succeeds(&run(dir, "renamed.toml", "clean", &[]));
+    assert_eq!(table(&r.join("results.csv")), table(&dir.join("clean/results.csv")));
+    // Again: what it wrote is recorded, the user's files still are not.
+    let o = run(dir, "renamed.toml", "R", &["--fresh"]);
+    succeeds(&o);
+    assert!(stderr(&o).contains("--fresh: left 7 file(s)"), "{}", stderr(&o));
+
+    // A DIR whose runs kept no record: --fresh refuses, removing nothing; it still resumes.
+    std::fs::remove_file(r.join("solves/written.jsonl")).unwrap();
+    let before = files_below(&r);
+    let e = refusal(&run(dir, "study.toml", "R", &["--fresh"]));
+    assert!(e.starts_with("error: --fresh: R was written by an asperity that kept no record of its files"), "{e}");
+    assert_eq!(files_below(&r), before);
+    let o = run(dir, "renamed.toml", "R", &[]);
+    succeeds(&o);
+    assert!(stderr(&o).contains("0 solved, 4 resumed"), "{}", stderr(&o));
+    assert!(!r.join("solves/written.jsonl").exists());
+}
+
 #[test]
 fn convert_without_a_physical_size_writes_and_says_so() {
     let tmp = tempfile::tempdir().unwrap();
@@ -342,7 +556,7 @@ fn topography_names_never_meet_the_runs_own_files() {
     assert!(stderr(&o).contains("0 solved, 4 resumed"), "{}", stderr(&o));
     assert_eq!(
         names(&dir.join("out/solves")),
-        ["claim.lock", "fingerprint.json", "results.lock", "study.lock", "topographies"]
+        ["claim.lock", "fingerprint.json", "results.lock", "study.lock", "topographies", "written.jsonl"]
     );
     assert_eq!(names(&dir.join("out/solves/topographies")), ["fingerprint.json", "study.lock"]);
 }

@@ -124,6 +124,19 @@ pub fn run(args: RunArgs) -> Result<()> {
         }
     })?;
     bar.finish_and_clear();
+    if !outcome.left.is_empty() {
+        // Debug quoting escapes line breaks and control characters in names.
+        let names: Vec<String> = outcome.left.iter().map(|p| format!("{:?}", p.display().to_string())).collect();
+        eprintln!(
+            "{}",
+            super::one_short_line(&format!(
+                "--fresh: left {} file(s) in {} that asperity did not write: {}",
+                names.len(),
+                args.out.display(),
+                names.join(", ")
+            ))
+        );
+    }
     for w in &outcome.warnings {
         eprintln!("warning: {w}");
     }

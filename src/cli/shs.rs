@@ -110,6 +110,11 @@ pub fn run(args: Args) -> asperity::Result<()> {
         group_tolerance: args.group_tolerance,
     };
     options.validate()?;
+    // The figure's .svg goes beside its .png.
+    let outputs = [args.out.clone(), args.plot.clone(), args.plot.as_ref().map(|p| p.with_extension("svg"))];
+    for out in outputs.iter().flatten() {
+        asperity::output::check_output_file(out, &[&args.trace])?;
+    }
     let trace = shs::read_trace(&args.trace, &format)?;
     let analysis = shs::analyse(&trace, &options)?;
 

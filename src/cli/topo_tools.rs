@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args};
 
-use asperity::output::write_npy;
+use asperity::output::{check_output_file, write_npy};
 use asperity::quantity::{self, human};
 use asperity::topography::detrend::{Detrend, SphereFit};
 use asperity::topography::io::{read, write_gsf};
@@ -194,6 +194,7 @@ fn describe(out: &Path, topo: &Topography) -> String {
 /// `asperity topo convert`.
 pub fn convert(args: ConvertArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
+    check_output_file(&args.out, &[&args.read.file])?;
     let (mut topo, fit) = prepare(&args.read, &args.prepare)?;
     if let Some(p) = args.pixel_size {
         topo = resample(&topo, p, &args.read.limits.limits())?;
@@ -209,6 +210,7 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
 /// `asperity topo generate`.
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
+    check_output_file(&args.out, &[])?;
     args.limits.limits().check_grid(args.grid.0, args.grid.1).map_err(|r| Error::invalid("--grid", r))?;
     let amplitude = match (args.rms, args.rms_slope) {
         (_, Some(g)) => Amplitude::RmsSlope(g),

@@ -23,9 +23,13 @@ pub struct Lock {
 }
 
 impl Lock {
-    /// Take the lock on `path` (created if missing). With `wait`, block until it is free;
+    /// Take the lock on `path` (created if missing, and then recorded in an open
+    /// [`Ledger`](super::Ledger) of its folder). With `wait`, block until it is free;
     /// without, `None` when another process holds it.
     pub fn acquire(path: &Path, access: Access, wait: bool) -> Result<Option<Lock>> {
+        if std::fs::symlink_metadata(path).is_err() {
+            super::ledger::record(path)?;
+        }
         let file = OpenOptions::new()
             .read(true)
             .write(true)

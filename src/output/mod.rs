@@ -7,8 +7,11 @@
 //! - every temporary (`.asperity-*.partial`) is registered until renamed or removed, so an
 //!   interrupted process removes them ([`remove_temporaries`]);
 //! - work shared between processes is guarded by advisory locks ([`Lock`]);
+//! - what is written into a folder shared with its user is recorded ([`Ledger`]), so that only
+//!   that is ever removed from it;
 //! - files and folders get the permissions the umask gives, as with any Unix tool.
 
+mod ledger;
 mod lock;
 mod staged;
 mod temp;
@@ -22,6 +25,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 
+pub use ledger::Ledger;
 pub use lock::{Access, Lock};
 pub use staged::{StagedDir, MANIFEST};
 pub use temp::{is_temporary, remove_temporaries, Interrupted};
@@ -29,7 +33,9 @@ pub use temp::{is_temporary, remove_temporaries, Interrupted};
 /// Write a file atomically: `fill` writes into a temporary file beside `path`, which is then
 /// renamed over `path`. A failure or a panic in `fill`, or a failed rename, leaves `path`
 /// untouched and no temporary behind. A symbolic link at `path` is followed: the file it points
-/// to is written, the link kept.
+/// to is written, the link kept. Only a regular file is replaced: a folder, device, named pipe
+/// or socket at `path` is refused. Below the folder of an open [`Ledger`], `path` is recorded
+/// before it is renamed into place.
 pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     let shown = path;
     let path = resolve_symlinks(path)?;
@@ -38,6 +44,7 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
         _ => Path::new("."),
     };
     let io = |e| Error::io(shown, e);
+    replaceable(shown, &path)?;
     let tmp = temp::TempFile::new_in(dir).map_err(io)?;
     {
         let mut w = BufWriter::new(tmp.as_file());
@@ -45,7 +52,56 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
         w.flush().map_err(io)?;
     }
     tmp.as_file().sync_all().map_err(io)?;
+    // Again: something else may have taken the name while the file was written.
+    replaceable(shown, &path)?;
+    ledger::record(shown)?;
     tmp.persist(&path).map_err(io)
+}
+
+/// Refuse, before any work, a single-file output `path` that may not be written: what is there
+/// (symbolic links followed) must be nothing or a regular file, and none of `inputs`, compared
+/// as `cp` does by device and inode, so that a hard link or a symbolic link to an input counts.
+/// [`write_atomic`] checks the kind again when it writes.
+pub fn check_output_file(path: &Path, inputs: &[&Path]) -> Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    replaceable(path, &resolve_symlinks(path)?)?;
+    let Ok(out) = std::fs::metadata(path) else { return Ok(()) };
+    for input in inputs {
+        if let Ok(m) = std::fs::metadata(input) {
+            if (m.dev(), m.ino()) == (out.dev(), out.ino()) {
+                return Err(Error::file(
+                    path,
+                    format!("is the input {} (the same file): write the output to another name", input.display()),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Refuse to replace `path` (shown as `shown`) unless it is missing or a regular file: a
+/// rename would put a file in place of a device, a named pipe or a socket.
+fn replaceable(shown: &Path, path: &Path) -> Result<()> {
+    use std::os::unix::fs::FileTypeExt;
+    let kind = match std::fs::symlink_metadata(path) {
+        Ok(m) => m.file_type(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::io(shown, e)),
+    };
+    let what = if kind.is_file() {
+        return Ok(());
+    } else if kind.is_dir() {
+        "a folder"
+    } else if kind.is_fifo() {
+        "a named pipe (FIFO)"
+    } else if kind.is_char_device() || kind.is_block_device() {
+        "a device"
+    } else if kind.is_socket() {
+        "a socket"
+    } else {
+        "not a regular file"
+    };
+    Err(Error::file(shown, format!("{what}: an output replaces only a regular file; choose another name")))
 }
 
 /// Write a 2-D array as a `.npy` file (row-major, shape (ny, nx)), atomically.
@@ -62,44 +118,11 @@ pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
     })
 }
 
-/// Remove the temporaries a killed process left in `dir` (not below it). Only for a folder
-/// whose writers the caller has locked out.
+/// Remove the temporaries a killed process left in `dir` (not below it): a folder with all it
+/// holds, a link but not what it points to. Only for a folder whose writers the caller has
+/// locked out.
 pub fn remove_stale_temporaries(dir: &Path) -> Result<()> {
-    remove_matching(dir, Entries::Any, |name| is_temporary(name.as_ref()))
-}
-
-/// Which entries of a folder [`remove_matching`] may remove.
-#[derive(Clone, Copy, PartialEq)]
-pub enum Entries {
-    /// Regular files only.
-    Files,
-    /// Any entry, a folder with all it holds (a symbolic link is removed, not followed).
-    Any,
-}
-
-/// Remove the `entries` of `dir` (not below it) whose names `pick` chooses; none when `dir` is
-/// missing.
-pub fn remove_matching(dir: &Path, entries: Entries, pick: impl Fn(&str) -> bool) -> Result<()> {
-    let listing = match std::fs::read_dir(dir) {
-        Ok(listing) => listing,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(Error::io(dir, e)),
-    };
-    for entry in listing {
-        let entry = entry.map_err(|e| Error::io(dir, e))?;
-        if !entry.file_name().to_str().is_some_and(&pick) {
-            continue;
-        }
-        let path = entry.path();
-        let kind = entry.file_type().map_err(|e| Error::io(&path, e))?;
-        let removed = match entries {
-            Entries::Files if !kind.is_file() => continue,
-            Entries::Any if kind.is_dir() => std::fs::remove_dir_all(&path),
-            _ => std::fs::remove_file(&path),
-        };
-        removed.map_err(|e| Error::io(&path, e))?;
-    }
-    Ok(())
+    temp::remove_temporaries_in(dir, |_| true).map_err(|e| Error::io(dir, e))
 }
 
 /// `path` with symbolic links in its last component followed (a dangling link gives where it
@@ -154,6 +177,59 @@ mod tests {
         assert_eq!(fs::read_to_string(dir.path().join("sub/target.json")).unwrap(), "7\n");
     }
 
+    /// A named pipe at `path`.
+    fn fifo(path: &Path) {
+        let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    }
+
+    #[test]
+    fn only_a_regular_file_is_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        fifo(&d.join("pipe.npy"));
+        std::os::unix::fs::symlink("pipe.npy", d.join("link.npy")).unwrap();
+        fs::create_dir(d.join("folder.json")).unwrap();
+        for (name, what) in [("pipe.npy", "a named pipe"), ("link.npy", "a named pipe"), ("folder.json", "a folder")] {
+            let path = d.join(name);
+            for e in [write_json(&path, &1).unwrap_err(), check_output_file(&path, &[]).unwrap_err()] {
+                let e = e.to_string();
+                assert!(e.starts_with(&format!("{}: {what}", path.display())) && !e.contains('\n'), "{e}");
+            }
+        }
+        let kind = |n: &str| fs::symlink_metadata(d.join(n)).unwrap().file_type();
+        use std::os::unix::fs::FileTypeExt;
+        assert!(kind("pipe.npy").is_fifo() && kind("link.npy").is_symlink() && kind("folder.json").is_dir());
+        assert_eq!(fs::read_dir(d).unwrap().count(), 3, "no temporary stays");
+        // A regular file, and nothing, may be replaced.
+        fs::write(d.join("old.json"), "0").unwrap();
+        check_output_file(&d.join("old.json"), &[]).unwrap();
+        check_output_file(&d.join("new.json"), &[]).unwrap();
+        write_json(&d.join("old.json"), &1).unwrap();
+        assert_eq!(fs::read_to_string(d.join("old.json")).unwrap(), "1\n");
+    }
+
+    #[test]
+    fn an_input_is_never_an_output() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let input = d.join("w.gsf");
+        fs::write(&input, "heights").unwrap();
+        fs::hard_link(&input, d.join("hard.gsf")).unwrap();
+        std::os::unix::fs::symlink("w.gsf", d.join("soft.gsf")).unwrap();
+        fs::write(d.join("other.gsf"), "other").unwrap();
+        for out in ["w.gsf", "hard.gsf", "soft.gsf", "./w.gsf"] {
+            let e = check_output_file(&d.join(out), &[&d.join("other.gsf"), &input]).unwrap_err().to_string();
+            assert!(e.contains(&format!("is the input {}", input.display())), "{out}: {e}");
+        }
+        // The input through a link is the same file too.
+        let e = check_output_file(&input, &[&d.join("soft.gsf")]).unwrap_err().to_string();
+        assert!(e.contains("is the input"), "{e}");
+        check_output_file(&d.join("other.gsf"), &[&input]).unwrap();
+        check_output_file(&d.join("new.gsf"), &[&input]).unwrap();
+        assert_eq!(fs::read_to_string(&input).unwrap(), "heights");
+    }
+
     #[test]
     fn interrupted_temporaries_are_removed_and_no_new_one_is_made() {
         // This test closes the process's registry: it runs alone in its own process below.
@@ -196,24 +272,20 @@ mod tests {
     }
 
     #[test]
-    fn remove_matching_takes_only_the_chosen_kind() {
+    fn stale_temporaries_go_with_their_content_and_links_are_not_followed() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
-        fs::write(d.join("00.json"), "").unwrap();
-        fs::write(d.join("notes.txt"), "mine").unwrap();
-        fs::create_dir_all(d.join("01.json/inside")).unwrap();
+        fs::write(d.join(".asperity-a.partial"), "").unwrap();
+        fs::create_dir_all(d.join(".asperity-b.partial/inside")).unwrap();
         fs::create_dir(d.join("kept")).unwrap();
-        std::os::unix::fs::symlink("kept", d.join("02.json")).unwrap();
-        let json = |n: &str| n.ends_with(".json");
-        remove_matching(d, Entries::Files, json).unwrap();
+        fs::write(d.join("kept/mine"), "mine").unwrap();
+        fs::write(d.join("notes.partial"), "mine").unwrap();
+        std::os::unix::fs::symlink("kept", d.join(".asperity-c.partial")).unwrap();
+        remove_stale_temporaries(d).unwrap();
         let mut names: Vec<_> = fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
         names.sort();
-        assert_eq!(names, ["01.json", "02.json", "kept", "notes.txt"]);
-        // Any kind: the folder with what it holds, the link but not where it points.
-        remove_matching(d, Entries::Any, json).unwrap();
-        let mut names: Vec<_> = fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
-        names.sort();
-        assert_eq!(names, ["kept", "notes.txt"]);
-        remove_matching(&d.join("missing"), Entries::Any, json).unwrap();
+        assert_eq!(names, ["kept", "notes.partial"]);
+        assert_eq!(fs::read_to_string(d.join("kept/mine")).unwrap(), "mine");
+        remove_stale_temporaries(&d.join("missing")).unwrap();
     }
 }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::temp::TempDir;
+use super::temp::{remove_orphaned_temporaries, TempDir};
 use super::{resolve_symlinks, write_json};
 use crate::error::{Error, Result};
 
@@ -70,6 +70,9 @@ impl StagedDir {
         let staged = StagedDir { shown: target.to_path_buf(), target: resolved, written_by, staging: None };
         staged.found()?;
         fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        // What a killed run of a command left beside it goes: staging folders, earlier outputs
+        // moved aside.
+        remove_orphaned_temporaries(&parent).map_err(|e| Error::io(&parent, e))?;
         let staging = TempDir::new_in(&parent).map_err(|e| Error::io(&parent, e))?;
         Ok(StagedDir { staging: Some(staging), ..staged })
     }
@@ -158,6 +161,18 @@ impl StagedDir {
                 if others.len() > 1 { ", …" } else { "" }
             ));
         }
+        // Only files are removed from an earlier output: a folder or link in a listed file's
+        // place is someone else's.
+        for name in &names {
+            let kind = fs::symlink_metadata(self.target.join(name)).map_err(|e| Error::io(&self.shown, e))?.file_type();
+            if !kind.is_file() {
+                let what = if kind.is_dir() { "a folder" } else { "not a regular file" };
+                return refuse(format!(
+                    "holds {name}, {what} where `{}` wrote a file: move it away, or",
+                    self.written_by
+                ));
+            }
+        }
         Ok(Found::Earlier(names.into_iter().map(PathBuf::from).collect()))
     }
 }
@@ -221,5 +236,60 @@ mod tests {
         assert_eq!(names(&other), ["a.json", "late.txt", MANIFEST]);
         assert_eq!(fs::read_to_string(target.join("notes.txt")).unwrap(), "mine");
         assert_eq!(names(root.path()), ["other", "out"]);
+    }
+
+    #[test]
+    fn a_folder_or_link_in_a_listed_files_place_is_refused_and_kept() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = StagedDir::new(&target, "test").unwrap();
+        write_json(&s.path("a.json"), &1).unwrap();
+        write_json(&s.path("b.json"), &1).unwrap();
+        s.commit().unwrap();
+        fs::remove_file(target.join("a.json")).unwrap();
+        fs::create_dir(target.join("a.json")).unwrap();
+        fs::write(target.join("a.json/mine"), "mine").unwrap();
+        let e = StagedDir::new(&target, "test").unwrap_err().to_string();
+        assert!(e.contains("holds a.json, a folder where `asperity test` wrote a file") && !e.contains('\n'), "{e}");
+        // Made while the command works: refused at commit, nothing moved.
+        fs::rename(target.join("a.json"), root.path().join("kept")).unwrap();
+        fs::write(target.join("a.json"), "1").unwrap();
+        let s = StagedDir::new(&target, "test").unwrap();
+        write_json(&s.path("c.json"), &1).unwrap();
+        fs::remove_file(target.join("b.json")).unwrap();
+        std::os::unix::fs::symlink("../kept", target.join("b.json")).unwrap();
+        let e = s.commit().unwrap_err().to_string();
+        assert!(e.contains("holds b.json, not a regular file"), "{e}");
+        assert_eq!(names(&target), ["a.json", "b.json", MANIFEST]);
+        assert_eq!(names(root.path()), ["kept", "out"]);
+        assert_eq!(fs::read_to_string(root.path().join("kept/mine")).unwrap(), "mine");
+    }
+
+    #[test]
+    fn what_a_killed_process_left_beside_goes_and_a_living_ones_stays() {
+        use super::super::temp::owner_tag;
+        let root = tempfile::tempdir().unwrap();
+        let r = root.path();
+        // A process that has ended (a child, waited for), one that lives, and this one.
+        let mut ended = std::process::Command::new("true").spawn().unwrap();
+        ended.wait().unwrap();
+        let mut living = std::process::Command::new("sleep").arg("30").spawn().unwrap();
+        let kept = [
+            format!("{}abc.partial", owner_tag(std::process::id())),
+            format!("{}abc.partial", owner_tag(living.id())),
+            ".asperity-Xy12Ab.partial".to_string(),
+        ];
+        let gone = owner_tag(ended.id());
+        for name in kept.iter().chain(&[format!("{gone}abc.partial"), format!("{gone}abc.partial.old.partial")]) {
+            fs::create_dir(r.join(name)).unwrap();
+            fs::write(r.join(name).join("pressure.npy"), "").unwrap();
+        }
+        fs::write(r.join(format!("{gone}file.partial")), "").unwrap();
+        StagedDir::new(&r.join("out"), "test").unwrap().commit().unwrap();
+        living.kill().unwrap();
+        living.wait().unwrap();
+        let mut expected: Vec<String> = kept.into_iter().chain(["out".to_string()]).collect();
+        expected.sort();
+        assert_eq!(names(r), expected);
     }
 }

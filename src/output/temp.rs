@@ -1,6 +1,9 @@
 //! The temporaries: every `.asperity-*.partial` file or folder asperity creates is registered
 //! here from its creation until it is renamed into place or removed, so that an interrupted
-//! process can remove them all ([`remove_temporaries`], called on SIGINT/SIGTERM).
+//! process can remove them all ([`remove_temporaries`], called on SIGINT/SIGTERM). Each name
+//! carries its owner (host, boot, process id and start time), so that what a killed process
+//! left is recognised as such and removed ([`remove_orphaned_temporaries`]), and never what a
+//! living one works on.
 
 use std::fs::Permissions;
 use std::io;
@@ -16,6 +19,118 @@ pub const SUFFIX: &str = ".partial";
 /// Whether `name` is one of asperity's temporaries.
 pub fn is_temporary(name: &std::ffi::OsStr) -> bool {
     name.to_str().is_some_and(|n| n.starts_with(PREFIX) && n.ends_with(SUFFIX))
+}
+
+/// Who owns a temporary: `h<host>p<pid>s<start>-` after [`PREFIX`] in its name, `host` a digest
+/// of the host's name and boot id (a process id means nothing on another machine sharing the
+/// folder, or after a reboot), `start` the process's start time [clock ticks since boot], which
+/// tells a reused process id from the owner.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Owner {
+    host: u64,
+    pid: u32,
+    start: u64,
+}
+
+impl Owner {
+    /// This process.
+    fn this() -> Owner {
+        static THIS: std::sync::OnceLock<Owner> = std::sync::OnceLock::new();
+        *THIS.get_or_init(|| {
+            use std::hash::{Hash, Hasher};
+            let mut name = [0u8; 256];
+            // SAFETY: the buffer is writable for its whole length.
+            let named = unsafe { libc::gethostname(name.as_mut_ptr().cast(), name.len()) } == 0;
+            let boot = std::fs::read_to_string("/proc/sys/kernel/random/boot_id").unwrap_or_default();
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            (named.then_some(name), boot.trim()).hash(&mut h);
+            let pid = std::process::id();
+            // Without /proc no start time is known: 0 matches no living process's, so
+            // nothing can ever prove these temporaries orphaned.
+            Owner { host: h.finish(), pid, start: start_time(pid).unwrap_or(0) }
+        })
+    }
+
+    /// The owner written in a temporary's name, if it names one.
+    fn of(name: &str) -> Option<Owner> {
+        let tag = name.strip_prefix(PREFIX)?.strip_prefix('h')?.split_once('-')?.0;
+        let (host, rest) = tag.split_once('p')?;
+        let (pid, start) = rest.split_once('s')?;
+        Some(Owner { host: u64::from_str_radix(host, 16).ok()?, pid: pid.parse().ok()?, start: start.parse().ok()? })
+    }
+
+    fn tag(&self) -> String {
+        format!("{PREFIX}h{:016x}p{}s{}-", self.host, self.pid, self.start)
+    }
+
+    /// Whether the owner has provably ended: it ran on this host since its last boot, and no
+    /// process with its id and start time lives (a zombie writes nothing more).
+    fn is_gone(&self) -> bool {
+        let this = Owner::this();
+        if self.host != this.host || this.start == 0 || *self == this {
+            return false;
+        }
+        match std::fs::read_to_string(format!("/proc/{}/stat", self.pid)) {
+            Err(e) => e.kind() == io::ErrorKind::NotFound,
+            Ok(stat) => {
+                stat_fields(&stat).is_some_and(|f| f[0] == "Z" || f[19].parse::<u64>().ok() != Some(self.start))
+            }
+        }
+    }
+}
+
+/// The fields of `/proc/PID/stat` after the command name (which may hold spaces): the state
+/// first, the start time 20th.
+fn stat_fields(stat: &str) -> Option<Vec<&str>> {
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    (fields.len() > 19).then_some(fields)
+}
+
+/// The start time of process `pid` [clock ticks since boot].
+fn start_time(pid: u32) -> Option<u64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    stat_fields(&stat)?[19].parse().ok()
+}
+
+/// The start of the name of a temporary owned by process `pid` of this host (started at tick 1
+/// when it has ended).
+#[cfg(test)]
+pub(super) fn owner_tag(pid: u32) -> String {
+    Owner { host: Owner::this().host, pid, start: start_time(pid).unwrap_or(1) }.tag()
+}
+
+/// Remove the temporaries in `dir` (not below it) whose owner has provably ended (killed before
+/// it could remove them); those of living processes, and those naming no owner, stay.
+pub fn remove_orphaned_temporaries(dir: &Path) -> io::Result<()> {
+    remove_temporaries_in(dir, |name| Owner::of(name).is_some_and(|o| o.is_gone()))
+}
+
+/// Remove the temporaries in `dir` (not below it) whose names `pick` chooses: a folder with all
+/// it holds, a link but not what it points to; none when `dir` is missing.
+pub fn remove_temporaries_in(dir: &Path, pick: impl Fn(&str) -> bool) -> io::Result<()> {
+    let listing = match std::fs::read_dir(dir) {
+        Ok(listing) => listing,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(e),
+    };
+    for entry in listing {
+        let entry = entry?;
+        let name = entry.file_name();
+        if !(is_temporary(&name) && name.to_str().is_some_and(&pick)) {
+            continue;
+        }
+        let removed = if entry.file_type()?.is_dir() {
+            std::fs::remove_dir_all(entry.path())
+        } else {
+            std::fs::remove_file(entry.path())
+        };
+        // Another process may be removing it too.
+        match removed {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 struct Registry {
@@ -68,9 +183,9 @@ pub fn remove_temporaries() -> Interrupted {
     Interrupted { _registry: registry }
 }
 
-fn builder<'a>() -> tempfile::Builder<'a, 'a> {
+fn builder(tag: &str) -> tempfile::Builder<'_, 'static> {
     let mut b = tempfile::Builder::new();
-    b.prefix(PREFIX).suffix(SUFFIX);
+    b.prefix(tag).suffix(SUFFIX);
     b
 }
 
@@ -93,7 +208,7 @@ impl TempFile {
         if registry.closed {
             return Err(interrupted());
         }
-        let file = builder().permissions(Permissions::from_mode(0o666)).tempfile_in(dir)?;
+        let file = builder(&Owner::this().tag()).permissions(Permissions::from_mode(0o666)).tempfile_in(dir)?;
         let entry = registry.add(file.path());
         Ok(TempFile { file, _entry: entry })
     }
@@ -102,10 +217,18 @@ impl TempFile {
         self.file.as_file()
     }
 
-    /// Rename the file to `path`; on failure it is removed.
+    /// Rename the file to `path`; on failure it is removed. The rename holds the registry, so
+    /// that it never adds a name to a staging folder that an interruption is removing.
     pub fn persist(self, path: &Path) -> io::Result<()> {
+        let registry = registry();
+        if registry.closed {
+            return Err(interrupted());
+        }
         let TempFile { file, _entry } = self;
-        file.persist(path).map(drop).map_err(|e| e.error)
+        let persisted = file.persist(path).map(drop).map_err(|e| e.error);
+        // The entry's drop takes the registry again.
+        drop(registry);
+        persisted
     }
 }
 
@@ -123,7 +246,7 @@ impl TempDir {
         if registry.closed {
             return Err(interrupted());
         }
-        let dir = builder().permissions(Permissions::from_mode(0o777)).tempdir_in(parent)?;
+        let dir = builder(&Owner::this().tag()).permissions(Permissions::from_mode(0o777)).tempdir_in(parent)?;
         let entry = registry.add(dir.path());
         Ok(TempDir { dir, _entry: entry })
     }

@@ -18,7 +18,9 @@
 //! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for (a plastic
 //!   sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
 //! - `figures/`, `index.html`: the figures and their report;
-//! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, and below
+//! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, the ledger
+//!   `written.jsonl` of every file the runs wrote in DIR ([`output::Ledger`]; `fresh` removes
+//!   those and nothing else), and below
 //!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
 //!   solve (its rows for every sharing and law, elastic sharing's onsets included, and whether
 //!   the solve started cold) and the last pressure
@@ -71,7 +73,7 @@ use crate::contact::{
 use crate::error::{Error, Result};
 use crate::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use crate::limits::Limits;
-use crate::output::{self, Access, Entries, Lock};
+use crate::output::{self, Access, Ledger, Lock};
 use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
@@ -88,8 +90,11 @@ const CLAIM_LOCK: &str = "claim.lock";
 const STUDY_LOCK: &str = "study.lock";
 const RESULTS_LOCK: &str = "results.lock";
 const TOPOGRAPHIES: &str = "topographies";
-/// The run's own files at the top of DIR.
-const RESULT_FILES: [&str; 4] = ["study.toml", "results.csv", "results.json", "index.html"];
+/// The ledger of what runs wrote in DIR.
+const LEDGER: &str = "written.jsonl";
+/// The files of `solves/` that stay for good: `fresh` keeps them (the claim replaces the
+/// fingerprint, and a lock file is never removed while a process may open it).
+const KEPT: [&str; 5] = [FINGERPRINT, CLAIM_LOCK, STUDY_LOCK, RESULTS_LOCK, LEDGER];
 
 /// A study ready to run: every topography built, every law resolved.
 pub struct Study {
@@ -112,10 +117,14 @@ pub struct Study {
     shard: Option<Shard>,
 }
 
-/// The locks a run holds while it works in DIR.
+/// The locks a run holds while it works in DIR, and its ledger (none in a DIR an asperity
+/// without ledgers started).
 struct Claim {
     _study: Lock,
     _units: Vec<Lock>,
+    _ledger: Option<Ledger>,
+    /// What `fresh` left in DIR, not having written it.
+    left: Vec<PathBuf>,
 }
 
 /// What the runner reports as it goes.
@@ -151,6 +160,9 @@ pub struct Outcome {
     pub figures: Vec<PathBuf>,
     /// Plausibility warnings ([`super::warnings`]), also in the report.
     pub warnings: Vec<String>,
+    /// With `fresh`: the files DIR held that no run wrote (put there by hand), kept; relative
+    /// to DIR.
+    pub left: Vec<PathBuf>,
 }
 
 /// What the workers of a run count.
@@ -358,7 +370,8 @@ impl Study {
     ) -> Result<Outcome> {
         let sweeps = self.sweeps();
         let pieces = self.pieces();
-        let _claim = self.claim(dir, fresh, &pieces)?;
+        let mut claim = self.claim(dir, fresh, &pieces)?;
+        let left = std::mem::take(&mut claim.left);
 
         let share: usize = pieces.iter().map(|p| p.loads.len()).sum();
         let per_solve = |p: &Piece| self.onsets_per_solve(sweeps[p.sweep].0);
@@ -406,6 +419,7 @@ impl Study {
                 onsets_resumed,
                 figures: Vec::new(),
                 warnings: Vec::new(),
+                left,
             });
         }
 
@@ -466,7 +480,7 @@ impl Study {
         };
         let figures = crate::plot::study::render(dir, &input)?;
         let warnings = super::warnings(&rows);
-        Ok(Outcome { rows, share, solved, resumed, onsets, onsets_resumed, figures, warnings })
+        Ok(Outcome { rows, share, solved, resumed, onsets, onsets_resumed, figures, warnings, left })
     }
 
     /// The study as run, as a study file.
@@ -491,8 +505,8 @@ impl Study {
 
     /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
     /// `fresh`), or what a start killed before its fingerprint leaves. Anything else is
-    /// refused. Returns the locks of the run: the study's, shared, and every piece's of
-    /// `pieces`.
+    /// refused, and so is `fresh` in a DIR whose runs kept no ledger. Returns the locks of the
+    /// run (the study's, shared, and every piece's of `pieces`) and its open ledger.
     fn claim(&self, dir: &Path, fresh: bool, pieces: &[Piece]) -> Result<Claim> {
         let fingerprint = self.fingerprint()?;
         // Before anything is created in it.
@@ -509,6 +523,25 @@ impl Study {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
             Err(e) => return Err(Error::io(&stored_path, e)),
         };
+        let ledger_path = solves.join(LEDGER);
+        let recorded = Ledger::read(&ledger_path)?;
+        // A DIR an asperity without ledgers wrote stays without one: a ledger begun now would
+        // miss the earlier files, which a later `fresh` must not keep as this study's.
+        let ledger = match (&stored, &recorded) {
+            (Some(_), None) if fresh => {
+                return Err(Error::invalid(
+                    "--fresh",
+                    format!(
+                        "{} was written by an asperity that kept no record of its files, so --fresh cannot tell them \
+                         from yours: move your own files out of it and remove it, or choose another --out",
+                        dir.display()
+                    ),
+                ))
+            }
+            (Some(_), None) => None,
+            _ => Some(Ledger::open(dir, &ledger_path)),
+        };
+        let mut left = Vec::new();
         let study_lock = solves.join(STUDY_LOCK);
         let study = match stored {
             Some(Some(f)) if f == fingerprint && !fresh => self.lock(&study_lock, Access::Shared, dir, "this study")?,
@@ -526,7 +559,7 @@ impl Study {
             stored => {
                 let lock = self.lock(&study_lock, Access::Exclusive, dir, "its study")?;
                 if stored.is_some() {
-                    discard(dir)?;
+                    left = discard(dir, recorded.unwrap_or_default())?;
                 }
                 output::write_json(&stored_path, &fingerprint)?;
                 // Safe to share by release and retake: the claim lock keeps other claims out.
@@ -559,7 +592,7 @@ impl Study {
             .collect::<Result<Vec<_>>>()?;
         let text = self.study_file()?;
         output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
-        Ok(Claim { _study: study, _units: units })
+        Ok(Claim { _study: study, _units: units, _ledger: ledger, left })
     }
 
     /// Take a lock of the run in `dir`, waiting for it or refusing when another process holds
@@ -628,7 +661,9 @@ impl Study {
         };
         // A claim writes the fingerprint before anything else and never removes it: what it
         // wrote while this looked is a study's.
-        if (only(dir, &[SOLVES])? && only(&solves, &[CLAIM_LOCK, STUDY_LOCK])?) || solves.join(FINGERPRINT).is_file() {
+        if (only(dir, &[SOLVES])? && only(&solves, &[CLAIM_LOCK, STUDY_LOCK, LEDGER])?)
+            || solves.join(FINGERPRINT).is_file()
+        {
             return Ok(());
         }
         Err(Error::invalid("--out", format!("{} is not empty and holds no study: choose another --out", dir.display())))
@@ -1019,60 +1054,81 @@ impl Study {
     }
 }
 
-/// Remove what a run wrote into `dir`, for `--fresh`: the run's own names only, so that files
-/// put there by hand stay (and the folders that hold them). The fingerprint stays for the
-/// claim to replace in one rename, so that a discard cut short still leaves a study's DIR; the
-/// solve records go first, so that what such a DIR resumes is solved again.
-fn discard(dir: &Path) -> Result<()> {
+/// Remove what runs wrote into `dir`, for `--fresh`: the files of its ledger, `recorded`, that
+/// are still regular files (never a folder, nor what a link points to), then the folders that
+/// held them once empty; files put in DIR by hand stay, and so do the folders holding them.
+/// Returns those files, relative to `dir`. The fingerprint stays for the claim to replace in
+/// one rename, so that a discard cut short still leaves a study's DIR (its ledger whole until
+/// the end, for the next `fresh` to go on); the solve records go first, so that what such a DIR
+/// resumes is solved again.
+fn discard(dir: &Path, mut recorded: Vec<PathBuf>) -> Result<Vec<PathBuf>> {
     let index = |s: &str| s.len() >= 2 && s.bytes().all(|b| b.is_ascii_digit());
-    let indexed = |n: &str, ext: &str| n.strip_suffix(ext).is_some_and(index);
-    // A solve's parts: `NN-normal.json`, `NN-elastic-LL.json`.
-    let part = |n: &str| {
-        n.strip_suffix("-normal.json").is_some_and(index)
-            || n.strip_suffix(".json")
-                .and_then(|s| s.split_once("-elastic-"))
-                .is_some_and(|(k, l)| index(k) && index(l))
+    let is_record = |p: &Path| {
+        p.starts_with(Path::new(SOLVES).join(TOPOGRAPHIES))
+            && p.file_name().and_then(|n| n.to_str()?.strip_suffix(".json")).is_some_and(index)
     };
-    let stem_indexed =
-        |n: &str, ext: &str| n.strip_suffix(ext).and_then(|s| s.rsplit_once('-')).is_some_and(|(_, k)| index(k));
-    let figure_stems: Vec<String> = super::FigureKind::ALL
-        .iter()
-        .filter_map(|k| serde_json::to_value(k).ok()?.as_str().map(String::from))
-        .collect();
-    let figure = |n: &str| {
-        let stem = n.strip_suffix(".png").or_else(|| n.strip_suffix(".svg"));
-        stem.is_some_and(|s| figure_stems.iter().any(|f| f == s)) || (n.starts_with("movie-") && n.ends_with(".gif"))
+    let kept = |p: &Path| p.parent() == Some(Path::new(SOLVES)) && KEPT.iter().any(|k| p.ends_with(k));
+    recorded.retain(|p| !kept(p));
+    recorded.sort_by_key(|p| !is_record(p));
+    for path in &recorded {
+        if reached_without_links(dir, path).is_some_and(|m| m.is_file()) {
+            let full = dir.join(path);
+            std::fs::remove_file(&full).map_err(|e| Error::io(&full, e))?;
+        }
+    }
+    // The emptied folders, deepest first; one still holding a file stays.
+    let mut folders: Vec<&Path> = recorded.iter().flat_map(|p| p.ancestors().skip(1)).collect();
+    folders.retain(|f| !f.as_os_str().is_empty() && *f != Path::new(SOLVES));
+    folders.sort_by_key(|f| std::cmp::Reverse(f.components().count()));
+    folders.dedup();
+    for folder in folders {
+        if reached_without_links(dir, folder).is_some_and(|m| m.is_dir()) {
+            let _ = std::fs::remove_dir(dir.join(folder));
+        }
+    }
+    output::write_atomic(&dir.join(SOLVES).join(LEDGER), |_| Ok(()))?;
+    let mut left = Vec::new();
+    files_below(dir, Path::new(""), &mut left)?;
+    left.retain(|p| !kept(p));
+    left.sort();
+    Ok(left)
+}
+
+/// What is at `path` (relative, below `dir`), if it is reached through folders only, no link
+/// (the last component's own metadata, a link not followed).
+fn reached_without_links(dir: &Path, path: &Path) -> Option<std::fs::Metadata> {
+    let mut at = dir.to_path_buf();
+    let mut meta = None;
+    for part in path.components() {
+        if meta.as_ref().is_some_and(|m: &std::fs::Metadata| !m.is_dir()) {
+            return None;
+        }
+        at.push(part);
+        meta = Some(std::fs::symlink_metadata(&at).ok()?);
+    }
+    meta
+}
+
+/// Push onto `found` every entry below `dir.join(at)` that is not a folder (links not followed,
+/// temporaries skipped), relative to `dir`.
+fn files_below(dir: &Path, at: &Path, found: &mut Vec<PathBuf>) -> Result<()> {
+    let folder = dir.join(at);
+    let entries = match std::fs::read_dir(&folder) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::io(&folder, e)),
     };
-    // Each topography's folder, and the `plastic` one inside it for its plastic sweep.
-    let with_plastic = |folders: Vec<PathBuf>| -> Vec<PathBuf> {
-        folders.into_iter().flat_map(|f| [plastic_dir(f.clone(), true), f]).collect()
-    };
-    let units = with_plastic(subfolders(&dir.join(SOLVES).join(TOPOGRAPHIES))?);
-    for folder in &units {
-        output::remove_matching(folder, Entries::Files, |n| indexed(n, ".json") || part(n))?;
-    }
-    for folder in &units {
-        output::remove_matching(folder, Entries::Files, |n| {
-            n.strip_prefix("warm-").is_some_and(|n| indexed(n, ".npy"))
-                || (n.starts_with("loads-") && n.ends_with(".lock"))
-        })?;
-    }
-    output::remove_matching(dir, Entries::Files, |n| RESULT_FILES.contains(&n))?;
-    output::remove_matching(&dir.join("figures"), Entries::Files, figure)?;
-    output::remove_matching(&dir.join("snapshots"), Entries::Files, |n| {
-        stem_indexed(n, ".npy") || stem_indexed(n, ".json")
-    })?;
-    let pressure = with_plastic(subfolders(&dir.join("pressure"))?);
-    for folder in &pressure {
-        output::remove_matching(folder, Entries::Files, |n| indexed(n, ".npy"))?;
-    }
-    // Emptied folders go (a plastic one before its topography's); one still holding a file of
-    // its owner's stays.
-    for folder in pressure.iter().chain(&units) {
-        let _ = std::fs::remove_dir(folder);
-    }
-    for folder in ["figures", "snapshots", "pressure", "solves/topographies"] {
-        let _ = std::fs::remove_dir(dir.join(folder));
+    for entry in entries {
+        let entry = entry.map_err(|e| Error::io(&folder, e))?;
+        if output::is_temporary(&entry.file_name()) {
+            continue;
+        }
+        let path = at.join(entry.file_name());
+        if entry.file_type().map_err(|e| Error::io(entry.path(), e))?.is_dir() {
+            files_below(dir, &path, found)?;
+        } else {
+            found.push(path);
+        }
     }
     Ok(())
 }
@@ -1152,23 +1208,6 @@ fn remove_if_present(path: &Path) -> Result<()> {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
         _ => Ok(()),
     }
-}
-
-/// The folders in `dir` (none when `dir` is missing).
-fn subfolders(dir: &Path) -> Result<Vec<PathBuf>> {
-    let entries = match std::fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(Error::io(dir, e)),
-    };
-    let mut folders = Vec::new();
-    for entry in entries {
-        let entry = entry.map_err(|e| Error::io(dir, e))?;
-        if entry.file_type().map_err(|e| Error::io(entry.path(), e))?.is_dir() {
-            folders.push(entry.path());
-        }
-    }
-    Ok(folders)
 }
 
 /// `path`, or its `plastic` subfolder for a plastic sweep.
