@@ -267,6 +267,30 @@ fn a_folder_in_place_of_an_earlier_outputs_file_is_refused_and_never_moved() {
 }
 
 #[test]
+fn an_earlier_output_holding_an_input_is_not_replaced() {
+    // onset reads a map of its own earlier output: replacing that folder would delete its input.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 16);
+    succeeds(&asperity(dir, &["contact", "s.npy", "--size", "1e-6", "--load", "1e-6", "--out", "c"]));
+    succeeds(&asperity(dir, &["onset", "c", "--mu-s", "0.6", "--mu-d", "0.4", "--out", "o"]));
+    let before = names(&dir.join("o"));
+    let classes = std::fs::read(dir.join("o/classes.npy")).unwrap();
+    let onset = |input: &str| {
+        asperity(dir, &["onset", input, "--size", "1e-6", "--mu-s", "0.6", "--mu-d", "0.4", "--out", "o"])
+    };
+    let e = refusal(&onset("o/classes.npy"));
+    assert!(e.contains("o holds classes.npy, an input of this command"), "{e}");
+    // The same file under another name (a hard link) is the same input.
+    std::fs::hard_link(dir.join("o/classes.npy"), dir.join("linked.npy")).unwrap();
+    let e = refusal(&onset("linked.npy"));
+    assert!(e.contains("o holds classes.npy, an input of this command"), "{e}");
+    assert_eq!(names(&dir.join("o")), before);
+    assert_eq!(std::fs::read(dir.join("o/classes.npy")).unwrap(), classes);
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+}
+
+#[test]
 fn what_a_killed_command_left_beside_its_output_goes_with_the_next_run() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();

@@ -1,6 +1,6 @@
 //! `asperity contact`: elastic normal contact of a topography at one or more loads.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use serde::Serialize;
@@ -160,7 +160,8 @@ pub fn run(args: ContactArgs) -> Result<()> {
     surface.heights = ndarray::Array2::zeros((0, 0));
     solver.set_hardness(args.hardness.filter(|_| args.plastic))?;
 
-    let out = StagedDir::new(&args.out, "contact")?;
+    let inputs: Vec<&Path> = std::iter::once(path.as_path()).chain(args.wafer.as_deref()).collect();
+    let out = StagedDir::new(&args.out, "contact", &inputs)?;
     let mut order: Vec<usize> = (0..args.load.len()).collect();
     order.sort_by(|&a, &b| args.load[a].total_cmp(&args.load[b]));
     let bar = super::progress_bar(args.load.len() as u64, "solving", true);

@@ -175,7 +175,7 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     if let Some(dir) = &args.out {
-        let staged = StagedDir::new(dir, "onset")?;
+        let staged = StagedDir::new(dir, "onset", &[&args.input])?;
         write_json(&staged.path("onset.json"), &report)?;
         write_npy(&staged.path("classes.npy"), &onset.class_map(&input.pressure, area))?;
         write_npy(&staged.path("stress_ratio.npy"), &onset.stress_ratio_map(&input.pressure, area, 1.0)?)?;

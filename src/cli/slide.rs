@@ -200,7 +200,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
     }
     let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     // Before the normal solve: an --out that cannot be written is said at once.
-    let out = StagedDir::new(&args.out, "slide")?;
+    let out = StagedDir::new(&args.out, "slide", &[&args.read.file])?;
     let normal = normal_pressure(&args, e_star)?;
     if normal.boundary == Boundary::Periodic && normal.pressure.iter().all(|p| *p > 0.0) {
         return Err(Error::invalid(

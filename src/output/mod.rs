@@ -245,7 +245,7 @@ mod tests {
             return;
         }
         let dir = tempfile::tempdir().unwrap();
-        let staged = StagedDir::new(&dir.path().join("out"), "test").unwrap();
+        let staged = StagedDir::new(&dir.path().join("out"), "test", &[]).unwrap();
         let file = temp::TempFile::new_in(dir.path()).unwrap();
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
         drop(remove_temporaries());
@@ -266,7 +266,7 @@ mod tests {
         let file = dir.path().join("a.json");
         write_json(&file, &1).unwrap();
         assert_eq!(fs::metadata(&file).unwrap().permissions().mode() & 0o777, 0o666 & !umask);
-        let staged = StagedDir::new(&dir.path().join("out"), "test").unwrap();
+        let staged = StagedDir::new(&dir.path().join("out"), "test", &[]).unwrap();
         let out = staged.commit().unwrap();
         assert_eq!(fs::metadata(&out).unwrap().permissions().mode() & 0o777, 0o777 & !umask);
     }

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeSet;
 use std::fs;
+use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -38,6 +39,8 @@ pub struct StagedDir {
     /// Where the folder goes, symbolic links followed.
     target: PathBuf,
     written_by: String,
+    /// The files the command reads: none of them may be among the earlier output's files.
+    inputs: Vec<PathBuf>,
     staging: Option<TempDir>,
 }
 
@@ -50,9 +53,11 @@ enum Found {
 }
 
 impl StagedDir {
-    /// Start building the folder `target` as the output of `command` (e.g. "contact"). Refuses
-    /// a target it may not replace. The parent is created if needed.
-    pub fn new(target: &Path, command: &str) -> Result<Self> {
+    /// Start building the folder `target` as the output of `command` (e.g. "contact"), which
+    /// reads the files `inputs`. Refuses a target it may not replace, and one whose earlier
+    /// output holds an input (replacing the folder would delete it). The parent is created if
+    /// needed.
+    pub fn new(target: &Path, command: &str, inputs: &[&Path]) -> Result<Self> {
         let written_by = format!("asperity {command}");
         let resolved = resolve_symlinks(target)?;
         // `.`, `..` and `/` name no folder of their own: work on the folder they stand for.
@@ -67,7 +72,8 @@ impl StagedDir {
                 return Err(Error::invalid("--out", format!("{}: cannot replace the root folder", target.display())))
             }
         };
-        let staged = StagedDir { shown: target.to_path_buf(), target: resolved, written_by, staging: None };
+        let inputs = inputs.iter().map(|p| p.to_path_buf()).collect();
+        let staged = StagedDir { shown: target.to_path_buf(), target: resolved, written_by, inputs, staging: None };
         staged.found()?;
         fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
         // What a killed run of a command left beside it goes: staging folders, earlier outputs
@@ -162,14 +168,23 @@ impl StagedDir {
             ));
         }
         // Only files are removed from an earlier output: a folder or link in a listed file's
-        // place is someone else's.
+        // place is someone else's, and an input (the same file, as `cp` compares them) is read.
+        let inputs: Vec<(u64, u64)> =
+            self.inputs.iter().filter_map(|p| fs::metadata(p).ok()).map(|m| (m.dev(), m.ino())).collect();
         for name in &names {
-            let kind = fs::symlink_metadata(self.target.join(name)).map_err(|e| Error::io(&self.shown, e))?.file_type();
+            let meta = fs::symlink_metadata(self.target.join(name)).map_err(|e| Error::io(&self.shown, e))?;
+            let kind = meta.file_type();
             if !kind.is_file() {
                 let what = if kind.is_dir() { "a folder" } else { "not a regular file" };
                 return refuse(format!(
                     "holds {name}, {what} where `{}` wrote a file: move it away, or",
                     self.written_by
+                ));
+            }
+            if inputs.contains(&(meta.dev(), meta.ino())) {
+                return refuse(format!(
+                    "holds {name}, an input of this command, which replacing the folder would delete: copy it \
+                     elsewhere, or"
                 ));
             }
         }
@@ -193,15 +208,15 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let target = root.path().join("out");
         {
-            let s = StagedDir::new(&target, "test").unwrap();
+            let s = StagedDir::new(&target, "test", &[]).unwrap();
             write_json(&s.path("a.json"), &1).unwrap();
         }
         assert!(names(root.path()).is_empty());
-        let s = StagedDir::new(&target, "test").unwrap();
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
         write_json(&s.path("a.json"), &1).unwrap();
         s.commit().unwrap();
         assert_eq!(names(&target), ["a.json", MANIFEST]);
-        let s = StagedDir::new(&target, "test").unwrap();
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
         write_json(&s.path("b.json"), &2).unwrap();
         s.commit().unwrap();
         assert_eq!(names(&target), ["b.json", MANIFEST]);
@@ -214,23 +229,23 @@ mod tests {
         let target = root.path().join("out");
         fs::create_dir(&target).unwrap();
         fs::write(target.join("notes.txt"), "mine").unwrap();
-        let e = StagedDir::new(&target, "test").unwrap_err().to_string();
+        let e = StagedDir::new(&target, "test", &[]).unwrap_err().to_string();
         assert!(e.starts_with("--out: ") && e.contains("no manifest.json") && !e.contains('\n'), "{e}");
 
         // An earlier output of another command is not this one's.
         let other = root.path().join("other");
-        let s = StagedDir::new(&other, "test").unwrap();
+        let s = StagedDir::new(&other, "test", &[]).unwrap();
         write_json(&s.path("a.json"), &1).unwrap();
         s.commit().unwrap();
-        let e = StagedDir::new(&other, "else").unwrap_err().to_string();
+        let e = StagedDir::new(&other, "else", &[]).unwrap_err().to_string();
         assert!(e.contains("holds the output of `asperity test`, not of `asperity else`"), "{e}");
 
         // Its own output with a file added by hand: refused, before and at commit.
         fs::write(other.join("notes.txt"), "mine").unwrap();
-        let e = StagedDir::new(&other, "test").unwrap_err().to_string();
+        let e = StagedDir::new(&other, "test", &[]).unwrap_err().to_string();
         assert!(e.contains("holds 1 file(s) `asperity test` did not write (notes.txt)"), "{e}");
         fs::remove_file(other.join("notes.txt")).unwrap();
-        let s = StagedDir::new(&other, "test").unwrap();
+        let s = StagedDir::new(&other, "test", &[]).unwrap();
         fs::write(other.join("late.txt"), "mine").unwrap();
         assert!(s.commit().unwrap_err().to_string().contains("(late.txt)"));
         assert_eq!(names(&other), ["a.json", "late.txt", MANIFEST]);
@@ -242,19 +257,19 @@ mod tests {
     fn a_folder_or_link_in_a_listed_files_place_is_refused_and_kept() {
         let root = tempfile::tempdir().unwrap();
         let target = root.path().join("out");
-        let s = StagedDir::new(&target, "test").unwrap();
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
         write_json(&s.path("a.json"), &1).unwrap();
         write_json(&s.path("b.json"), &1).unwrap();
         s.commit().unwrap();
         fs::remove_file(target.join("a.json")).unwrap();
         fs::create_dir(target.join("a.json")).unwrap();
         fs::write(target.join("a.json/mine"), "mine").unwrap();
-        let e = StagedDir::new(&target, "test").unwrap_err().to_string();
+        let e = StagedDir::new(&target, "test", &[]).unwrap_err().to_string();
         assert!(e.contains("holds a.json, a folder where `asperity test` wrote a file") && !e.contains('\n'), "{e}");
         // Made while the command works: refused at commit, nothing moved.
         fs::rename(target.join("a.json"), root.path().join("kept")).unwrap();
         fs::write(target.join("a.json"), "1").unwrap();
-        let s = StagedDir::new(&target, "test").unwrap();
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
         write_json(&s.path("c.json"), &1).unwrap();
         fs::remove_file(target.join("b.json")).unwrap();
         std::os::unix::fs::symlink("../kept", target.join("b.json")).unwrap();
@@ -285,7 +300,7 @@ mod tests {
             fs::write(r.join(name).join("pressure.npy"), "").unwrap();
         }
         fs::write(r.join(format!("{gone}file.partial")), "").unwrap();
-        StagedDir::new(&r.join("out"), "test").unwrap().commit().unwrap();
+        StagedDir::new(&r.join("out"), "test", &[]).unwrap().commit().unwrap();
         living.kill().unwrap();
         living.wait().unwrap();
         let mut expected: Vec<String> = kept.into_iter().chain(["out".to_string()]).collect();
