@@ -90,7 +90,7 @@ pub struct SlideArgs {
     /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
     #[arg(long)]
     free: bool,
-    /// Tolerance of the tangential solve (relative norm of its projected gradient); the path
+    /// Tolerance of the tangential solve (relative norm of its projected gradient, below 1e-2); the path
     /// from δ = 0 to the step holding F_S solves to 100 times it, at most 1e-4.
     #[arg(long, value_name = "T", default_value_t = TangentialOptions::default().tolerance)]
     tolerance: f64,

@@ -803,7 +803,10 @@ fn check_coefficient(law: &SlipLaw, coefficient: f64, peak_displacement: f64) ->
 /// start, with the step after it, in steps four times finer, in their place, until the largest
 /// force lies in a step of the finest length, 1/(16·4⁷) of μ_s N / k_t: F_S is the largest
 /// force on the curve, or the sliding force when the path reaches total sliding and no step
-/// (even before its refinement) comes up to it. `progress` hears of every step.
+/// (even before its refinement) comes up to it. `progress` hears of every step. An error,
+/// instead of a result, when the law's tractions, forces or steps leave what the solves
+/// represent, or when F_S / N leaves [mu_d, mu_s] (a measured μ(slip) whose tail falls below
+/// its mean mu_d).
 pub fn elastic_onset(
     solver: &mut TangentialSolver,
     law: &SlipLaw,
