@@ -97,6 +97,13 @@ fn bad_input_is_refused_in_one_line() {
     refused(&[good, size[0], size[1], "--load", "1e-3", "--youngs", "0"], "Young's modulus");
     refused(&[good, size[0], size[1], "--load", "1e-3", "--poisson", "0.5"], "Poisson");
     refused(&[good, size[0], size[1], "--load", "1e-3", "--poisson", "-1"], "Poisson");
+    // A tolerance the uniform start (residual 0.82) passes returned it after 0 iterations:
+    // contact fraction 1 where the solution's is 0.02.
+    refused(
+        &[good, size[0], size[1], "--load", "2e-3", "--tolerance", "1"],
+        "--tolerance: must lie in (0, 0.01), got 1",
+    );
+    refused(&[good, size[0], size[1], "--load", "2e-3", "--tolerance", "1e-2"], "--tolerance: must lie in (0, 0.01)");
     refused(&[thin.to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "too small");
     refused(&[good, "--load", "1e-3"], "--size");
     refused(&[good, size[0], "abc", "--load", "1e-3"], "--size");

@@ -249,3 +249,60 @@ fn help_states_the_input_and_the_outputs() {
     let line = summary.lines().find(|l| l.trim_start().starts_with("slide ")).unwrap();
     assert!(line.ends_with("static friction, friction drop, shear maps"), "{line}");
 }
+
+/// Results the path cannot stand behind are refused in one line, and nothing is written: a
+/// μ(slip) curve whose tail falls below its mean mu_d (issue 33 E: F_S/N 0.4275 below mu_d
+/// 0.4333, exit 0), coefficients whose tractions are not representable (F: 5e-324 wrote null),
+/// and options checked before the normal solve (R: --tolerance 0, --max-iter 0, Q ≥ μN after
+/// it; Q = 1e-300 N ended "not reached after 1600 displacement steps").
+#[test]
+fn refuses_results_outside_the_law_and_options_before_solving() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("slide");
+    let curve = dir.path().join("c.csv");
+    // Peak 0.6, then 0.45 and a tail at 0.4: its mean after the peak, mu_d, is 0.41667.
+    std::fs::write(&curve, "0,0.1\n1,0.6\n2,0.45\n3,0.4\n4,0.4\n").unwrap();
+    let s = surface();
+    let base = ["slide", s.to_str().unwrap(), "--size", "8e-6,6e-6", "--load", "2mN", "--out", out.to_str().unwrap()];
+    let run = |extra: &[&str]| {
+        let o = asperity(&[&base[..], extra].concat());
+        (o.status.success(), String::from_utf8_lossy(&o.stderr).to_string())
+    };
+    let law = ["--mu-s", "0.5", "--mu-d", "0.5"];
+    let c = curve.to_str().unwrap();
+    for (extra, needle, solved) in [
+        // At 1 Å every point weakens to the tail at once: F_S/N = 0.41573, the instant drop to 0.4.
+        (
+            &["--curve", c, "--curve-unit", "1Å"][..],
+            "error: --curve: F_S/N = 0.415727 lies outside [mu_d, mu_s] = [0.416667, 0.600000]: past its peak the curve falls to 0.400000",
+            true,
+        ),
+        (&["--mu-s", "5e-324", "--mu-d", "5e-324"][..], "error: --mu-d: the dynamic friction coefficient must be positive, finite and at least 2.2250738585072014e-308", false),
+        (&["--mu-s", "1e-200", "--mu-d", "1e-200"][..], "error: --mu-s: the lowest coefficient times the largest pressure would be 7.389e-191 Pa, outside the 1e-140 to 1e140", true),
+        (&[&law[..], &["--tolerance", "0"]].concat()[..], "error: --tolerance: must lie in (0, 0.01), got 0", false),
+        (&[&law[..], &["--tolerance", "0.05"]].concat()[..], "error: --tolerance: must lie in (0, 0.01), got 0.05", false),
+        (&[&law[..], &["--max-iter", "0"]].concat()[..], "error: --max-iter: must be at least 1", false),
+        (&[&law[..], &["--tangential-force", "1mN"]].concat()[..], "error: --tangential-force: must lie in (0, μN) = (0, 1.000000e-3) N", false),
+        (&[&law[..], &["--tangential-force", "1e-300"]].concat()[..], "error: --tangential-force: at 1e-300 N, 1.000e-297 of μN, the displacement step", true),
+    ] {
+        let (ok, err) = run(extra);
+        let last = err.trim().lines().last().unwrap_or_default();
+        assert!(!ok && last.starts_with(needle) && err.matches("error").count() == 1, "{extra:?}: {err}");
+        // Options are refused before the normal solve, whose line then never shows.
+        assert_eq!(err.contains("normal solve"), solved, "{extra:?}: {err}");
+        assert!(!out.exists(), "{extra:?}");
+    }
+    // Averaged over its tail, mu_d is the curve's sliding value: F_S/N lies in [mu_d, mu_s].
+    let (ok, err) = run(&["--curve", c, "--curve-unit", "1Å", "--window", "2,3"]);
+    assert!(ok, "{err}");
+    let j = json(&out.join("slide.json"));
+    let fs = j["static_coefficient"].as_f64().unwrap();
+    assert!(j["law"]["mu_d"].as_f64().unwrap() == 0.4 && fs > 0.4 && fs < 0.6, "{fs}");
+    // A force a millionth of a millionth of μN is the fully stuck state, not refused.
+    std::fs::remove_dir_all(&out).unwrap();
+    let (ok, err) = run(&[&law[..], &["--tangential-force", "1e-12"]].concat());
+    assert!(ok, "{err}");
+    let j = json(&out.join("slide.json"));
+    assert!((j["tangential_force_n"].as_f64().unwrap() / 1e-12 - 1.0).abs() < 1e-5, "{j}");
+    assert_eq!((j["slip_points"].as_u64(), j["stick_points"].as_u64()), (Some(0), j["contact_points"].as_u64()));
+}

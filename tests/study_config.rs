@@ -166,6 +166,33 @@ fn files_are_read_before_anything_is_solved() {
     assert!(!dir.path().join("out").exists());
 }
 
+/// Issue 33: a study refuses what `contact` and `slide` refuse, before any solve: a synthetic
+/// surface whose heights span more than its window (H: rms_slope = 1e6 gave ±1.7 m on a 10 µm
+/// window, solved), a tolerance its solver's start passes (G) and a subnormal coefficient (F:
+/// 5e-324 wrote NaN into a solve record that every later run failed to read).
+#[test]
+fn implausible_surfaces_loose_tolerances_and_subnormal_laws_are_refused() {
+    let steep = GOOD.replace("rms_height_m = \"22 nm\"", "rms_slope = 1e6").replace("31.13 µm", "10 µm");
+    let stderr = refused(&steep);
+    assert!(
+        stderr.starts_with("error: study.toml: topography \"ball\": synthetic topography: the heights span ")
+            && stderr.contains("more than the 1.000e-5 × 1.000e-5 m window is wide: no rough surface looks like that"),
+        "{stderr}"
+    );
+    let loose = GOOD.replace("tolerance = 1e-8", "tolerance = 0.5");
+    let stderr = refused(&loose);
+    assert!(
+        stderr.starts_with("error: study.toml:") && stderr.contains("contact.tolerance: must lie in (0, 0.01)"),
+        "{stderr}"
+    );
+    let tiny = GOOD.replace("preset = \"hold 100 s\"", "name = \"tiny\"\nmu_s = 5e-324\nmu_d = 5e-324");
+    let stderr = refused(&tiny);
+    assert!(
+        stderr.contains("law[0]: the dynamic friction coefficient must be positive, finite and at least"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn a_missing_study_file_is_named() {
     let dir = tempfile::tempdir().unwrap();

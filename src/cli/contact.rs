@@ -63,7 +63,7 @@ pub struct ContactArgs {
     #[arg(long)]
     free: bool,
     /// Convergence tolerance on the solver's relative residual (complementarity and
-    /// penetration, relative to mean pressure × RMS height).
+    /// penetration, relative to mean pressure × RMS height), below 1e-2.
     #[arg(long, value_name = "T", default_value = "1e-10")]
     tolerance: f64,
     /// Iteration limit per load; a solve that has not converged by then is an error.
@@ -128,6 +128,8 @@ pub fn run(args: ContactArgs) -> Result<()> {
     // Every check before any long work.
     contact::check_loads(&args.load)?;
     let (_, e_star) = args.material.bodies()?;
+    let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
+    options.check()?;
     let path = &args.read.file;
     let mut surface = prepare(&args)?;
     let size = contact::contact_size(&surface)?;
@@ -150,7 +152,6 @@ pub fn run(args: ContactArgs) -> Result<()> {
         contact::check_load(load, size, e_star)?;
     }
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
-    let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
     let mut solver =

@@ -90,7 +90,7 @@ pub struct SlideArgs {
     /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
     #[arg(long)]
     free: bool,
-    /// Tolerance of the tangential solve (relative norm of its projected gradient); the path
+    /// Tolerance of the tangential solve (relative norm of its projected gradient, below 1e-2); the path
     /// from δ = 0 to the step holding F_S solves to 100 times it, at most 1e-4.
     #[arg(long, value_name = "T", default_value_t = TangentialOptions::default().tolerance)]
     tolerance: f64,
@@ -191,14 +191,24 @@ struct RampReport {
 }
 
 pub fn run(args: SlideArgs) -> Result<()> {
+    // Everything that can be checked is checked before the normal solve.
     let law = law(&args)?;
     let (bodies, e_star) = args.material.bodies()?;
+    let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
+    options.check()?;
     if let Some(q) = args.tangential_force {
         if !(q > 0.0 && q.is_finite()) {
             return Err(Error::invalid("--tangential-force", format!("must be positive and finite, got {q:e} N")));
         }
+        // The normal solve carries the load exactly: N = --load (a contact directory's load
+        // is checked once read, and the ramp checks the N it sums).
+        if let Some(load) = args.load.filter(|n| q >= law.mu_s * n) {
+            return Err(Error::invalid(
+                "--tangential-force",
+                format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {q:e} N", law.mu_s * load),
+            ));
+        }
     }
-    let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     // Before the normal solve: an --out that cannot be written is said at once.
     let out = StagedDir::new(&args.out, "slide", &[&args.read.file])?;
     let normal = normal_pressure(&args, e_star)?;
@@ -406,6 +416,7 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     }
     let surface = io::read(path, &args.read.options())?;
     let size = contact::contact_size(&surface)?;
+    contact::check_load(load, size, e_star)?;
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();

@@ -96,6 +96,15 @@ impl Default for TangentialOptions {
     }
 }
 
+impl TangentialOptions {
+    /// An error naming `--tolerance` or `--max-iter` unless the tolerance lies in
+    /// (0, [`MAX_TOLERANCE`](super::solver::MAX_TOLERANCE)) (at 1 the untouched start, q = 0,
+    /// has converged already) and at least one iteration is allowed.
+    pub fn check(&self) -> Result<()> {
+        super::solver::check_tolerance(self.tolerance, self.max_iterations)
+    }
+}
+
 /// What one tangential solve reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TangentialReport {
@@ -167,13 +176,7 @@ impl TangentialSolver {
         if !(size.0 > 0.0 && size.1 > 0.0 && size.0.is_finite() && size.1.is_finite()) {
             return Err(Error::invalid("--size", format!("must be positive and finite, got {}×{} m", size.0, size.1)));
         }
-        if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
-            // At 1 or above the untouched start (q = 0) has already converged.
-            return Err(Error::invalid("--tolerance", format!("must lie in (0, 1), got {}", options.tolerance)));
-        }
-        if options.max_iterations == 0 {
-            return Err(Error::invalid("--max-iter", "must be at least 1"));
-        }
+        options.check()?;
         let points: Vec<usize> = (0..pressure.len()).filter(|&i| pressure[i] > 0.0).collect();
         if points.is_empty() {
             return Err(Error::invalid("pressure map", "no contact: every pressure is zero"));

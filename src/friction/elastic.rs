@@ -70,6 +70,14 @@ const SETTLED: f64 = 1e-6;
 const NOISE: f64 = 10.0;
 /// A traction within this fraction of its bound is on it (slipping).
 const ON_BOUND: f64 = 1e-9;
+/// The range, in SI units, that the path's tractions [Pa], forces [N] and displacement steps
+/// [m] must lie in: the solves' norms sum their squares over up to 2^28 points, which must stay
+/// normal floats. Beyond it they underflow to zero or overflow (mu_s = mu_d = 1e-200 at 2 mN
+/// ended "no total sliding after 1600 displacement steps", 1e200 broke the solve down).
+const SMALLEST: f64 = 1e-140;
+const LARGEST: f64 = 1e140;
+/// F_S / N may leave [mu_d, mu_s] by this relative amount, from rounding alone.
+const ROUNDING: f64 = 1e-9;
 
 /// How a point's friction coefficient falls from mu_s to mu_d as it slips.
 #[derive(Debug, Clone, PartialEq)]
@@ -734,6 +742,60 @@ impl Steps {
     }
 }
 
+/// An error naming `option` unless each of `scales` (what, value with its unit) lies in
+/// [[`SMALLEST`], [`LARGEST`]]: the path cannot represent it.
+fn check_scales(option: &str, scales: &[(&str, f64, &str)]) -> Result<()> {
+    match scales.iter().find(|(_, v, _)| !(*v >= SMALLEST && *v <= LARGEST)) {
+        Some((what, v, unit)) => Err(Error::invalid(
+            option,
+            format!(
+                "{what} would be {v:.3e} {unit}, outside the {SMALLEST:e} to {LARGEST:e} that the tangential solves represent (their squares must stay normal floats)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The tractions [Pa] and forces [N] of a law from `lowest` to `highest` (coefficients) on
+/// `pressure` [Pa] whose sum times `area` [m²] is the normal force `normal_force` [N].
+fn traction_scales(
+    lowest: f64,
+    highest: f64,
+    pressure: &[f64],
+    normal_force: f64,
+) -> [(&'static str, f64, &'static str); 4] {
+    let p_max = pressure.iter().copied().fold(0.0, f64::max);
+    let root = (pressure.len() as f64).sqrt();
+    [
+        ("the lowest coefficient times the largest pressure", lowest * p_max, "Pa"),
+        ("mu_s times the largest pressure, times √(contact points)", highest * p_max * root, "Pa"),
+        ("the lowest coefficient times the normal force", lowest * normal_force, "N"),
+        ("mu_s times the normal force", highest * normal_force, "N"),
+    ]
+}
+
+/// An error unless F_S / N = `coefficient` lies in [mu_d, mu_s] (to [`ROUNDING`]): the path's
+/// bounds keep it there, so a result outside is never written. A measured μ(slip) that falls
+/// below its mean after the peak (the law's mu_d) is the one law that can give less: when its
+/// slip scale is small against the path's slips, every point weakens to its tail at once, and
+/// F_S tends to the tail's value (a curve of 1 Å gave the instant drop to it to 6e-5).
+fn check_coefficient(law: &SlipLaw, coefficient: f64, peak_displacement: f64) -> Result<()> {
+    if coefficient >= law.mu_d * (1.0 - ROUNDING) && coefficient <= law.mu_s * (1.0 + ROUNDING) {
+        return Ok(());
+    }
+    let found = format!("F_S/N = {coefficient:.6} lies outside [mu_d, mu_s] = [{:.6}, {:.6}]", law.mu_d, law.mu_s);
+    Err(match law.weakening {
+        Weakening::Curve(_) if law.lowest() < law.mu_d => Error::invalid(
+            "--curve",
+            format!(
+                "{found}: past its peak the curve falls to {:.6}, below its mean, and the onset's slips (δ_peak {peak_displacement:.2e} m) take every point there; take mu_d over its steady sliding (--window)",
+                law.lowest()
+            ),
+        ),
+        _ => Error::invalid("sliding onset", found),
+    })
+}
+
 /// The sliding onset of the contact set of `solver` under `law`: displacement-controlled path
 /// to total sliding (or until no later state can exceed the largest force seen). A coarse
 /// step overestimates the force before its cascade (its points held bounds that finer steps
@@ -741,7 +803,10 @@ impl Steps {
 /// start, with the step after it, in steps four times finer, in their place, until the largest
 /// force lies in a step of the finest length, 1/(16·4⁷) of μ_s N / k_t: F_S is the largest
 /// force on the curve, or the sliding force when the path reaches total sliding and no step
-/// (even before its refinement) comes up to it. `progress` hears of every step.
+/// (even before its refinement) comes up to it. `progress` hears of every step. An error,
+/// instead of a result, when the law's tractions, forces or steps leave what the solves
+/// represent, or when F_S / N leaves [mu_d, mu_s] (a measured μ(slip) whose tail falls below
+/// its mean mu_d).
 pub fn elastic_onset(
     solver: &mut TangentialSolver,
     law: &SlipLaw,
@@ -749,6 +814,8 @@ pub fn elastic_onset(
 ) -> Result<ElasticOnset> {
     let area = solver.pixel_area();
     let normal_force = solver.normal_force();
+    let option = if law.mu_s == law.mu_d { "--mu-s" } else { "--mu-d" };
+    check_scales(option, &traction_scales(law.lowest(), law.mu_s, solver.pressure(), normal_force))?;
     let mut path = Path::new(solver, law);
     let k = path.stuck_stiffness()?;
     if !(k > 0.0 && k.is_finite()) {
@@ -756,6 +823,13 @@ pub fn elastic_onset(
     }
     let h0 = law.mu_s * normal_force / k / STEPS as f64;
     let finest = h0 / (REFINE as f64).powi(REFINEMENTS as i32);
+    check_scales(
+        "--mu-s",
+        &[
+            ("the finest displacement step, mu_s N / k_t / 262144,", finest, "m"),
+            ("the longest path", MAX_STEPS as f64 * h0, "m"),
+        ],
+    )?;
     // A step's force gain is at most k h (fixed bounds only soften it), and its refinement
     // reaches at least the force at its start: a step k h₀ below the largest force cannot hold
     // F_S. Twice that, for a measured law's rising bounds. (A longer step's force stays below
@@ -808,6 +882,7 @@ pub fn elastic_onset(
         .zip(&peak.traction)
         .zip(path.solver.pressure())
         .map(|((c, q), p)| (*c, p * area, q[0] * area));
+    check_coefficient(law, peak.point.force_n / normal_force, peak.point.displacement_m)?;
     let share = |class| ClassShare::tally(elements.clone(), class, (normal_force, peak.point.force_n));
     let (stuck, critical, slipped) =
         (share(SlideClass::Stuck), share(SlideClass::Critical), share(SlideClass::Slipped));
@@ -835,9 +910,23 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
         ));
     }
     let law = SlipLaw { mu_s: mu, mu_d: mu, weakening: Weakening::Instant };
+    check_scales("--mu-s", &traction_scales(mu, mu, solver.pressure(), normal_force))?;
     let mut path = Path::new(solver, &law);
     let k = path.stuck_stiffness()?;
     let h = force / k / RAMP_STEPS as f64;
+    // Q far below μN: its displacements are below what the solves represent (1e-300 N took
+    // 1600 steps of nothing and ended "not reached").
+    check_scales(
+        "--tangential-force",
+        &[(
+            &format!(
+                "at {force:e} N, {:.3e} of μN, the displacement step Q / k_t / {RAMP_STEPS}",
+                force / (mu * normal_force)
+            ),
+            h,
+            "m",
+        )],
+    )?;
     let mut none = |_: &Path, _: SlidePoint| {};
     // Step until the force passes `force`, then bisect that last step from the state before it.
     let mut before = path.state.clone();

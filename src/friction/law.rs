@@ -27,16 +27,24 @@ pub const PRESETS: &[(&str, f64, f64)] = &[("hold 100 s", 0.6, 0.4), ("hold 10 s
 impl FrictionLaw {
     /// A law from its two coefficients; errors name the option (`--mu-s`, `--mu-d`) at fault.
     pub fn new(mu_s: f64, mu_d: f64) -> Result<Self> {
-        if !(mu_d.is_finite() && mu_d > 0.0) {
+        // A subnormal coefficient has lost its digits, and every force made from it underflows
+        // (5e-324 gave F_S = 0 and a friction drop of 0/0).
+        if !(mu_d.is_normal() && mu_d > 0.0) {
             return Err(Error::invalid(
                 "--mu-d",
-                format!("the dynamic friction coefficient must be positive and finite, got {mu_d}"),
+                format!(
+                    "the dynamic friction coefficient must be positive, finite and at least {:e} (a normal float), got {mu_d:e}",
+                    f64::MIN_POSITIVE
+                ),
             ));
         }
-        if !mu_s.is_finite() {
+        if !(mu_s.is_normal() && mu_s > 0.0) {
             return Err(Error::invalid(
                 "--mu-s",
-                format!("the static friction coefficient must be finite, got {mu_s}"),
+                format!(
+                    "the static friction coefficient must be positive, finite and at least {:e} (a normal float), got {mu_s:e}",
+                    f64::MIN_POSITIVE
+                ),
             ));
         }
         if mu_s < mu_d {
@@ -227,6 +235,15 @@ mod tests {
         assert!(e.starts_with("--mu-s:") && e.contains("below"), "{e}");
         assert!(FrictionLaw::new(f64::NAN, 0.4).is_err());
         assert!(FrictionLaw::new(0.6, f64::INFINITY).is_err());
+        // Subnormal coefficients (their forces underflow to zero): refused, naming the option.
+        let e = FrictionLaw::new(5e-324, 5e-324).unwrap_err().to_string();
+        assert!(
+            e.starts_with("--mu-d:") && e.contains("at least 2.2250738585072014e-308 (a normal float), got 5e-324"),
+            "{e}"
+        );
+        let e = FrictionLaw::new(1e-310, f64::MIN_POSITIVE).unwrap_err().to_string();
+        assert!(e.starts_with("--mu-s:") && e.contains("got 1e-310"), "{e}");
+        assert!(FrictionLaw::new(f64::MIN_POSITIVE, f64::MIN_POSITIVE).is_ok());
         for (mu_s, mu_d) in [(0.6, 0.0), (0.3, 0.4), (f64::NAN, 0.4)] {
             assert!(!FrictionLaw::new(mu_s, mu_d).unwrap_err().to_string().contains('\n'));
         }

@@ -56,7 +56,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use super::{FigureKind, Sharing};
-use crate::contact::{Boundary, Material};
+use crate::contact::{Boundary, Material, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
@@ -535,11 +535,14 @@ impl StudyConfig {
         }
 
         let c = &self.contact;
-        if !(c.tolerance > 0.0 && c.tolerance.is_finite()) {
-            return at(&[key("contact"), key("tolerance")], format!("must be positive, got {}", c.tolerance));
-        }
-        if c.max_iterations == 0 {
-            return at(&[key("contact"), key("max_iterations")], "must be at least 1".into());
+        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations };
+        if let Err(e) = options.check() {
+            let field = if matches!(&e, Error::Invalid { option, .. } if option == "--max-iter") {
+                "max_iterations"
+            } else {
+                "tolerance"
+            };
+            return at(&[key("contact"), key(field)], reason_of(e));
         }
         if let Some((nx, ny)) = c.grid {
             if nx < 2 || ny < 2 {

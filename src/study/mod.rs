@@ -171,6 +171,36 @@ impl Row {
             slide_seconds: None,
         }
     }
+
+    /// An error naming the row's topography, load and law unless every number it holds is
+    /// finite: a solve record holding NaN (written as null) is read back by no later run.
+    pub fn require_finite(&self) -> Result<()> {
+        let numbers = [
+            ("load_n", self.load_n),
+            ("mu_s", self.mu_s),
+            ("mu_d", self.mu_d),
+            ("static_coefficient", self.static_coefficient),
+            ("dynamic_coefficient", self.dynamic_coefficient),
+            ("friction_drop", self.friction_drop),
+            ("critical_normal_fraction", self.critical_normal_fraction),
+            ("critical_friction_fraction", self.critical_friction_fraction),
+            ("pre_sliding_normal_fraction", self.pre_sliding_normal_fraction),
+            ("pre_sliding_friction_fraction", self.pre_sliding_friction_fraction),
+            ("subcritical_normal_fraction", self.subcritical_normal_fraction),
+            ("subcritical_friction_fraction", self.subcritical_friction_fraction),
+            ("contact_fraction", self.contact_fraction),
+            ("max_pressure_pa", self.max_pressure_pa),
+            ("edge_load_fraction", self.edge_load_fraction),
+            ("load_above_hardness_fraction", self.load_above_hardness_fraction.unwrap_or(0.0)),
+            ("seconds", self.seconds),
+            ("slide_seconds", self.slide_seconds.unwrap_or(0.0)),
+        ];
+        let at = format!("topography \"{}\" at {:e} N, law \"{}\"", self.topography, self.load_n, self.law);
+        match numbers.iter().find(|(_, v)| !v.is_finite()) {
+            Some((name, v)) => Err(Error::invalid(at, format!("{name} is {v}: not recorded"))),
+            None => Ok(()),
+        }
+    }
 }
 
 /// The plausibility warnings of a study's solves, one line each, naming the topography and the
@@ -212,6 +242,21 @@ pub struct SolveFacts {
 }
 
 impl SolveFacts {
+    /// An error unless every number of the solve is finite (see [`Row::require_finite`]).
+    pub fn require_finite(&self) -> Result<()> {
+        let numbers = [
+            ("contact_fraction", self.contact_fraction),
+            ("max_pressure_pa", self.max_pressure_pa),
+            ("edge_load_fraction", self.edge_load_fraction),
+            ("load_above_hardness_fraction", self.load_above_hardness_fraction.unwrap_or(0.0)),
+            ("seconds", self.seconds),
+        ];
+        match numbers.iter().find(|(_, v)| !v.is_finite()) {
+            Some((name, v)) => Err(Error::invalid("contact solve", format!("{name} is {v}: not recorded"))),
+            None => Ok(()),
+        }
+    }
+
     /// The facts of a solve from its contact statistics and the solver's report.
     pub fn new(summary: &ContactSummary, report: &SolveReport) -> SolveFacts {
         SolveFacts {
@@ -454,6 +499,36 @@ pub struct FigureInput<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// No record holds a NaN (issue 33 F: written as null, no later run could read it back).
+    #[test]
+    fn a_non_finite_row_is_refused() {
+        let law = FrictionLaw::new(0.6, 0.4).unwrap();
+        let onset = Onset::new(&crate::friction::ElementLoads::from_forces(&[1.0, 2.0]).unwrap(), &law);
+        let facts = SolveFacts {
+            plastic: false,
+            contact_points: 2,
+            patches: 1,
+            contact_fraction: 0.5,
+            max_pressure_pa: 1e9,
+            edge_load_fraction: 0.0,
+            load_above_hardness_fraction: None,
+            iterations: 3,
+            seconds: 0.1,
+        };
+        let row = Row::new("ball", 1e-3, &facts, &onset);
+        assert!(row.require_finite().is_ok() && facts.require_finite().is_ok());
+        let bad = Row { critical_friction_fraction: f64::NAN, ..row.clone() };
+        let e = bad.require_finite().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "topography \"ball\" at 1e-3 N, law \"mu_s=0.6 mu_d=0.4\": critical_friction_fraction is NaN: not recorded"
+        );
+        let bad = Row { slide_seconds: Some(f64::INFINITY), ..row };
+        assert!(bad.require_finite().unwrap_err().to_string().contains("slide_seconds is inf"));
+        let e = SolveFacts { max_pressure_pa: f64::NAN, ..facts }.require_finite().unwrap_err().to_string();
+        assert_eq!(e, "contact solve: max_pressure_pa is NaN: not recorded");
+    }
 
     #[test]
     fn crop_keeps_every_contact_point_and_round_trips() {
