@@ -184,14 +184,25 @@ impl OutFormat {
         }
     }
 
+    /// An error unless this is a map's format: .csv and .txt hold line profiles.
+    fn require_map(self, out: &Path) -> Result<()> {
+        match self {
+            OutFormat::Columns(_) => Err(Error::invalid(
+                "OUT",
+                format!(
+                    "{}: .csv and .txt hold line profiles; name a 2-D map *.npy (float64) or *.gsf (float32)",
+                    out.display()
+                ),
+            )),
+            _ => Ok(()),
+        }
+    }
+
     fn write(self, out: &Path, topo: &Topography) -> Result<()> {
         match self {
             OutFormat::Npy => write_npy(out, &topo.heights),
             OutFormat::Gsf => write_gsf(out, topo),
-            OutFormat::Columns(_) => Err(Error::invalid(
-                "OUT",
-                format!("{}: .csv and .txt hold line profiles; a 2-D map is written as .npy or .gsf", out.display()),
-            )),
+            OutFormat::Columns(_) => self.require_map(out),
         }
     }
 
@@ -270,6 +281,7 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
             return Ok(());
         }
     };
+    format.require_map(&args.out)?;
     let (mut topo, fit) = prepare(topo, &args.prepare)?;
     if let Some(p) = args.pixel_size {
         topo = resample(&topo, p, &args.read.limits.limits())?;
@@ -285,6 +297,7 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
 /// `asperity topo generate`.
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
+    format.require_map(&args.out)?;
     args.limits.limits().check_grid(args.grid.0, args.grid.1).map_err(|r| Error::invalid("--grid", r))?;
     let amplitude = match (args.rms, args.rms_slope) {
         (_, Some(g)) => Amplitude::RmsSlope(g),
