@@ -274,7 +274,7 @@ pub fn profile_psd(p: &Profile, window: Window) -> Result<Psd> {
     for (k, z) in spectrum.iter().enumerate().skip(1) {
         q.push(2.0 * PI * k as f64 / length);
         c.push((z * dx).norm_sqr() / length);
-        modes.push(if n % 2 == 0 && k == n / 2 { 1 } else { 2 });
+        modes.push(if n.is_multiple_of(2) && k == n / 2 { 1 } else { 2 });
     }
     Ok(Psd { q, c, modes })
 }

@@ -97,9 +97,7 @@ fn names_an_index(line: &str) -> bool {
 /// its last word that is one. A lone `A` is a name, not ångström.
 fn unit_in(name: &str) -> Option<String> {
     name.split(|c: char| c.is_whitespace() || "()[]{}_/:,".contains(c))
-        .filter(|w| !w.is_empty() && *w != "A")
-        .filter(|w| metres_per(w).is_some())
-        .next_back()
+        .rfind(|w| !w.is_empty() && *w != "A" && metres_per(w).is_some())
         .map(|w| w.to_string())
 }
 
