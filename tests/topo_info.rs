@@ -1,6 +1,7 @@
 //! `asperity topo info` reproduces every entry of the instrument samples' manifest: sizes to
 //! 1e-6 relative, statistics to 1e-4 relative, channels, default channel, height unit, missing
-//! points; files marked `expect: error` are refused with one line naming the file.
+//! points; files marked `expect: error` are refused with one line naming the file; line
+//! profiles' length, RMS height and RMS slope to 1e-9 relative of SurfaceTopography's.
 //!
 //! Every entry is checked and every failure reported together.
 
@@ -51,10 +52,48 @@ fn check_read(file: &Path, extra: &[&str], errors: &mut Vec<String>) -> Option<V
     }
 }
 
+/// A line profile's entry: what SurfaceTopography reports for it, in the file's length unit,
+/// reproduced to 1e-9 relative in metres (read with the entry's `read_with` options) and, for a
+/// file that states no unit, as stored without them.
+fn check_profile(entry: &Value) -> Vec<String> {
+    let mut errors = Vec::new();
+    let file = common::sample(entry["file"].as_str().expect("entries name their file"));
+    let st = &entry["surface_topography"];
+    let scale = entry["metres_per_unit"].as_f64().expect("profile entries give their unit");
+    let options: Vec<&str> = entry["read_with"].as_array().unwrap().iter().map(|o| o.as_str().unwrap()).collect();
+    let scaled = |v: &Value, s: f64| v.as_f64().map_or(Value::Null, |v| Value::from(v * s));
+    let compare = |what: &str, got: &Value, want: &Value, errors: &mut Vec<String>| match want {
+        Value::Null => compare_equal(what, got, want, errors),
+        _ => compare_number(what, got, want, 1e-9, errors),
+    };
+    let Some(got) = check_read(&file, &options, &mut errors) else { return errors };
+    compare_equal("kind", &got["kind"], &Value::from("profile"), &mut errors);
+    compare_equal("points", &got["points"], &st["nb_grid_pts"][0], &mut errors);
+    compare_equal("uniform", &got["uniform"], &st["is_uniform"], &mut errors);
+    compare_equal("height_unit_known", &got["height_unit_known"], &Value::Bool(true), &mut errors);
+    compare("length_m", &got["length_m"], &scaled(&st["physical_sizes"][0], scale), &mut errors);
+    compare("mean_m", &got["mean_m"], &scaled(&st["mean"], scale), &mut errors);
+    compare("rms_m", &got["rms_m"], &scaled(&st["rms_height_from_profile"], scale), &mut errors);
+    compare("rms_slope", &got["rms_slope"], &st["rms_slope_from_profile"], &mut errors);
+    if entry["position_unit_in_file"].is_null() && entry["height_unit_in_file"].is_null() {
+        // Without a unit: the values as stored, and no slope (the two units might differ).
+        let Some(got) = check_read(&file, &[], &mut errors) else { return errors };
+        compare("length", &got["length"], &st["physical_sizes"][0], &mut errors);
+        compare("rms", &got["rms"], &st["rms_height_from_profile"], &mut errors);
+        for key in ["length_m", "rms_m", "rms_slope"] {
+            compare_equal(key, &got[key], &Value::Null, &mut errors);
+        }
+    }
+    errors
+}
+
 fn check_entry(entry: &Value) -> Vec<String> {
     let mut errors = Vec::new();
     let name = entry["file"].as_str().expect("entries name their file");
     let file = common::sample(name);
+    if entry["kind"] == "profile" {
+        return check_profile(entry);
+    }
 
     if entry["expect"] == "error" {
         let out = topo_info(&file, &[]);

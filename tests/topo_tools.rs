@@ -149,7 +149,7 @@ fn generate_rejects_bad_arguments_in_one_line() {
         assert!(err.starts_with(expected) && err.trim().lines().count() == 1, "{extra:?}: {err}");
     }
     let o = run(&["--hurst", "0.8", "--rms", "1e-9", s(&dir.path().join("x.txt"))]);
-    assert!(stderr(&o).contains("name it *.npy"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("name a 2-D map *.npy"), "{}", stderr(&o));
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "no output after an error");
 }
 

@@ -166,10 +166,11 @@ pub struct ReadArgs {
     #[arg(long, value_name = "LX[,LY]", value_parser = parse_size)]
     size: Option<(f64, f64)>,
     /// Unit of the heights of a file that states none (m, mm, µm, nm, Å); a bare array
-    /// defaults to m.
+    /// defaults to m. For a line profile, also the unit of its positions when the file states
+    /// none (SurfaceTopography's one length unit of a line scan).
     #[arg(long, value_name = "U")]
     height_unit: Option<String>,
-    /// File format, overriding detection.
+    /// File format, overriding detection (a short two-column table: profile or matrix).
     #[arg(long, value_name = "F", value_parser = PossibleValuesParser::new(io::format_names()))]
     format: Option<String>,
     #[command(flatten)]

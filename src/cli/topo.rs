@@ -7,6 +7,9 @@ use ndarray::Array2;
 use serde::Serialize;
 
 use asperity::topography::io;
+use asperity::topography::profile::Profile;
+use asperity::topography::stats::{profile_height, profile_rms_slope};
+use asperity::topography::AnyTopography;
 
 use super::{topo_tools, ReadArgs};
 use asperity::Result;
@@ -22,14 +25,16 @@ pub struct TopoArgs {
 
 #[derive(Subcommand)]
 enum TopoCommand {
-    /// Print a file's grid, physical size, channels, height unit and height statistics.
+    /// Print a file's grid, physical size, channels, height unit and height statistics (of a line
+    /// profile: points, length, uniformity, RMS height and RMS slope).
     Info(InfoArgs),
     /// Read a topography, crop, fill or refuse missing points, detrend, resample, and write its
-    /// heights [m] as .npy or .gsf
+    /// heights [m] as .npy or .gsf (a line profile as .csv or .txt)
     Convert(topo_tools::ConvertArgs),
     /// Synthesise a self-affine random-phase surface [m], optionally on a sphere cap, as .npy or .gsf
     Generate(topo_tools::GenerateArgs),
-    /// Print the isotropic power spectral density as CSV q_rad_per_m,psd_m4
+    /// Print the isotropic power spectral density as CSV q_rad_per_m,psd_m4 (of a uniform line
+    /// profile its 1-D spectrum, q_rad_per_m,psd_m3)
     Psd(topo_tools::PsdArgs),
 }
 
@@ -46,19 +51,23 @@ pub fn run(args: TopoArgs) -> Result<()> {
 struct InfoArgs {
     #[command(flatten)]
     read: ReadArgs,
-    /// Print JSON: nx, ny, physical_size_m [m] (null when unknown), channels, channel,
-    /// height_unit, height_unit_known, mean_m, rms_m, min_m, max_m [m], missing_points. When
-    /// the height unit is unknown (or not a length) the statistics are mean, rms, min, max in
-    /// the values as stored.
+    /// Print JSON: kind ("map"), nx, ny, physical_size_m [m] (null when unknown), channels,
+    /// channel, height_unit, height_unit_known, mean_m, rms_m, min_m, max_m [m],
+    /// missing_points. When the height unit is unknown (or not a length) the statistics are
+    /// mean, rms, min, max in the values as stored. A line profile: kind ("profile"), points,
+    /// uniform, length_m and step_m [m] (length and step as stored when the positions' unit is
+    /// unknown), position_unit, the heights as for a map and rms_slope [1] (null unless both
+    /// units are known), with SurfaceTopography's definitions for line scans.
     #[arg(long)]
     json: bool,
 }
 
-/// What `topo info --json` prints.
+/// What `topo info --json` prints for a map.
 #[derive(Serialize)]
 struct Info {
     file: PathBuf,
     format: String,
+    kind: &'static str,
     nx: usize,
     ny: usize,
     physical_size_m: Option<[f64; 2]>,
@@ -91,12 +100,57 @@ struct StoredStats {
     max: Option<f64>,
 }
 
+/// What `topo info --json` prints for a line profile.
+#[derive(Serialize)]
+struct ProfileInfo {
+    file: PathBuf,
+    format: String,
+    kind: &'static str,
+    channels: Vec<String>,
+    channel: String,
+    points: usize,
+    uniform: bool,
+    position_unit: Option<String>,
+    #[serde(flatten)]
+    positions_m: Option<ExtentMetres>,
+    #[serde(flatten)]
+    positions_stored: Option<ExtentStored>,
+    height_unit: Option<String>,
+    height_unit_known: bool,
+    #[serde(flatten)]
+    metres: Option<MetreStats>,
+    #[serde(flatten)]
+    as_stored: Option<StoredStats>,
+    /// [1]; `None` unless both units are known.
+    rms_slope: Option<f64>,
+    missing_points: usize,
+}
+
+/// A profile's length and step (`None` when not uniform) [m].
+#[derive(Serialize)]
+struct ExtentMetres {
+    length_m: f64,
+    step_m: Option<f64>,
+}
+
+/// A profile's length and step as stored, their unit unknown.
+#[derive(Serialize)]
+struct ExtentStored {
+    length: f64,
+    step: Option<f64>,
+}
+
 fn info(args: InfoArgs) -> Result<()> {
-    let (topo, channels) = io::read_listing(&args.read.file, &args.read.options())?;
+    let (topo, channels) = io::read_any(&args.read.file, &args.read.options())?;
+    let topo = match topo {
+        AnyTopography::Map(topo) => topo,
+        AnyTopography::Profile(p) => return profile_info(args, &p, channels),
+    };
     let stats = Stats::of(&topo.heights);
     let info = Info {
         file: args.read.file,
         format: topo.provenance.format.clone(),
+        kind: "map",
         nx: topo.nx(),
         ny: topo.ny(),
         physical_size_m: topo.physical_size.map(|(lx, ly)| [lx, ly]),
@@ -126,7 +180,43 @@ fn info(args: InfoArgs) -> Result<()> {
     Ok(())
 }
 
-/// Heights over the defined (non-NaN) points [m].
+/// `topo info` of a line profile: its statistics as SurfaceTopography defines them.
+fn profile_info(args: InfoArgs, p: &Profile, channels: Vec<String>) -> Result<()> {
+    let defined = || p.heights().iter().copied().filter(|h| !h.is_nan());
+    let range = (defined().count() > 0)
+        .then(|| (defined().fold(f64::INFINITY, f64::min), defined().fold(f64::NEG_INFINITY, f64::max)));
+    // None where SurfaceTopography defines none (a non-uniform profile with missing points).
+    let height = profile_height(p).ok();
+    let stats = |known: bool| {
+        (p.height_unit_known == known)
+            .then(|| (height.map(|h| h.0), height.map(|h| h.1), range.map(|r| r.0), range.map(|r| r.1)))
+    };
+    let info = ProfileInfo {
+        file: args.read.file,
+        format: p.provenance.format.clone(),
+        kind: "profile",
+        channels,
+        channel: p.channel.clone(),
+        points: p.points(),
+        uniform: p.step().is_some(),
+        position_unit: p.position_unit.clone(),
+        positions_m: p.position_unit_known.then(|| ExtentMetres { length_m: p.length(), step_m: p.step() }),
+        positions_stored: (!p.position_unit_known).then(|| ExtentStored { length: p.length(), step: p.step() }),
+        height_unit: p.provenance.height_unit.clone(),
+        height_unit_known: p.height_unit_known,
+        metres: stats(true).map(|(mean_m, rms_m, min_m, max_m)| MetreStats { mean_m, rms_m, min_m, max_m }),
+        as_stored: stats(false).map(|(mean, rms, min, max)| StoredStats { mean, rms, min, max }),
+        rms_slope: (p.position_unit_known && p.height_unit_known).then(|| profile_rms_slope(p).ok()).flatten(),
+        missing_points: p.missing_points(),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&info).expect("plain data serialises"));
+    } else {
+        print!("{}", profile_summary(&info));
+    }
+    Ok(())
+}
+
 struct Stats {
     mean: f64,
     /// Population standard deviation.
@@ -189,6 +279,61 @@ fn summary(info: &Info) -> String {
         _ => s += "heights      none defined\n",
     }
     s += &format!("missing      {} of {total} points\n", info.missing_points);
+    s
+}
+
+/// The readable form of `info` of a line profile.
+fn profile_summary(info: &ProfileInfo) -> String {
+    let mut s = format!("file         {} ({})\n", info.file.display(), info.format);
+    s += &format!("channel      '{}'\n", info.channel);
+    let uniform = if info.uniform { "uniform positions" } else { "non-uniform positions" };
+    s += &format!("profile      {} points along x, {uniform} (a line profile, not a 2-D map)\n", info.points);
+    s += &match (&info.positions_m, &info.positions_stored) {
+        (Some(ExtentMetres { length_m, step_m: Some(step) }), _) => {
+            format!("length       {} (step {})\n", metres(length_m), metres(step))
+        }
+        (Some(ExtentMetres { length_m, step_m: None }), _) => format!("length       {}\n", metres(length_m)),
+        (_, Some(ExtentStored { length, .. })) => format!(
+            "length       {length:.4e} as stored: the file states no unit for the positions (give it with \
+             --height-unit U)\n"
+        ),
+        _ => String::new(),
+    };
+    s += &match (&info.height_unit, info.height_unit_known) {
+        (Some(u), _) => format!("height unit  {u}\n"),
+        (None, true) => "height unit  given with --height-unit\n".into(),
+        (None, false) => "height unit  unknown: the file states none (give it with --height-unit U)\n".into(),
+    };
+    match (&info.metres, &info.as_stored) {
+        (Some(MetreStats { mean_m, rms_m, min_m: Some(min), max_m: Some(max) }), _) => {
+            match (mean_m, rms_m) {
+                (Some(mean), Some(rms)) => {
+                    s += &format!("mean         {}\n", metres(mean));
+                    s += &format!("rms          {}\n", metres(rms));
+                }
+                _ => s += "rms          none: missing points in a non-uniform profile\n",
+            }
+            s += &format!("min, max     {}, {}\n", metres(min), metres(max));
+        }
+        (_, Some(StoredStats { mean, rms, min: Some(min), max: Some(max) })) => {
+            match (mean, rms) {
+                (Some(mean), Some(rms)) => {
+                    s += &format!("values       as stored, unit unknown: mean {mean:.4e}, rms {rms:.4e}\n")
+                }
+                _ => s += "rms          none: missing points in a non-uniform profile\n",
+            }
+            s += &format!("min, max     {min:.4e}, {max:.4e} (as stored)\n");
+        }
+        _ => s += "heights      none defined\n",
+    }
+    s += &match info.rms_slope {
+        Some(g) => format!("rms slope    {g:.4}\n"),
+        None if info.positions_m.is_some() && info.height_unit_known => {
+            "rms slope    none: missing points in a non-uniform profile\n".into()
+        }
+        None => "rms slope    unknown: needs the units of the positions and the heights\n".into(),
+    };
+    s += &format!("missing      {} of {} points\n", info.missing_points, info.points);
     s
 }
 

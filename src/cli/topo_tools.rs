@@ -6,16 +6,17 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args};
 
-use asperity::output::{check_output_file, write_npy};
+use asperity::output::{check_output_file, write_atomic, write_npy};
 use asperity::quantity::{self, human};
 use asperity::topography::detrend::{Detrend, SphereFit};
-use asperity::topography::io::{read, write_gsf};
+use asperity::topography::io::{read_any, write_gsf};
 use asperity::topography::missing::{fill_missing, refuse_missing};
 use asperity::topography::prepare::Preparation;
+use asperity::topography::profile::Profile;
 use asperity::topography::resample::{crop, resample, CropWindow};
-use asperity::topography::stats::{height_stats, psd, rms_slope, Window};
+use asperity::topography::stats::{height_stats, profile_psd, psd, rms_slope, Window};
 use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
-use asperity::topography::Topography;
+use asperity::topography::{AnyTopography, Topography};
 use asperity::{Error, Result};
 
 use super::{parse_size, ReadArgs};
@@ -56,8 +57,9 @@ impl PrepareArgs {
 pub struct ConvertArgs {
     #[command(flatten)]
     pub read: ReadArgs,
-    /// Output file: heights [m] as a float64 .npy array of shape (ny, nx), or as .gsf (float32,
-    /// with the physical size)
+    /// Output file: a map's heights [m] as a float64 .npy array of shape (ny, nx), or as .gsf
+    /// (float32, with the physical size); a line profile's as .csv or .txt (columns x_m and
+    /// height_m [m], comma- or tab-separated)
     pub out: PathBuf,
     #[command(flatten)]
     pub prepare: PrepareArgs,
@@ -122,15 +124,14 @@ pub struct PsdArgs {
     pub read: ReadArgs,
     #[command(flatten)]
     pub prepare: PrepareArgs,
-    /// Window before the FFT: auto (hann for non-periodic maps, none for periodic ones), hann
-    /// or none
+    /// Window before the FFT: auto (hann for non-periodic maps and for line profiles, none for
+    /// periodic maps), hann or none
     #[arg(long, default_value = "auto", value_parser = ["auto", "hann", "none"])]
     pub window: String,
 }
 
-/// Read and prepare the topography; the fitted sphere when `--detrend sphere`.
-fn prepare(read_args: &ReadArgs, prep: &PrepareArgs) -> Result<(Topography, Option<SphereFit>)> {
-    let mut topo = read(&read_args.file, &read_args.options())?;
+/// Prepare a map; the fitted sphere when `--detrend sphere`.
+fn prepare(mut topo: Topography, prep: &PrepareArgs) -> Result<(Topography, Option<SphereFit>)> {
     // The outputs are heights in metres: a unit the file does not state is never guessed.
     topo.require_metres()?;
     if let Some(window) = &prep.crop {
@@ -156,11 +157,14 @@ fn describe_fit(fit: &SphereFit) -> String {
     )
 }
 
-/// The output format, from the name's extension: .npy (float64) or .gsf (float32).
+/// The output format, from the name's extension: .npy (float64) or .gsf (float32) for a map,
+/// .csv or .txt for a line profile.
 #[derive(Clone, Copy)]
 enum OutFormat {
     Npy,
     Gsf,
+    /// Two columns and a row of their names, separated by this character.
+    Columns(char),
 }
 
 impl OutFormat {
@@ -168,7 +172,29 @@ impl OutFormat {
         match out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
             Some("npy") => Ok(OutFormat::Npy),
             Some("gsf") => Ok(OutFormat::Gsf),
-            _ => Err(Error::invalid("OUT", format!("{}: name it *.npy (float64) or *.gsf (float32)", out.display()))),
+            Some("csv") => Ok(OutFormat::Columns(',')),
+            Some("txt") => Ok(OutFormat::Columns('\t')),
+            _ => Err(Error::invalid(
+                "OUT",
+                format!(
+                    "{}: name it *.npy (float64) or *.gsf (float32), or for a line profile *.csv or *.txt",
+                    out.display()
+                ),
+            )),
+        }
+    }
+
+    /// An error unless this is a map's format: .csv and .txt hold line profiles.
+    fn require_map(self, out: &Path) -> Result<()> {
+        match self {
+            OutFormat::Columns(_) => Err(Error::invalid(
+                "OUT",
+                format!(
+                    "{}: .csv and .txt hold line profiles; name a 2-D map *.npy (float64) or *.gsf (float32)",
+                    out.display()
+                ),
+            )),
+            _ => Ok(()),
         }
     }
 
@@ -176,7 +202,51 @@ impl OutFormat {
         match self {
             OutFormat::Npy => write_npy(out, &topo.heights),
             OutFormat::Gsf => write_gsf(out, topo),
+            OutFormat::Columns(_) => self.require_map(out),
         }
+    }
+
+    /// Write a profile's positions and heights [m], one point a line (shortest round-trip
+    /// digits, `NaN` for a missing height).
+    fn write_profile(self, out: &Path, p: &Profile) -> Result<()> {
+        let OutFormat::Columns(sep) = self else {
+            return Err(Error::invalid(
+                "OUT",
+                format!(
+                    "{}: {} is a line profile, and .npy and .gsf hold 2-D maps: name it *.csv or *.txt",
+                    out.display(),
+                    p.provenance.file.as_deref().unwrap_or(Path::new("the input")).display()
+                ),
+            ));
+        };
+        write_atomic(out, |w| {
+            writeln!(w, "x_m{sep}height_m")?;
+            for (x, h) in p.positions().iter().zip(p.heights()) {
+                writeln!(w, "{x:e}{sep}{h:e}")?;
+            }
+            Ok(())
+        })
+    }
+}
+
+/// The first option of `prep` (or `--pixel-size`) that prepares 2-D maps only, as an error for
+/// the line profile `p`.
+fn refuse_map_options(p: &Profile, prep: &PrepareArgs, pixel_size: Option<f64>) -> Result<()> {
+    let given = [
+        (prep.crop.is_some(), "--crop"),
+        (prep.fill_missing, "--fill-missing"),
+        (prep.detrend != Detrend::None, "--detrend"),
+        (pixel_size.is_some(), "--pixel-size"),
+    ];
+    match given.into_iter().find(|(g, _)| *g) {
+        Some((_, option)) => Err(Error::invalid(
+            option,
+            format!(
+                "{} is a line profile: {option} prepares 2-D maps",
+                p.provenance.file.as_deref().unwrap_or(Path::new("the input")).display()
+            ),
+        )),
+        None => Ok(()),
     }
 }
 
@@ -195,7 +265,25 @@ fn describe(out: &Path, topo: &Topography) -> String {
 pub fn convert(args: ConvertArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
     check_output_file(&args.out, &[&args.read.file])?;
-    let (mut topo, fit) = prepare(&args.read, &args.prepare)?;
+    let topo = match read_any(&args.read.file, &args.read.options())?.0 {
+        AnyTopography::Map(topo) => topo,
+        AnyTopography::Profile(p) => {
+            refuse_map_options(&p, &args.prepare, args.pixel_size)?;
+            p.require_metres()?;
+            refuse_missing_points(&p)?;
+            format.write_profile(&args.out, &p)?;
+            let uniform = if p.step().is_some() { "uniform" } else { "non-uniform" };
+            println!(
+                "wrote {}: a line profile of {} points, {uniform}, {} m long",
+                args.out.display(),
+                p.points(),
+                human(p.length())
+            );
+            return Ok(());
+        }
+    };
+    format.require_map(&args.out)?;
+    let (mut topo, fit) = prepare(topo, &args.prepare)?;
     if let Some(p) = args.pixel_size {
         topo = resample(&topo, p, &args.read.limits.limits())?;
     }
@@ -211,6 +299,7 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
     check_output_file(&args.out, &[])?;
+    format.require_map(&args.out)?;
     args.limits.limits().check_grid(args.grid.0, args.grid.1).map_err(|r| Error::invalid("--grid", r))?;
     let amplitude = match (args.rms, args.rms_slope) {
         (_, Some(g)) => Amplitude::RmsSlope(g),
@@ -243,22 +332,40 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     Ok(())
 }
 
-/// `asperity topo psd`: CSV `q_rad_per_m,psd_m4` on stdout.
-pub fn power_spectrum(args: PsdArgs) -> Result<()> {
-    let (topo, fit) = prepare(&args.read, &args.prepare)?;
-    if let Some(fit) = fit {
-        eprintln!("{}", describe_fit(&fit));
+/// A profile is written whole: the default refusal of missing points, as for a map.
+fn refuse_missing_points(p: &Profile) -> Result<()> {
+    match p.missing_points() {
+        0 => Ok(()),
+        n => Err(p.error(format!("{n} of {} points are missing (a line profile's are not filled)", p.points()))),
     }
+}
+
+/// `asperity topo psd`: CSV `q_rad_per_m,psd_m4` on stdout (of a line profile `psd_m3`).
+pub fn power_spectrum(args: PsdArgs) -> Result<()> {
     let window = match args.window.as_str() {
-        "hann" => Window::Hann,
-        "none" => Window::None,
-        _ => Window::default_for(&topo),
+        "hann" => Some(Window::Hann),
+        "none" => Some(Window::None),
+        _ => None,
     };
-    let spectrum = psd(&topo, window)?;
+    let (spectrum, unit) = match read_any(&args.read.file, &args.read.options())?.0 {
+        AnyTopography::Map(topo) => {
+            let (topo, fit) = prepare(topo, &args.prepare)?;
+            if let Some(fit) = fit {
+                eprintln!("{}", describe_fit(&fit));
+            }
+            (psd(&topo, window.unwrap_or_else(|| Window::default_for(&topo)))?, "m4")
+        }
+        AnyTopography::Profile(p) => {
+            refuse_map_options(&p, &args.prepare, None)?;
+            p.require_metres()?;
+            // A measured profile does not repeat across its ends.
+            (profile_psd(&p, window.unwrap_or(Window::Hann))?, "m3")
+        }
+    };
     // A reader that stops early (`| head`) ends the process by SIGPIPE (see `handle_signals`).
     let write = || -> std::io::Result<()> {
         let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-        writeln!(w, "q_rad_per_m,psd_m4")?;
+        writeln!(w, "q_rad_per_m,psd_{unit}")?;
         for (q, c) in spectrum.q.iter().zip(&spectrum.c) {
             writeln!(w, "{q:e},{c:e}")?;
         }

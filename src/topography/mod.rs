@@ -1,4 +1,5 @@
-//! Topographies: measured or synthetic height maps in metres, ready for the contact solver.
+//! Topographies: measured or synthetic height maps in metres, ready for the contact solver, and
+//! line profiles ([`profile`]), the other kind of topography a file may hold.
 //!
 //! Reading instrument files lives in [`io`], one module per format behind one registry;
 //! preparing them in [`detrend`], [`missing`] and [`resample`] (crop, resample, compound), in
@@ -9,6 +10,7 @@ pub mod detrend;
 pub mod io;
 pub mod missing;
 pub mod prepare;
+pub mod profile;
 pub mod resample;
 pub mod stats;
 pub mod synth;
@@ -17,6 +19,14 @@ pub mod units;
 use std::path::PathBuf;
 
 use ndarray::Array2;
+
+/// What a topography file holds: a 2-D height map or a line profile (SurfaceTopography's `dim`
+/// 2 or 1). What needs a map reads with [`io::read`], which refuses a profile.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyTopography {
+    Map(Topography),
+    Profile(profile::Profile),
+}
 
 /// A height map.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,4 +1,6 @@
-//! Statistics of a topography: height moments, RMS slope, isotropic power spectral density.
+//! Statistics of a topography: height moments, RMS slope, isotropic power spectral density; of a
+//! line profile: its mean, RMS height, RMS slope and power spectral density, as SurfaceTopography
+//! defines them for line scans.
 //!
 //! PSD normalisation (as Jacobs, Junge & Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
 //! (2017), and SurfaceTopography): C(q) = |h̃(q)|² / A with h̃(q) = Σ h(x) e^(−iq·x) dx dy the
@@ -8,7 +10,10 @@
 
 use std::f64::consts::PI;
 
+use realfft::RealFftPlanner;
+
 use super::missing::refuse_missing;
+use super::profile::Profile;
 use super::Topography;
 use crate::error::Result;
 use crate::fft::Fft2;
@@ -113,9 +118,10 @@ impl Window {
 pub struct Psd {
     /// Wavevector |q| [rad/m]: the mean over the modes of each annulus, ascending.
     pub q: Vec<f64>,
-    /// C(q) [m⁴]: the mean over the modes of each annulus.
+    /// C(q) [m⁴]: the mean over the modes of each annulus (of a profile [m³], see
+    /// [`profile_psd`]).
     pub c: Vec<f64>,
-    /// Number of Fourier modes (over the full q plane) in each annulus.
+    /// Number of Fourier modes (over the full q plane) in each annulus (of a profile: ±q).
     pub modes: Vec<usize>,
 }
 
@@ -162,6 +168,113 @@ pub fn psd(topo: &Topography, window: Window) -> Result<Psd> {
         q.push(sq / m as f64);
         c.push(sc / m as f64);
         modes.push(m);
+    }
+    Ok(Psd { q, c, modes })
+}
+
+/// The mean and the RMS height about it (Rq) of a line profile [m, or as stored], as
+/// SurfaceTopography's `mean` and `Rq`: over the defined points of a uniform profile; over the
+/// length of a non-uniform one, the profile linear between its points (so ⟨h⟩ = Σ Δx (h_i +
+/// h_i+1) / 2L and ⟨(h − ⟨h⟩)²⟩ = Σ Δx (a_i² + a_i a_i+1 + a_i+1²) / 3L, a = h − ⟨h⟩), which
+/// needs every point defined.
+pub fn profile_height(p: &Profile) -> Result<(f64, f64)> {
+    let h = p.heights();
+    if p.step().is_some() {
+        let defined = || h.iter().filter(|h| !h.is_nan());
+        let n = defined().count();
+        if n == 0 {
+            return Err(p.error("every point is missing: no statistics"));
+        }
+        // About the first height: a flat profile's mean is then exact.
+        let first = defined().next().copied().unwrap_or(0.0);
+        let mean = first + defined().map(|h| h - first).sum::<f64>() / n as f64;
+        let var = defined().map(|h| (h - mean).powi(2)).sum::<f64>() / n as f64;
+        return Ok((mean, var.sqrt()));
+    }
+    refuse_missing_nonuniform(p)?;
+    let x = p.positions();
+    let length = x[x.len() - 1];
+    let segments = || x.windows(2).zip(h.windows(2)).map(|(x, h)| (x[1] - x[0], h[0], h[1]));
+    let mean = segments().map(|(dx, a, b)| dx * (a + b)).sum::<f64>() / (2.0 * length);
+    let var = segments()
+        .map(|(dx, a, b)| {
+            let (a, b) = (a - mean, b - mean);
+            dx * (a * a + a * b + b * b)
+        })
+        .sum::<f64>()
+        / (3.0 * length);
+    Ok((mean, var.sqrt()))
+}
+
+/// RMS slope (Rdq) of a line profile [1, or as stored when the units differ], as
+/// SurfaceTopography's `Rdq`: of a uniform profile √⟨((h_i+1 − h_i)/dx)²⟩ over the pairs of
+/// neighbouring defined points; of a non-uniform one √(Σ Δh_i²/Δx_i / L), the profile linear
+/// between its points, which needs every point defined.
+pub fn profile_rms_slope(p: &Profile) -> Result<f64> {
+    let h = p.heights();
+    if let Some(dx) = p.step() {
+        let (mut sum, mut pairs) = (0.0, 0usize);
+        for w in h.windows(2).filter(|w| !w[0].is_nan() && !w[1].is_nan()) {
+            sum += ((w[1] - w[0]) / dx).powi(2);
+            pairs += 1;
+        }
+        if pairs == 0 {
+            return Err(p.error("the RMS slope needs two neighbouring defined points"));
+        }
+        return Ok((sum / pairs as f64).sqrt());
+    }
+    refuse_missing_nonuniform(p)?;
+    let x = p.positions();
+    let sum: f64 = x.windows(2).zip(h.windows(2)).map(|(x, h)| (h[1] - h[0]).powi(2) / (x[1] - x[0])).sum();
+    Ok((sum / x[x.len() - 1]).sqrt())
+}
+
+/// SurfaceTopography defines nothing of a non-uniform profile with a missing point (its line
+/// between the neighbours would be a guess).
+fn refuse_missing_nonuniform(p: &Profile) -> Result<()> {
+    match p.missing_points() {
+        0 => Ok(()),
+        n => Err(p.error(format!(
+            "{n} of {} points are missing in a non-uniform profile: no statistics (its line between the \
+             neighbours would be a guess)",
+            p.points()
+        ))),
+    }
+}
+
+/// The power spectral density of a uniform line profile after subtracting its mean and
+/// applying `window`: C(q) = |h̃(q)|² / L [m³] with h̃(q) = Σ h(x) e^(−iqx) dx over the profile
+/// of length L = n·dx (SurfaceTopography's `power_spectrum_from_profile`), at q = 2πk/L for
+/// k = 1 … n/2, C(q) and C(−q) averaged (`modes` counts them: 2, and 1 at q = πn/L for even n),
+/// so that (1/L) Σ modes · C is the variance of the windowed heights. Refuses a non-uniform
+/// profile (its spectrum would need an interpolation) and missing points.
+pub fn profile_psd(p: &Profile, window: Window) -> Result<Psd> {
+    let Some(dx) = p.step() else {
+        return Err(p.error(
+            "the profile is not uniform (its positions are not equally spaced): its spectrum would need an \
+             interpolation, which asperity does not make",
+        ));
+    };
+    let n = p.points();
+    if n < 4 {
+        return Err(p.error(format!("the PSD needs at least 4 points, the profile has {n}")));
+    }
+    match p.missing_points() {
+        0 => {}
+        m => return Err(p.error(format!("{m} of {n} points are missing: the PSD needs every point"))),
+    }
+    let h = p.heights();
+    let mean = h.iter().sum::<f64>() / n as f64;
+    let mut field: Vec<f64> = h.iter().zip(window.weights(n)).map(|(h, w)| (h - mean) * w).collect();
+    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let mut spectrum = fft.make_output_vec();
+    fft.process(&mut field, &mut spectrum).expect("buffers sized by the plan");
+    let length = dx * n as f64;
+    let (mut q, mut c, mut modes) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, z) in spectrum.iter().enumerate().skip(1) {
+        q.push(2.0 * PI * k as f64 / length);
+        c.push((z * dx).norm_sqr() / length);
+        modes.push(if n.is_multiple_of(2) && k == n / 2 { 1 } else { 2 });
     }
     Ok(Psd { q, c, modes })
 }
@@ -294,6 +407,50 @@ pub(crate) mod tests {
         // Without the window the edges leak power and flatten the spectrum.
         let bare = log_slope(&psd(&part, Window::None).unwrap(), range.0, range.1);
         assert!((bare / expected - 1.0).abs() > 0.1, "unwindowed: {bare}");
+    }
+
+    #[test]
+    fn profile_statistics_follow_the_line_between_points() {
+        // Non-uniform x = 0, 1, 3 and h = 0, 1, 1: the line's mean 5/6, variance 1/12, mean
+        // square slope (1 + 0)/3.
+        let p = Profile::new(vec![0.0, 1.0, 3.0], vec![0.0, 1.0, 1.0]).unwrap();
+        let (mean, rms) = profile_height(&p).unwrap();
+        assert!((mean - 5.0 / 6.0).abs() < 1e-15 && (rms - (1.0f64 / 12.0).sqrt()).abs() < 1e-15, "{mean} {rms}");
+        assert!((profile_rms_slope(&p).unwrap() - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
+        // Uniform: the points' own moments; the slope over pairs of defined neighbours only.
+        let p = Profile::new(vec![0.0, 2.0, 4.0, 6.0, 8.0], vec![1.0, 3.0, f64::NAN, 3.0, 7.0]).unwrap();
+        let (mean, rms) = profile_height(&p).unwrap();
+        assert!(mean == 3.5 && (rms - 4.75f64.sqrt()).abs() < 1e-15, "{mean} {rms}");
+        assert!((profile_rms_slope(&p).unwrap() - 2.5f64.sqrt()).abs() < 1e-15);
+        // A non-uniform profile with a missing point has none.
+        let p = Profile::new(vec![0.0, 1.0, 3.0], vec![0.0, f64::NAN, 1.0]).unwrap();
+        assert!(profile_height(&p).unwrap_err().to_string().contains("1 of 3 points are missing in a non-uniform"));
+        assert!(profile_rms_slope(&p).is_err());
+    }
+
+    #[test]
+    fn profile_parseval_and_a_sine_peak() {
+        let (n, dx) = (64, 0.5e-6);
+        let h: Vec<f64> =
+            (0..n).map(|i| 1e-8 * (2.0 * PI * 5.0 * i as f64 / n as f64).sin() + 3e-9 * (i % 3) as f64).collect();
+        let p = Profile::new((0..n).map(|i| i as f64 * dx).collect(), h.clone()).unwrap();
+        let length = dx * n as f64;
+        for window in [Window::None, Window::Hann] {
+            let s = profile_psd(&p, window).unwrap();
+            assert_eq!((s.q.len(), s.modes.iter().sum::<usize>()), (n / 2, n - 1));
+            let total: f64 = s.c.iter().zip(&s.modes).map(|(c, m)| c * *m as f64).sum::<f64>() / length;
+            let mean = h.iter().sum::<f64>() / n as f64;
+            // The variance of the windowed heights (the q = 0 mode is left out).
+            let windowed: Vec<f64> = h.iter().zip(window.weights(n)).map(|(h, w)| (h - mean) * w).collect();
+            let wmean = windowed.iter().sum::<f64>() / n as f64;
+            let direct = windowed.iter().map(|v| (v - wmean).powi(2)).sum::<f64>() / n as f64;
+            assert!((total / direct - 1.0).abs() < 1e-12, "{window:?}: {total} vs {direct}");
+        }
+        let s = profile_psd(&p, Window::None).unwrap();
+        let peak = (0..s.c.len()).max_by(|&a, &b| s.c[a].total_cmp(&s.c[b])).unwrap();
+        assert!((s.q[peak] - 2.0 * PI * 5.0 / length).abs() < 1e-6 * s.q[peak]);
+        let bumpy = Profile::new(vec![0.0, 1.0, 2.5, 3.0, 4.0], vec![0.0; 5]).unwrap();
+        assert!(profile_psd(&bumpy, Window::None).unwrap_err().to_string().contains("not uniform"));
     }
 
     #[test]

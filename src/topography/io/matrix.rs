@@ -42,10 +42,11 @@ impl Format for Matrix {
         &["txt", "asc", "dat", "csv"]
     }
 
-    /// A table of numbers other than three columns (those are x y z points) and without
-    /// Gwyddion's header.
+    /// A table of numbers of more than three columns (two are a line profile's x and height,
+    /// three x y z points) and without Gwyddion's header. A two-column map is read only when
+    /// `--format matrix` says so.
     fn sniff(&self, head: &[u8]) -> bool {
-        text::table_head(head).is_some_and(|t| t.columns >= 2 && (t.columns != 3 || !t.complete))
+        text::table_head(head).is_some_and(|t| t.columns >= 2 && (t.columns > 3 || !t.complete))
             && !GwyddionTxt.sniff(head)
     }
 

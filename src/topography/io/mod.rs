@@ -2,10 +2,12 @@
 //!
 //! The registry picks a file's format from its leading bytes (magic), falling back to its
 //! extension, decodes its channels, and hands back the chosen one as a [`Topography`] in
-//! metres. Each format module knows only its own bytes; paths, options and the choice of
-//! channel are handled here once.
+//! metres, or the line profile a profile format decodes as a [`Profile`]. Each format module
+//! knows only its own bytes; paths, options and the choice of channel are handled here once.
+//! What needs a map reads with [`read`], which refuses a profile by name.
 
 mod binary;
+mod dektak;
 mod gsf;
 mod gwy;
 mod gwyddion_txt;
@@ -15,6 +17,7 @@ mod mi;
 mod nanoscope;
 mod nid;
 pub mod npy;
+mod profile;
 mod sdf;
 mod text;
 mod x3p;
@@ -26,7 +29,8 @@ use std::path::Path;
 
 use ndarray::Array2;
 
-use super::{units, Provenance, Topography};
+use super::profile::Profile;
+use super::{units, AnyTopography, Provenance, Topography};
 use crate::error::{Error, Result};
 use crate::limits::Limits;
 
@@ -72,23 +76,91 @@ pub trait Format: Sync {
     }
 }
 
+/// A line profile as a format decodes it, in the units the file states.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProfileData {
+    /// Name of the heights' column (`"default"` when the file names none).
+    pub name: String,
+    /// Positions along the profile, as stored, increasing.
+    pub positions: Vec<f64>,
+    /// Heights as stored; `NaN` marks a missing point.
+    pub heights: Vec<f64>,
+    /// The positions' and the heights' length units as the file writes them, if it does.
+    pub position_unit: Option<String>,
+    pub height_unit: Option<String>,
+    /// Whether the content says it is a profile rather than a map two points wide (a header, a
+    /// format of profiles, enough rows); an undecided file is read only when `--format` says so.
+    pub decided: bool,
+}
+
+/// A file format that holds a line profile.
+pub trait ProfileFormat: Sync {
+    /// Short name, as `--format` takes it and provenance reports it.
+    fn name(&self) -> &'static str;
+    /// File name endings this format uses, lower case, without the dot.
+    fn extensions(&self) -> &'static [&'static str];
+    /// Whether a file's leading bytes identify this format.
+    fn sniff(&self, head: &[u8]) -> bool;
+    /// Decode the profile. Errors are reasons; the registry adds the path.
+    fn read(&self, bytes: &[u8]) -> std::result::Result<ProfileData, String>;
+}
+
+/// A format of the registry: of maps (channels) or of a line profile.
+#[derive(Clone, Copy)]
+enum Reader {
+    Map(&'static dyn Format),
+    Profile(&'static dyn ProfileFormat),
+}
+
+impl Reader {
+    fn name(self) -> &'static str {
+        match self {
+            Reader::Map(f) => f.name(),
+            Reader::Profile(f) => f.name(),
+        }
+    }
+
+    fn extensions(self) -> &'static [&'static str] {
+        match self {
+            Reader::Map(f) => f.extensions(),
+            Reader::Profile(f) => f.extensions(),
+        }
+    }
+
+    fn sniff(self, head: &[u8]) -> bool {
+        match self {
+            Reader::Map(f) => f.sniff(head),
+            Reader::Profile(f) => f.sniff(head),
+        }
+    }
+}
+
 /// Every format, in the order magic bytes are tried (most specific first).
-static FORMATS: &[&dyn Format] = &[
-    &npy::Npy,
-    &gwy::Gwy,
-    &nanoscope::Nanoscope,
-    &nid::Nid,
-    &mi::Mi,
-    &x3p::X3p,
-    &ibw::Ibw,
-    // Text formats after the binary ones; among them, a Gwyddion header before x y z points
-    // (tables of three columns) before any other table of numbers.
-    &gsf::Gsf,
-    &sdf::Sdf,
-    &gwyddion_txt::GwyddionTxt,
-    &xyz::Xyz,
-    &matrix::Matrix,
+static FORMATS: &[Reader] = &[
+    Reader::Map(&npy::Npy),
+    Reader::Map(&gwy::Gwy),
+    Reader::Map(&nanoscope::Nanoscope),
+    Reader::Map(&nid::Nid),
+    Reader::Map(&mi::Mi),
+    Reader::Map(&x3p::X3p),
+    Reader::Map(&ibw::Ibw),
+    // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
+    // before x y z points (tables of three columns) and profiles (of two) before any other
+    // table of numbers.
+    Reader::Map(&gsf::Gsf),
+    Reader::Map(&sdf::Sdf),
+    Reader::Map(&gwyddion_txt::GwyddionTxt),
+    Reader::Profile(&dektak::Dektak),
+    Reader::Map(&xyz::Xyz),
+    Reader::Profile(&profile::ProfileText),
+    Reader::Map(&matrix::Matrix),
 ];
+
+/// What a file decodes to, with the format that decoded it.
+enum Decoded {
+    Maps(&'static dyn Format, Vec<Channel>),
+    Profile(&'static dyn ProfileFormat, ProfileData),
+}
 
 /// How to read a file: all fields optional.
 #[derive(Debug, Clone, Default)]
@@ -111,52 +183,171 @@ pub fn format_names() -> Vec<&'static str> {
     FORMATS.iter().map(|f| f.name()).collect()
 }
 
-/// The format of the file at `path` with contents `bytes`.
-fn detect(path: &Path, bytes: &[u8], forced: Option<&str>) -> Result<&'static dyn Format> {
+/// The format of the file at `path` with contents `bytes`, and whether `--format` forced it.
+fn detect(path: &Path, bytes: &[u8], forced: Option<&str>) -> Result<(Reader, bool)> {
     if let Some(name) = forced {
-        return FORMATS.iter().copied().find(|f| f.name() == name).ok_or_else(|| {
+        return FORMATS.iter().copied().find(|f| f.name() == name).map(|f| (f, true)).ok_or_else(|| {
             Error::invalid("--format", format!("unknown format '{name}' (known: {})", format_names().join(", ")))
         });
     }
     let head = &bytes[..bytes.len().min(4096)];
     if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff(head)) {
-        return Ok(f);
+        return Ok((f, false));
     }
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())).ok_or_else(|| {
+    FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())).map(|f| (f, false)).ok_or_else(|| {
         Error::file(path, format!("not a topography file asperity can read (formats: {})", format_names().join(", ")))
     })
 }
 
 /// Read the file at `path` and decode all its channels (within the default [`Limits`]);
-/// returns the format's name with them.
+/// returns the format's name with them. A line profile has no channels: it is refused.
 pub fn read_channels(path: &Path, format: Option<&str>) -> Result<(&'static str, Vec<Channel>)> {
-    decode(path, format, &Limits::default()).map(|(fmt, channels)| (fmt.name(), channels))
+    match decode(path, format, &Limits::default())?.1 {
+        Decoded::Maps(fmt, channels) => Ok((fmt.name(), channels)),
+        Decoded::Profile(_, p) => Err(Error::file(
+            path,
+            format!("a line profile ({} points along x), not a map of channels", p.heights.len()),
+        )),
+    }
 }
 
-/// The format of the file at `path` and its channels, each grid within `limits`.
-fn decode(path: &Path, format: Option<&str>, limits: &Limits) -> Result<(&'static dyn Format, Vec<Channel>)> {
+/// Whether `--format` forced the format of the file at `path`, and what the file holds, each
+/// grid within `limits`.
+fn decode(path: &Path, format: Option<&str>, limits: &Limits) -> Result<(bool, Decoded)> {
     let bytes = limits.read_file(path)?;
-    let fmt = detect(path, &bytes, format)?;
-    let channels = fmt.read_within(&bytes, limits).map_err(|reason| Error::file(path, reason))?;
-    if channels.is_empty() {
-        return Err(Error::file(path, "the file holds no data channel"));
-    }
-    if let Some(reason) = channels.iter().find_map(|c| limits.check_grid(c.data.ncols(), c.data.nrows()).err()) {
-        return Err(Error::file(path, reason));
-    }
-    Ok((fmt, channels))
+    let (reader, forced) = detect(path, &bytes, format)?;
+    let decoded = match reader {
+        Reader::Map(fmt) => {
+            let channels = fmt.read_within(&bytes, limits).map_err(|reason| Error::file(path, reason))?;
+            if channels.is_empty() {
+                return Err(Error::file(path, "the file holds no data channel"));
+            }
+            if let Some(reason) = channels.iter().find_map(|c| limits.check_grid(c.data.ncols(), c.data.nrows()).err())
+            {
+                return Err(Error::file(path, reason));
+            }
+            Decoded::Maps(fmt, channels)
+        }
+        Reader::Profile(fmt) => {
+            let data = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+            limits.check_grid(data.heights.len(), 1).map_err(|reason| Error::file(path, reason))?;
+            Decoded::Profile(fmt, data)
+        }
+    };
+    Ok((forced, decoded))
 }
 
-/// Read one channel of the file at `path` as a topography in metres.
+/// Read one channel of the file at `path` as a 2-D map in metres; a line profile is refused
+/// naming the file ([`read_listing`]).
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<Topography> {
     read_listing(path, opts).map(|(topo, _)| topo)
 }
 
-/// Read one channel of the file at `path` as a topography in metres, with the names of all
-/// the file's channels.
+/// Read one channel of the file at `path` as a 2-D map in metres, with the names of all the
+/// file's channels. The one gate of what needs a map (contact, sliding, the study): a line
+/// profile is refused naming the file, before any option is applied to it, and never reshaped
+/// into a map.
 pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<String>)> {
-    let (fmt, mut channels) = decode(path, opts.format.as_deref(), &opts.limits)?;
+    match decode(path, opts.format.as_deref(), &opts.limits)? {
+        (_, Decoded::Maps(fmt, channels)) => map(path, fmt, channels, opts),
+        (forced, Decoded::Profile(_, data)) => {
+            decided(path, forced, &data)?;
+            Err(Error::file(
+                path,
+                format!(
+                    "a line profile ({} points along x), not a 2-D map: contact needs a 2-D map of heights \
+                     (topo info, topo psd and topo convert read profiles)",
+                    data.heights.len()
+                ),
+            ))
+        }
+    }
+}
+
+/// Read the file at `path` as what it holds, a 2-D map (one channel, in metres) or a line
+/// profile, with the names of all its channels.
+pub fn read_any(path: &Path, opts: &ReadOptions) -> Result<(AnyTopography, Vec<String>)> {
+    match decode(path, opts.format.as_deref(), &opts.limits)? {
+        (_, Decoded::Maps(fmt, channels)) => {
+            map(path, fmt, channels, opts).map(|(map, names)| (AnyTopography::Map(map), names))
+        }
+        (forced, Decoded::Profile(fmt, data)) => {
+            decided(path, forced, &data)?;
+            let names = vec![data.name.clone()];
+            profile(path, fmt.name(), data, opts).map(|p| (AnyTopography::Profile(p), names))
+        }
+    }
+}
+
+/// A two-column table whose content leaves open whether it is a profile or a map two points
+/// wide is refused unless `--format` said which.
+fn decided(path: &Path, forced: bool, data: &ProfileData) -> Result<()> {
+    if forced || data.decided {
+        return Ok(());
+    }
+    Err(Error::file(
+        path,
+        format!(
+            "a two-column table of {} rows could be a line profile or a map 2 points wide: say which with \
+             --format profile or --format matrix",
+            data.heights.len()
+        ),
+    ))
+}
+
+/// The line profile of `data` read from `path` by `format`, positions and heights in metres
+/// when their units are known: the file's, else `--height-unit` for each the file leaves
+/// without (SurfaceTopography's one unit of a line scan).
+fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> Result<Profile> {
+    if opts.physical_size.is_some() {
+        return Err(Error::invalid(
+            "--size",
+            format!("{} is a line profile: its positions give its length", path.display()),
+        ));
+    }
+    if let Some(c) = opts.channel.as_deref().filter(|&c| c != data.name && c != "0") {
+        return Err(Error::file(path, format!("no channel '{c}' (channels: '{}')", data.name)));
+    }
+    let user = match opts.height_unit.as_deref() {
+        Some(_) if data.height_unit.is_some() => {
+            return Err(Error::invalid("--height-unit", format!("{} states its own height unit", path.display())));
+        }
+        Some(u) => Some((
+            u.to_string(),
+            units::metres_per(u)
+                .ok_or_else(|| Error::invalid("--height-unit", format!("'{u}' is not a length unit")))?,
+        )),
+        None => None,
+    };
+    // A stated unit is a length (the readers take only those); the user's applies to what the
+    // file leaves without one.
+    let unit = |stated: Option<String>| match stated {
+        Some(u) => {
+            let metres = profile::metres_per(&u).expect("readers state length units only");
+            (Some(u), Some(metres))
+        }
+        None => (user.as_ref().map(|(u, _)| u.clone()), user.as_ref().map(|(_, m)| *m)),
+    };
+    let (position_unit, x_scale) = unit(data.position_unit);
+    let (height_unit, z_scale) = unit(data.height_unit);
+    let mut p = Profile::new(data.positions, data.heights).map_err(|reason| Error::file(path, reason))?;
+    p.scale(x_scale.unwrap_or(1.0), z_scale.unwrap_or(1.0));
+    p.position_unit_known = x_scale.is_some();
+    p.height_unit_known = z_scale.is_some();
+    p.position_unit = position_unit;
+    p.channel = data.name;
+    p.provenance = Provenance { file: Some(path.to_path_buf()), format: format.to_string(), height_unit };
+    Ok(p)
+}
+
+/// One channel of a map file as a topography in metres, with the names of all its channels.
+fn map(
+    path: &Path,
+    fmt: &dyn Format,
+    mut channels: Vec<Channel>,
+    opts: &ReadOptions,
+) -> Result<(Topography, Vec<String>)> {
     let names = channels.iter().map(|c| c.name.clone()).collect();
     let index = choose_channel(&channels, opts.channel.as_deref()).map_err(|r| Error::file(path, r))?;
     let mut ch = channels.swap_remove(index);

@@ -9,9 +9,18 @@ use ndarray::Array2;
 
 use crate::topography::units;
 
-/// The file as text: UTF-8, or else Latin-1 (older Windows exports write `µ` as the single
-/// byte 0xB5). A NUL byte means binary data, not text.
+/// The file as text: UTF-16 after its byte order mark (Windows exports of CSV tables), UTF-8
+/// (a byte order mark dropped), or else Latin-1 (older Windows exports write `µ` as the single
+/// byte 0xB5). A NUL character means binary data, not text.
 pub(super) fn decode(bytes: &[u8]) -> Result<Cow<'_, str>, String> {
+    if let Some(text) = utf16(bytes, false) {
+        let text = text?;
+        if text.contains('\0') {
+            return Err("binary data (a NUL character in UTF-16 text) where text was expected".into());
+        }
+        return Ok(Cow::Owned(text));
+    }
+    let bytes = bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes);
     if let Some(at) = bytes.iter().position(|&b| b == 0) {
         return Err(format!("binary data (a NUL byte at offset {at}) where text was expected"));
     }
@@ -24,6 +33,10 @@ pub(super) fn decode(bytes: &[u8]) -> Result<Cow<'_, str>, String> {
 /// The leading bytes a format is sniffed from, as text; `None` for binary data. The head may
 /// end inside a multi-byte character: that tail is dropped.
 pub(super) fn decode_head(head: &[u8]) -> Option<Cow<'_, str>> {
+    if let Some(text) = utf16(head, true) {
+        return text.ok().filter(|t| !t.contains('\0')).map(Cow::Owned);
+    }
+    let head = head.strip_prefix(UTF8_BOM).unwrap_or(head);
     if head.contains(&0) {
         return None;
     }
@@ -32,6 +45,26 @@ pub(super) fn decode_head(head: &[u8]) -> Option<Cow<'_, str>> {
         Err(e) if e.error_len().is_none() => Some(Cow::Borrowed(std::str::from_utf8(&head[..e.valid_up_to()]).ok()?)),
         Err(_) => Some(Cow::Owned(head.iter().map(|&b| char::from(b)).collect())),
     }
+}
+
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// The text of UTF-16 `bytes` that start with a byte order mark (`None` without one); a `head`
+/// may end inside a character, whose tail is then dropped.
+fn utf16(bytes: &[u8], head: bool) -> Option<Result<String, String>> {
+    let unit: fn([u8; 2]) -> u16 = match bytes {
+        [0xFF, 0xFE, ..] => u16::from_le_bytes,
+        [0xFE, 0xFF, ..] => u16::from_be_bytes,
+        _ => return None,
+    };
+    if !head && bytes.len() % 2 == 1 {
+        return Some(Err("UTF-16 text of an odd number of bytes: the file is cut".into()));
+    }
+    let mut units: Vec<u16> = bytes[2..].chunks_exact(2).map(|p| unit([p[0], p[1]])).collect();
+    if head && units.last().is_some_and(|u| (0xD800..0xDC00).contains(u)) {
+        units.pop();
+    }
+    Some(String::from_utf16(&units).map_err(|_| "invalid UTF-16 text (a lone surrogate)".to_string()))
 }
 
 /// A line shortened for an error message.
@@ -330,6 +363,15 @@ mod tests {
             ("sdf-1.sdf", "sdf"),
             ("wafer-roughness.gsf", "gsf"),
             ("example-2d.npy", "npy"),
+            ("xy-1.txt", "profile"),
+            ("xy-2.txt", "profile"),
+            ("xy-5.txt", "profile"),
+            ("nonuniform.asc", "profile"),
+            ("opdx-3.txt", "profile"),
+            ("csv-1.csv", "profile"),
+            ("csv-2.csv", "profile"),
+            ("csv-3.csv", "profile"),
+            ("dektak-1.csv", "dektak"),
         ];
         for (file, format) in expected {
             let bytes = testing::sample(file);
@@ -345,6 +387,22 @@ mod tests {
             let bytes = testing::sample(file);
             assert!(super::super::FORMATS.iter().all(|f| !f.sniff(&bytes)), "{file}");
         }
+    }
+
+    #[test]
+    fn utf16_and_byte_order_marks() {
+        let le: Vec<u8> = [0xFF, 0xFE].into_iter().chain("µm,1\n".encode_utf16().flat_map(u16::to_le_bytes)).collect();
+        let be: Vec<u8> = [0xFE, 0xFF].into_iter().chain("µm,1\n".encode_utf16().flat_map(u16::to_be_bytes)).collect();
+        assert_eq!(decode(&le).unwrap(), "µm,1\n");
+        assert_eq!(decode(&be).unwrap(), "µm,1\n");
+        assert_eq!(decode(b"\xEF\xBB\xBF1 2\n").unwrap(), "1 2\n");
+        // A head cut inside a character keeps what came before it; a whole file may not be cut.
+        assert_eq!(decode_head(&le[..le.len() - 1]).unwrap(), "µm,1");
+        assert!(decode(&le[..le.len() - 1]).unwrap_err().contains("odd number of bytes"));
+        let nul: Vec<u8> = [0xFF, 0xFE, b'1', 0, 0, 0].to_vec();
+        assert!(decode(&nul).unwrap_err().contains("NUL character"));
+        assert!(decode_head(&nul).is_none());
+        assert!(decode(&[0xFF, 0xFE, 0x00, 0xD8]).unwrap_err().contains("lone surrogate"));
     }
 
     #[test]

@@ -1,0 +1,90 @@
+//! Bruker Dektak stylus profilometers' CSV export: `Scan Parameters` and `Analytical Results`
+//! as `key,value` lines, then `Scan Data`, a row of column names with their units and the
+//! profile, one point a line:
+//!
+//! ```text
+//! Scan Parameters
+//! Length,1500.0 um
+//! Resolution,0.156 um/sample
+//! …
+//! Scan Data
+//!
+//! Lateral um,Raw Micrometer,
+//! 0.0,-0.00933,,
+//! ```
+//!
+//! Latin-1 text (`µ` is the byte 0xB5); the positions are rounded to 0.1 µm, so the profile is
+//! rarely uniform.
+
+use super::profile;
+use super::text;
+use super::{ProfileData, ProfileFormat};
+
+pub struct Dektak;
+
+const MAGIC: &str = "Scan Parameters";
+
+impl ProfileFormat for Dektak {
+    fn name(&self) -> &'static str {
+        "dektak"
+    }
+
+    /// None: the export's first line tells it apart from any other CSV file.
+    fn extensions(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    fn sniff(&self, head: &[u8]) -> bool {
+        text::decode_head(head).is_some_and(|t| t.trim_start().starts_with(MAGIC))
+    }
+
+    fn read(&self, bytes: &[u8]) -> Result<ProfileData, String> {
+        let text = text::decode(bytes)?;
+        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+        if !lines.by_ref().any(|(_, l)| l.trim() == "Scan Data") {
+            return Err("a Dektak export without its 'Scan Data' section".into());
+        }
+        let mut data = profile::table(lines)?;
+        // The export's format says it is a profile, however short.
+        data.decided = true;
+        Ok(data)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::super::text::testing;
+    use super::*;
+
+    #[test]
+    fn reads_the_scan_data_with_its_units() {
+        let p = Dektak.read(&testing::sample("dektak-1.csv")).unwrap();
+        assert_eq!(p.positions.len(), 9600);
+        assert_eq!((p.positions[1], p.heights[1]), (0.2, -0.00760));
+        assert_eq!((p.positions[9599], p.heights[9599]), (1499.8, 16.58112));
+        assert_eq!((p.position_unit.as_deref(), p.height_unit.as_deref()), (Some("um"), Some("Micrometer")));
+        assert_eq!(p.name, "Raw Micrometer");
+        assert!(Dektak.sniff(&testing::sample("dektak-1.csv")));
+    }
+
+    #[test]
+    fn a_cut_export_is_refused() {
+        assert_eq!(
+            Dektak.read(b"Scan Parameters\nLength,1 um\n").unwrap_err(),
+            "a Dektak export without its 'Scan Data' section"
+        );
+        let e = Dektak.read(b"Scan Parameters\nScan Data\n\nLateral um,Raw Micrometer,\n").unwrap_err();
+        assert!(e.contains("no row of numbers"), "{e}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+        #[test]
+        fn mutated_sample_never_panics(edits in testing::edits()) {
+            let bytes = testing::apply(testing::sample("dektak-1.csv")[..4000].to_vec(), &edits);
+            prop_assert!(testing::one_line(&Dektak.read(&bytes)));
+        }
+    }
+}

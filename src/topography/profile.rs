@@ -1,0 +1,180 @@
+//! Line profiles: heights along one line (stylus profilometers, two-column exports), the kind of
+//! topography beside the 2-D map ([`super::Topography`]), with statistics and a spectrum of its
+//! own ([`super::stats`]). A profile is never reshaped into a map: what needs a map refuses it
+//! ([`super::io::read`]).
+//!
+//! As SurfaceTopography's line scans: the positions start at 0 (the first point); a profile is
+//! uniform when its positions lie on an equally spaced grid, and its length is then the number of
+//! points times the step (each point stands for one step), otherwise the distance from the first
+//! point to the last.
+
+use super::Provenance;
+use crate::error::Error;
+
+/// How far positions may lie from an equally spaced grid and still be uniform, as a fraction of
+/// the profile's length. SurfaceTopography's tolerance is 1e-6 in the file's unit; relative to
+/// the length it is the same for a profile about one unit long, and does not depend on the unit.
+const UNIFORM: f64 = 1e-6;
+
+/// A line profile.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    /// Positions [m] (as stored when `position_unit_known` is false), strictly increasing, the
+    /// first 0.
+    positions: Vec<f64>,
+    /// Heights [m] (as stored when `height_unit_known` is false); `NaN` marks a missing point.
+    heights: Vec<f64>,
+    /// The grid step when the positions are equally spaced.
+    step: Option<f64>,
+    /// Whether the positions are known to be metres (the file states their unit, or the user).
+    pub position_unit_known: bool,
+    /// Whether the heights are known to be metres.
+    pub height_unit_known: bool,
+    /// The positions' unit as the file states it, `None` when it states none.
+    pub position_unit: Option<String>,
+    /// Name of the column the heights come from.
+    pub channel: String,
+    /// Where the heights come from (`height_unit`: as the file states it).
+    pub provenance: Provenance,
+}
+
+impl Profile {
+    /// A profile of `heights` at `positions` (any origin; shifted to start at 0), both in
+    /// unknown units until the caller says otherwise. The reason when there are fewer than two
+    /// points, the lengths differ, or the positions are not finite and strictly increasing.
+    pub fn new(mut positions: Vec<f64>, heights: Vec<f64>) -> Result<Profile, String> {
+        if positions.len() != heights.len() {
+            return Err(format!("{} positions for {} heights", positions.len(), heights.len()));
+        }
+        let n = positions.len();
+        if n < 2 {
+            return Err(format!("a line profile needs at least 2 points, not {n}"));
+        }
+        if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
+            return Err(format!("point {} has no position (x = {})", i + 1, positions[i]));
+        }
+        if let Some(i) = positions.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(format!(
+                "point {} (x = {}) does not lie beyond point {} (x = {}): positions must increase",
+                i + 2,
+                positions[i + 1],
+                i + 1,
+                positions[i]
+            ));
+        }
+        let origin = positions[0];
+        positions.iter_mut().for_each(|x| *x -= origin);
+        let end = positions[n - 1];
+        let step = end / (n - 1) as f64;
+        let uniform = positions.windows(2).all(|w| ((w[1] - w[0]) - step).abs() < UNIFORM * end);
+        Ok(Profile {
+            positions,
+            heights,
+            step: uniform.then_some(step),
+            position_unit_known: false,
+            height_unit_known: false,
+            position_unit: None,
+            channel: "default".into(),
+            provenance: Provenance::default(),
+        })
+    }
+
+    /// Number of points (at least 2).
+    pub fn points(&self) -> usize {
+        self.heights.len()
+    }
+
+    /// Positions [m, or as stored], the first 0.
+    pub fn positions(&self) -> &[f64] {
+        &self.positions
+    }
+
+    /// Heights [m, or as stored]; `NaN` marks a missing point.
+    pub fn heights(&self) -> &[f64] {
+        &self.heights
+    }
+
+    /// The grid step [m, or as stored] of a uniform profile; `None` when the positions are not
+    /// equally spaced.
+    pub fn step(&self) -> Option<f64> {
+        self.step
+    }
+
+    /// The length [m, or as stored]: points × step when uniform, else last position − first.
+    pub fn length(&self) -> f64 {
+        match self.step {
+            Some(step) => step * self.points() as f64,
+            None => self.positions[self.points() - 1],
+        }
+    }
+
+    /// Multiply the positions by `positions` and the heights by `heights` (a change of unit).
+    pub fn scale(&mut self, positions: f64, heights: f64) {
+        self.positions.iter_mut().for_each(|x| *x *= positions);
+        self.step = self.step.map(|s| s * positions);
+        self.heights.iter_mut().for_each(|h| *h *= heights);
+    }
+
+    /// Number of missing (`NaN`) points.
+    pub fn missing_points(&self) -> usize {
+        self.heights.iter().filter(|h| h.is_nan()).count()
+    }
+
+    /// An error about this profile: names its file when it was read from one.
+    pub fn error(&self, reason: impl Into<String>) -> Error {
+        match &self.provenance.file {
+            Some(path) => Error::file(path, reason),
+            None => Error::invalid(format!("{} profile", self.provenance.format), reason),
+        }
+    }
+
+    /// An error naming the file unless positions and heights are both known to be metres.
+    pub fn require_metres(&self) -> crate::error::Result<()> {
+        match (self.position_unit_known, self.height_unit_known) {
+            (true, true) => Ok(()),
+            (true, false) => {
+                Err(self.error("the file states no unit for the heights: give it with --height-unit U, e.g. nm or µm"))
+            }
+            (false, true) => Err(self.error("the file states no unit for the positions along the profile")),
+            (false, false) => Err(self.error(
+                "the file states no length unit: give it with --height-unit U (the unit of the positions and \
+                 the heights), e.g. nm or µm",
+            )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positions_start_at_zero_and_uniformity_is_relative() {
+        let p = Profile::new(vec![10.0, 11.0, 12.0, 13.0], vec![0.0; 4]).unwrap();
+        assert_eq!(p.positions(), [0.0, 1.0, 2.0, 3.0]);
+        assert_eq!((p.step(), p.length()), (Some(1.0), 4.0));
+        // Printed to seven significant digits, a uniform grid stays uniform in any unit; steps
+        // of 99 and 100 are not.
+        for unit in [1.0, 1e-6, 1e3] {
+            let x: Vec<f64> = (0..50).map(|i| format!("{:.6e}", unit * f64::from(i) / 7.0).parse().unwrap()).collect();
+            assert!(Profile::new(x, vec![0.0; 50]).unwrap().step().is_some(), "unit {unit}");
+            let x: Vec<f64> = (0..50).map(|i| unit * f64::from(100 * i - i % 2)).collect();
+            assert!(Profile::new(x, vec![0.0; 50]).unwrap().step().is_none(), "unit {unit}");
+        }
+        let p = Profile::new(vec![0.0, 1.0, 2.5, 3.0], vec![1.0; 4]).unwrap();
+        assert_eq!((p.step(), p.length()), (None, 3.0));
+        let mut p = Profile::new(vec![0.0, 1.0, 2.0], vec![1.0, 2.0, 3.0]).unwrap();
+        p.scale(1e-6, 1e-9);
+        assert_eq!((p.step(), p.heights()[2], p.length()), (Some(1e-6), 3.0 * 1e-9, 3e-6));
+    }
+
+    #[test]
+    fn positions_must_increase() {
+        let e = Profile::new(vec![0.0, 2.0, 1.0], vec![0.0; 3]).unwrap_err();
+        assert_eq!(e, "point 3 (x = 1) does not lie beyond point 2 (x = 2): positions must increase");
+        assert!(Profile::new(vec![0.0, 0.0], vec![0.0; 2]).is_err());
+        assert!(Profile::new(vec![0.0, f64::NAN], vec![0.0; 2]).is_err());
+        assert!(Profile::new(vec![0.0, f64::INFINITY], vec![0.0; 2]).is_err());
+        assert!(Profile::new(vec![0.0], vec![0.0]).unwrap_err().contains("at least 2 points"));
+    }
+}

@@ -1,0 +1,159 @@
+//! Line profiles on the command line: never read as a 2-D map. What needs a map (contact, slide,
+//! a study) refuses a profile in one line naming the file; `topo psd` gives a uniform profile's
+//! 1-D spectrum (SurfaceTopography's values), `topo convert` writes it as two columns; a
+//! two-column table too short to tell a profile from a map is refused with a `--format` hint.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+
+/// Exit success, stdout, stderr of `asperity ARGS` run in `dir`.
+fn asperity(args: &[&str], dir: &Path) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(dir).output().unwrap();
+    (out.status.success(), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
+}
+
+/// The one-line error of a refused command.
+fn refusal(args: &[&str], dir: &Path) -> String {
+    let (ok, _, stderr) = asperity(args, dir);
+    assert!(!ok, "{args:?} must be refused");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+    stderr
+}
+
+fn data(name: &str) -> String {
+    common::sample(name).to_str().unwrap().to_string()
+}
+
+#[test]
+fn what_needs_a_map_refuses_a_profile_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for file in ["xy-4.txt", "dektak-1.csv", "csv-2.csv"] {
+        let path = data(file);
+        for args in [
+            vec!["contact", &path, "--load", "1mN", "--out", "c"],
+            vec!["contact", &path, "--size", "1e-3", "--height-unit", "um", "--load", "1mN", "--out", "c"],
+            vec!["slide", &path, "--load", "1mN", "--mu-s", "0.5", "--mu-d", "0.3", "--out", "s"],
+        ] {
+            let e = refusal(&args, d);
+            assert!(e.contains(file) && e.contains("a line profile") && e.contains("contact needs a 2-D map"), "{e}");
+        }
+        std::fs::write(
+            d.join("study.toml"),
+            format!("[[topography]]\nname = \"p\"\nfile = \"{path}\"\n[loads]\nvalues = [\"1 mN\"]\n"),
+        )
+        .unwrap();
+        let e = refusal(&["run", "study.toml", "--quick", "--out", "r"], d);
+        assert!(e.contains(file) && e.contains("a line profile"), "{e}");
+        assert!(!d.join("c").exists() && !d.join("s").exists() && !d.join("r").exists());
+    }
+}
+
+#[test]
+fn the_content_decides_and_an_open_case_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Two rows could be a profile of 2 points or a map 2 points wide.
+    std::fs::write(d.join("short.txt"), "1 2\n3 4\n").unwrap();
+    let e = refusal(&["topo", "info", "short.txt"], d);
+    assert!(e.contains("short.txt") && e.contains("--format profile or --format matrix"), "{e}");
+    let e = refusal(&["contact", "short.txt", "--size", "1e-6", "--load", "1mN", "--out", "c"], d);
+    assert!(e.contains("--format profile or --format matrix"), "{e}");
+    let info = |args: &[&str]| -> Value {
+        let (ok, out, err) = asperity(&[&["topo", "info", "--json"], args].concat(), d);
+        assert!(ok, "{args:?}: {err}");
+        serde_json::from_str(&out).unwrap()
+    };
+    let map = info(&["short.txt", "--format", "matrix"]);
+    assert_eq!((&map["kind"], &map["nx"], &map["ny"]), (&Value::from("map"), &Value::from(2), &Value::from(2)));
+    let profile = info(&["short.txt", "--format", "profile"]);
+    assert_eq!((&profile["kind"], &profile["points"], &profile["length"]), (&"profile".into(), &2.into(), &4.0.into()));
+    // A first column that does not increase is no profile: refused, a map with --format matrix.
+    std::fs::write(d.join("map.txt"), "0 1\n2 1\n1 1\n4 1\n5 1\n").unwrap();
+    let e = refusal(&["topo", "info", "map.txt"], d);
+    assert!(e.contains("line 3: x = 1 does not increase") && e.contains("--format matrix"), "{e}");
+    assert_eq!(info(&["map.txt", "--format", "matrix"])["ny"], 5);
+    // Four rows of increasing x, or a header naming the columns, decide.
+    std::fs::write(d.join("four.txt"), "0 1\n1 2\n2 1\n3 2\n").unwrap();
+    std::fs::write(d.join("named.csv"), "x [um],z [nm]\n0,1\n1,2\n").unwrap();
+    assert_eq!(info(&["four.txt"])["points"], 4);
+    let named = info(&["named.csv"]);
+    assert_eq!((&named["length_m"], &named["max_m"]), (&Value::from(2e-6), &Value::from(2e-9)));
+}
+
+#[test]
+fn psd_of_a_uniform_profile_is_surface_topographys() {
+    let manifest: Value = serde_json::from_slice(&std::fs::read(common::sample("manifest.json")).unwrap()).unwrap();
+    let entry = manifest["files"].as_array().unwrap().iter().find(|e| e["file"] == "xy-4.txt").unwrap();
+    let st = &entry["surface_topography"]["power_spectrum_from_profile_no_window"];
+    let scale = entry["metres_per_unit"].as_f64().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let (ok, out, err) =
+        asperity(&["topo", "psd", &data("xy-4.txt"), "--height-unit", "mm", "--window", "none"], dir.path());
+    assert!(ok, "{err}");
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("q_rad_per_m,psd_m3"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let (q, c) = l.split_once(',').unwrap();
+            (q.parse().unwrap(), c.parse().unwrap())
+        })
+        .collect();
+    assert_eq!(rows.len(), 10001 / 2);
+    for (i, k) in st["k"].as_array().unwrap().iter().enumerate() {
+        let (q, c) = rows[k.as_u64().unwrap() as usize - 1];
+        let (want_q, want_c) = (st["q"][i].as_f64().unwrap() / scale, st["C"][i].as_f64().unwrap() * scale.powi(3));
+        assert!(
+            (q / want_q - 1.0).abs() < 1e-9 && (c / want_c - 1.0).abs() < 1e-9,
+            "k = {k}: {q} {c} vs {want_q} {want_c}"
+        );
+    }
+    // A non-uniform profile has no spectrum without an interpolation; a unit must be known.
+    let e = refusal(&["topo", "psd", &data("dektak-1.csv")], dir.path());
+    assert!(e.contains("dektak-1.csv") && e.contains("not uniform"), "{e}");
+    let e = refusal(&["topo", "psd", &data("xy-4.txt")], dir.path());
+    assert!(e.contains("states no length unit"), "{e}");
+}
+
+#[test]
+fn convert_writes_a_profile_as_two_columns_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let info = |file: &str| -> Value {
+        let (ok, out, err) = asperity(&["topo", "info", "--json", file], d);
+        assert!(ok, "{err}");
+        serde_json::from_str(&out).unwrap()
+    };
+    let source = info(&data("dektak-1.csv"));
+    for out in ["p.csv", "p.txt"] {
+        let (ok, _, err) = asperity(&["topo", "convert", &data("dektak-1.csv"), out], d);
+        assert!(ok, "{err}");
+        let copy = info(out);
+        for key in ["points", "uniform", "length_m", "mean_m", "rms_m", "rms_slope", "min_m", "max_m"] {
+            assert_eq!(copy[key], source[key], "{out}: {key}");
+        }
+    }
+    let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "p.npy"], d);
+    assert!(e.contains("p.npy") && e.contains("line profile") && e.contains("*.csv or *.txt"), "{e}");
+    let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "q.csv", "--detrend", "plane"], d);
+    assert!(e.starts_with("error: --detrend: ") && e.contains("line profile"), "{e}");
+    let e = refusal(&["topo", "convert", &data("matrix-6.txt"), "m.csv"], d);
+    assert!(e.contains(".csv and .txt hold line profiles"), "{e}");
+    let e = refusal(&["topo", "convert", &data("xy-5.txt"), "m.csv", "--height-unit", "um"], d);
+    assert!(e.contains("1 of 4 points are missing"), "{e}");
+    assert!(!d.join("p.npy").exists() && !d.join("q.csv").exists() && !d.join("m.csv").exists());
+}
+
+#[test]
+fn the_summary_says_it_is_a_profile() {
+    let (ok, out, err) = asperity(&["topo", "info", &data("xy-1.txt"), "--height-unit", "um"], Path::new("."));
+    assert!(ok, "{err}");
+    assert!(out.contains("132 points along x, non-uniform positions (a line profile, not a 2-D map)"), "{out}");
+    assert!(out.contains("rms          3.059 µm") && out.contains("rms slope    0.4382"), "{out}");
+    let (ok, out, _) = asperity(&["topo", "info", &data("xy-1.txt")], Path::new("."));
+    assert!(ok && out.contains("rms slope    unknown"), "{out}");
+}
