@@ -49,6 +49,10 @@ fn what_needs_a_map_refuses_a_profile_by_name() {
         .unwrap();
         let e = refusal(&["run", "study.toml", "--quick", "--out", "r"], d);
         assert!(e.contains(file) && e.contains("a line profile"), "{e}");
+        // onset starts from pressures: it says the profile is one, and what it needs.
+        let e = refusal(&["onset", &path, "--mu-s", "0.5", "--mu-d", "0.3", "--out", "o"], d);
+        assert!(e.contains(file) && e.contains("a line profile") && e.contains("not a pressure map"), "{e}");
+        assert!(!d.join("o").exists());
         assert!(!d.join("c").exists() && !d.join("s").exists() && !d.join("r").exists());
     }
 }

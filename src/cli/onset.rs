@@ -6,6 +6,8 @@ use asperity::friction::{write_curves_csv, ClassShare, Curve, ElementLoads, Fric
 use asperity::limits::Limits;
 use asperity::output::{write_json, write_npy, StagedDir};
 use asperity::quantity::human;
+use asperity::topography::io::ReadOptions;
+use asperity::topography::AnyTopography;
 use asperity::{Error, Result};
 use ndarray::Array2;
 use serde::de::DeserializeOwned;
@@ -278,9 +280,26 @@ fn read_input(args: &Args) -> Result<Input> {
 
 pub fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
     let bytes = limits.read_file(path)?;
-    let pressure = asperity::topography::io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))?;
+    let pressure = asperity::topography::io::npy::read_f64(&bytes).map_err(|r| not_a_pressure_map(path, limits, r))?;
     limits.check_grid(pressure.ncols(), pressure.nrows()).map_err(|r| Error::file(path, r))?;
     Ok(pressure)
+}
+
+/// Why `path` is no pressure map: `reason`, or that it is a line profile, which a user may have
+/// meant as the surface to solve (onset starts from a solved contact, never from heights).
+fn not_a_pressure_map(path: &Path, limits: &Limits, reason: String) -> Error {
+    let opts = ReadOptions { limits: *limits, ..ReadOptions::default() };
+    match asperity::topography::io::read_any(path, &opts) {
+        Ok((AnyTopography::Profile(p), _)) => Error::file(
+            path,
+            format!(
+                "a line profile ({} points along x), not a pressure map: onset needs a 2-D pressure map \
+                 (.npy) or a contact directory, which `asperity contact` solves from a 2-D map of heights",
+                p.points()
+            ),
+        ),
+        _ => Error::file(path, reason),
+    }
 }
 
 /// The pressure map [Pa] of one load of a contact folder: `file`, as `contact.json` (at
