@@ -204,6 +204,7 @@ pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<
         channel: ch.name,
         provenance: Provenance { file: Some(path.to_path_buf()), format: fmt.name().to_string(), height_unit: ch.unit },
     };
+    topo.require_representable()?;
     Ok((topo, names))
 }
 
