@@ -7,6 +7,12 @@
 //! device or pipe), and never past [`Limits::max_file_bytes`], the most a file within the point
 //! limit can need; a file's own header is checked against the bytes it actually holds before
 //! anything is allocated from it (see the readers).
+//!
+//! Within the point limit, a grid may still need more memory than the machine has: each gate
+//! that knows a grid (reading, generating, resampling, a contact solve, a study's preparation)
+//! estimates the bytes it needs and refuses in one line, naming the estimate, when they exceed
+//! [`available_memory`]; the largest arrays are reserved fallibly ([`zeroed`]), so that an
+//! allocation failing despite the estimate is an error too, not an abort.
 
 use std::io::Read;
 use std::path::Path;
@@ -22,6 +28,18 @@ pub const BYTES_PER_POINT: u64 = 128;
 
 /// Room for a file's headers, metadata and a study's text, beyond its points [bytes].
 const HEADER_BYTES: u64 = 16 << 20;
+
+/// Bytes per point at the peak of a contact solve on a periodic grid (heights, pressure,
+/// displacement, gaps, the contact set and the FFT's spectra); a free boundary solves on a
+/// grid padded to 2nx × 2ny.
+pub const CONTACT_BYTES_PER_POINT: u64 = 57;
+
+/// Bytes per point of generating a synthetic surface (its spectrum, FFT work, the heights and
+/// a cap's).
+pub const GENERATE_BYTES_PER_POINT: u64 = 40;
+
+/// Bytes per point of the resampled grid (the heights, and the pass along x before y).
+pub const RESAMPLE_BYTES_PER_POINT: u64 = 16;
 
 /// How large an input may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,8 +100,12 @@ impl Limits {
         if len > cap {
             return Err(too_long(len));
         }
+        // The bytes, then their values: as many float64 bytes again for float64 data.
+        check_memory(len.saturating_mul(2), &format!("reading {len} bytes and decoding them"))
+            .map_err(|reason| Error::file(path, reason))?;
         // The length is checked, but a file may grow while it is read: read one byte past it.
-        let mut bytes = Vec::with_capacity(len as usize);
+        let mut bytes = Vec::new();
+        reserve(&mut bytes, len as usize, "its bytes").map_err(|reason| Error::file(path, reason))?;
         (&mut file).take(cap + 1).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
         if bytes.len() as u64 > cap {
             return Err(too_long(bytes.len() as u64));
@@ -96,6 +118,77 @@ impl Limits {
         String::from_utf8(self.read_file(path)?).map_err(|e| {
             Error::file(path, format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()))
         })
+    }
+}
+
+/// The memory this process may still allocate [bytes]: the smaller of what the system has
+/// available (`MemAvailable` of /proc/meminfo) and what the address-space and data limits
+/// (`ulimit -v`, RLIMIT_AS; RLIMIT_DATA) leave beyond what the process already maps; `None`
+/// when neither is known.
+pub fn available_memory() -> Option<u64> {
+    let kib = |text: &str, key: &str| -> Option<u64> {
+        let line = text.lines().find(|l| l.starts_with(key))?;
+        Some(line[key.len()..].trim().trim_end_matches("kB").trim().parse::<u64>().ok()? * 1024)
+    };
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
+    let status = std::fs::read_to_string("/proc/self/status").ok();
+    let used = |key: &str| status.as_deref().and_then(|s| kib(s, key)).unwrap_or(0);
+    let left = |resource, used: u64| {
+        let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+        // SAFETY: getrlimit writes the struct it is given and nothing else.
+        let known = unsafe { libc::getrlimit(resource, &mut limit) } == 0 && limit.rlim_cur != libc::RLIM_INFINITY;
+        known.then(|| (limit.rlim_cur as u64).saturating_sub(used))
+    };
+    [
+        meminfo.as_deref().and_then(|m| kib(m, "MemAvailable:")),
+        left(libc::RLIMIT_AS, used("VmSize:")),
+        left(libc::RLIMIT_DATA, used("VmData:")),
+    ]
+    .into_iter()
+    .flatten()
+    .min()
+}
+
+/// Whether `what`, estimated to need `bytes` of memory, fits in [`available_memory`]; the
+/// reason, naming the estimate, when it does not.
+pub fn check_memory(bytes: u64, what: &str) -> std::result::Result<(), String> {
+    match available_memory() {
+        Some(free) if bytes > free => Err(format!(
+            "{what} needs about {} of memory, more than the {} available (free memory, or the limit of ulimit -v)",
+            gib(bytes),
+            gib(free)
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The memory `bytes_per_point` × nx × ny [bytes], saturating.
+pub fn grid_memory(nx: usize, ny: usize, bytes_per_point: u64) -> u64 {
+    (nx as u64).saturating_mul(ny as u64).saturating_mul(bytes_per_point)
+}
+
+/// `n` zeros, or the reason when the memory for them cannot be had (`what` names them).
+pub fn zeroed(n: usize, what: &str) -> std::result::Result<Vec<f64>, String> {
+    let mut v = Vec::new();
+    reserve(&mut v, n, what)?;
+    v.resize(n, 0.0);
+    Ok(v)
+}
+
+/// Room for `n` more items in `v`, or the reason when the memory cannot be had (`what` names
+/// them): a failed allocation is an error, not an abort.
+pub fn reserve<T>(v: &mut Vec<T>, n: usize, what: &str) -> std::result::Result<(), String> {
+    v.try_reserve_exact(n).map_err(|_| {
+        let bytes = (n as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+        format!("out of memory: {} for {what} could not be allocated", gib(bytes))
+    })
+}
+
+/// `bytes` in GiB, or MiB below one GiB.
+fn gib(bytes: u64) -> String {
+    match bytes as f64 / (1u64 << 30) as f64 {
+        g if g >= 1.0 => format!("{g:.1} GiB"),
+        g => format!("{:.0} MiB", (g * 1024.0).ceil()),
     }
 }
 
@@ -129,6 +222,20 @@ mod tests {
         assert!(l.check_grid(usize::MAX, 3).unwrap_err().contains("more points than can be counted"));
         assert!(Limits::new(100, "--max-points").unwrap().check_grid(11, 10).is_err());
         assert!(Limits::new(3, "--max-points").is_err());
+    }
+
+    #[test]
+    fn memory_is_estimated_against_what_is_available() {
+        let free = available_memory().expect("Linux states its available memory");
+        assert!(free > 1 << 20, "{free}");
+        assert!(check_memory(1 << 20, "a small map").is_ok());
+        let e = check_memory(u64::MAX, "a 1 × 1 grid").unwrap_err();
+        assert!(e.starts_with("a 1 × 1 grid needs about 17179869184.0 GiB of memory, more than the "), "{e}");
+        assert_eq!(grid_memory(8192, 8192, CONTACT_BYTES_PER_POINT), 3_825_205_248);
+        assert_eq!(grid_memory(usize::MAX, 3, 8), u64::MAX);
+        assert_eq!((gib(3 << 29), gib(5 << 20)), ("1.5 GiB".to_string(), "5 MiB".to_string()));
+        assert_eq!(zeroed(3, "x").unwrap(), vec![0.0; 3]);
+        assert!(zeroed(usize::MAX / 8, "the heights").unwrap_err().contains("out of memory"));
     }
 
     #[test]

@@ -184,3 +184,91 @@ fn bad_values_name_their_option_in_one_short_line() {
     let out = asperity(&["onset", "c/pressure-000.npy", "--mu-s", "0.6000000000000001", "--mu-d", "0.4"], d);
     assert!(String::from_utf8_lossy(&out.stdout).contains("(mu_s 0.6, mu_d 0.4)"));
 }
+
+#[test]
+fn huge_finite_inputs_give_no_non_finite_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // An rms of 1e308 m wrote NaN heights with exit 0, 1e200 m infinite ones.
+    for rms in ["1e308", "1e200"] {
+        let args = ["topo", "generate", "--size", "1um", "--grid", "16", "--hurst", "0.8", "--seed", "1", "--rms", rms];
+        let e = refusal(&[&args[..], &["g.npy"]].concat(), d);
+        assert!(e.starts_with("error: --rms: ") && e.contains("not representable"), "{e}");
+        assert!(!d.join("g.npy").exists());
+    }
+    // Heights of ±1e308 m (finite) gave an infinite rms; an infinite one a null mean.
+    for (name, h) in [("huge.npy", 1e308), ("inf.npy", f64::INFINITY)] {
+        let data: Vec<u8> = [h, -h, 0.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+        std::fs::write(d.join(name), npy("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 2), }\n", &data))
+            .unwrap();
+        let e = refusal(&["topo", "info", name, "--size", "1um", "--json"], d);
+        assert!(e.contains(&format!("{name}: the value at row 0, column 0")) && e.contains("not representable"), "{e}");
+    }
+    // An x3p pixel of 1e308 m made a window of infinite size, printed as null.
+    let x3p = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/x3p-2.x3p")).unwrap();
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(&x3p)).unwrap();
+    let mut out = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for i in 0..zip.len() {
+        let mut f = zip.by_index(i).unwrap();
+        let name = f.name().unwrap().to_string();
+        let mut content = Vec::new();
+        std::io::Read::read_to_end(&mut f, &mut content).unwrap();
+        if name == "main.xml" {
+            let xml = String::from_utf8(content).unwrap();
+            assert!(xml.contains("<Increment>1.27656509837346e-007</Increment>"));
+            content =
+                xml.replace("<Increment>1.27656509837346e-007</Increment>", "<Increment>1e308</Increment>").into();
+        }
+        out.start_file(name, zip::write::SimpleFileOptions::default()).unwrap();
+        std::io::Write::write_all(&mut out, &content).unwrap();
+    }
+    std::fs::write(d.join("wide.x3p"), out.finish().unwrap().into_inner()).unwrap();
+    let e = refusal(&["topo", "info", "wide.x3p", "--json"], d);
+    assert!(e.contains("wide.x3p: the physical size inf × ") && e.contains("is not between"), "{e}");
+}
+
+/// `asperity args` in `dir` under an address-space limit of `kib` KiB (`ulimit -v`).
+fn asperity_within(kib: u64, args: &[&str], dir: &Path) -> Output {
+    let script = format!("ulimit -v {kib} && exec \"$0\" \"$@\"");
+    Command::new("sh")
+        .args([&["-c", &script, env!("CARGO_BIN_EXE_asperity")][..], args].concat())
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn work_beyond_the_memory_is_refused_naming_its_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Within the default point limit, each of these aborted with a backtrace under 2 GB.
+    let generate = ["topo", "generate", "--size", "10um", "--hurst", "0.8", "--rms", "1nm", "--seed", "1"];
+    let small = asperity(&[&generate[..], &["--grid", "64", "s.npy"]].concat(), d);
+    assert!(small.status.success(), "{}", String::from_utf8_lossy(&small.stderr));
+    let study = "[[topography]]\nname = \"s\"\nsynthetic = { size_m = [1e-5, 1e-5], grid = [64, 64], seed = 1, \
+                 roughness = { hurst = 0.8, rms_height_m = 1e-9 } }\n[loads]\nvalues = [\"1 mN\"]\n[contact]\n\
+                 boundary = \"free\"\ntolerance = 1e-8\nmax_iterations = 100\ngrid = [8192, 8192]\n";
+    std::fs::write(d.join("big.toml"), study).unwrap();
+    for (args, said) in [
+        (
+            [&generate[..], &["--grid", "16384", "g.npy"]].concat(),
+            "error: --grid: generating a 16384 × 16384 surface needs about 10.0 GiB of memory, more than the ",
+        ),
+        (
+            vec!["contact", "s.npy", "--size", "10um", "--load", "1mN", "--pixel-size", "1nm", "--out", "c"],
+            "10000 × 10000 points needs about ",
+        ),
+        (
+            vec!["run", "big.toml", "--out", "r"],
+            "error: big.toml: contact.grid: grid: a contact solve on 8192 × 8192 points needs about 14.2 GiB",
+        ),
+    ] {
+        let out = asperity_within(2_000_000, &args, d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(said) && err.contains("of memory, more than the "), "{args:?}: {err}");
+        assert!(err.contains("available (free memory, or the limit of ulimit -v)"), "{err}");
+    }
+    assert!(!d.join("g.npy").exists() && !d.join("c").exists() && !d.join("r").exists());
+}

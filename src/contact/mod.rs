@@ -14,7 +14,7 @@ pub mod solver;
 pub mod tangential;
 
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
-pub use solver::{check_load, ContactSolver, Proceed, SolveReport, SolverOptions};
+pub use solver::{check_load, check_solve_memory, ContactSolver, Proceed, SolveReport, SolverOptions};
 pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 
 use crate::error::{Error, Result};

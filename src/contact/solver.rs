@@ -37,6 +37,7 @@ use rustfft::num_complex::Complex64;
 use super::influence::{Boundary, Influence};
 use crate::error::{Error, Result};
 use crate::fft::{large_buffer, split_rows, split_rows_mut};
+use crate::limits::{check_memory, grid_memory, CONTACT_BYTES_PER_POINT};
 
 mod saturated;
 
@@ -327,6 +328,15 @@ pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     Ok(())
 }
 
+/// Whether a contact solve on an ny × nx surface fits in the memory available
+/// ([`crate::limits::check_memory`]); the reason, naming the estimate, when it does not.
+pub fn check_solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> std::result::Result<(), String> {
+    // A free boundary solves on the grid padded to 2nx × 2ny.
+    let padding = if boundary == Boundary::Free { 4 } else { 1 };
+    let bytes = grid_memory(nx, ny, CONTACT_BYTES_PER_POINT * padding);
+    check_memory(bytes, &format!("a contact solve on {nx} × {ny} points"))
+}
+
 /// A contact problem on one surface, solved for one load after another. The pressure of the
 /// last solve is the starting point of the next (warm start).
 pub struct ContactSolver {
@@ -414,6 +424,7 @@ impl ContactSolver {
             return Err(Error::invalid("effective modulus", format!("must be positive and finite, got {e_star} Pa")));
         }
         options.check()?;
+        check_solve_memory((ny, nx), boundary).map_err(|r| Error::invalid("surface", r))?;
         let n = ny * nx;
         let mean = heights.iter().sum::<f64>() / n as f64;
         let h_rms = (heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n as f64).sqrt();

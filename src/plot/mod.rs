@@ -25,6 +25,9 @@ pub use plotters::style::RGBColor;
 
 use crate::error::{Error, Result};
 
+/// The most pixels of a figure: 2^26, a 200 MB image.
+const MAX_FIGURE_PIXELS: u64 = 1 << 26;
+
 /// Draw `figure` and write it as a PNG at `png` and as an SVG beside it (same name, extension
 /// `.svg`), each atomically. Returns the SVG's path.
 pub fn write_figure(png: &Path, figure: &impl Draw) -> Result<PathBuf> {
@@ -34,6 +37,10 @@ pub fn write_figure(png: &Path, figure: &impl Draw) -> Result<PathBuf> {
     style::register_fonts();
     let (width, height) = figure.size();
     let failed = |e: &dyn std::fmt::Display| Error::file(png, format!("cannot draw the figure: {e}"));
+    // plotters indexes its buffer with u32 arithmetic: a larger figure would wrap and panic.
+    if width == 0 || height == 0 || u64::from(width) * u64::from(height) > MAX_FIGURE_PIXELS {
+        return Err(failed(&format!("{width} × {height} pixels is over the {MAX_FIGURE_PIXELS} a figure may have")));
+    }
 
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
     {
@@ -97,6 +104,29 @@ mod tests {
         for (v, s) in cases {
             assert_eq!(tick_label(&v), s, "{v}");
         }
+    }
+
+    #[test]
+    fn figures_too_large_to_index_are_refused() {
+        // 10 000 snapshot rows made a 1370 × 4 000 270 figure: plotters' u32 index wrapped and
+        // panicked (after a 16 GB buffer).
+        struct Huge((u32, u32));
+        impl Draw for Huge {
+            fn size(&self) -> (u32, u32) {
+                self.0
+            }
+            fn draw<DB: DrawingBackend>(&self, _: &DrawingArea<DB, plotters::coord::Shift>) -> DrawResult<DB> {
+                Ok(())
+            }
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let png = dir.path().join("huge.png");
+        for size in [(1370, 4_000_270), (8192, 8193), (0, 10), (u32::MAX, u32::MAX)] {
+            let e = write_figure(&png, &Huge(size)).unwrap_err().to_string();
+            assert!(e.contains("huge.png: cannot draw the figure") && e.contains("pixels is over"), "{e}");
+        }
+        assert!(!png.exists());
+        write_figure(&png, &Huge((64, 64))).unwrap();
     }
 
     #[test]

@@ -79,6 +79,10 @@ pub const QUICK_LOADS: usize = 7;
 /// The most loads a study takes: each is a contact solve of every topography.
 pub const MAX_LOADS: usize = 1000;
 
+/// The most `[output] snapshot_fractions`: each is a row of 400 pixels in the stress-ratio
+/// snapshot figure.
+pub const MAX_SNAPSHOT_FRACTIONS: usize = 12;
+
 /// A study as its file describes it. Serialised, it is the study as run (`DIR/study.toml`):
 /// paths absolute, loads and laws resolved to explicit values.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -637,6 +641,15 @@ impl StudyConfig {
         Limits::new(self.limits.max_points, "max_points")
             .map_err(|e| (vec![key("limits"), key("max_points")], reason_of(e)))?;
 
+        let fractions = self.output.snapshot_fractions.len();
+        if fractions > MAX_SNAPSHOT_FRACTIONS {
+            return at(
+                &[key("output"), key("snapshot_fractions")],
+                format!(
+                    "{fractions} fractions: at most {MAX_SNAPSHOT_FRACTIONS} (each is a row of the snapshot figure)"
+                ),
+            );
+        }
         for (i, f) in self.output.snapshot_fractions.iter().enumerate() {
             if !(*f > 0.0 && *f <= 1.0) {
                 let path = [key("output"), key("snapshot_fractions"), Segment::Index(i)];

@@ -228,13 +228,25 @@ impl Study {
         let at = |what: &str, e: Error| Error::invalid(format!("{origin}: {what}"), e.to_string());
         let grid = config.contact.grid;
         let limits = config.limits.limits();
+        let boundary = config.contact.boundary;
         if let Some((nx, ny)) = grid {
-            limits.check_grid(nx, ny).map_err(|r| at("contact.grid", Error::invalid("grid", r)))?;
+            limits
+                .check_grid(nx, ny)
+                .and_then(|()| contact::check_solve_memory((ny, nx), boundary))
+                .map_err(|r| at("contact.grid", Error::invalid("grid", r)))?;
         }
         let mut topographies = Vec::with_capacity(config.topographies.len());
         for spec in &config.topographies {
             let name = spec.name.clone().expect("checked: every topography has a name");
-            let topo = build_topography(spec, grid, &limits).map_err(|e| at(&format!("topography \"{name}\""), e))?;
+            let here = |e| at(&format!("topography \"{name}\""), e);
+            // A synthetic surface's grid is known before it is generated: refuse it before.
+            if let Some(s) = spec.synthetic.as_ref().filter(|_| grid.is_none()) {
+                contact::check_solve_memory((s.grid.1, s.grid.0), boundary)
+                    .map_err(|r| here(Error::invalid("synthetic.grid", r)))?;
+            }
+            let topo = build_topography(spec, grid, &limits).map_err(here)?;
+            contact::check_solve_memory((topo.ny(), topo.nx()), boundary)
+                .map_err(|r| here(Error::invalid("grid", r)))?;
             topographies.push((name, topo));
         }
         let (mut laws, mut hold_times) = (Vec::new(), Vec::new());

@@ -28,6 +28,13 @@ pub enum AnyTopography {
     Profile(profile::Profile),
 }
 
+/// The largest magnitude of a height or a size asperity takes [m]: far beyond any surface,
+/// and small enough that the fourth powers and Fourier sums of the statistics stay finite.
+pub const MAX_LENGTH_M: f64 = 1e50;
+
+/// The smallest physical size [m]: its inverse (a wavevector, a slope) stays finite too.
+pub const MIN_SIZE_M: f64 = 1e-50;
+
 /// A height map.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Topography {
@@ -112,6 +119,24 @@ impl Topography {
             )));
         }
         Ok(())
+    }
+
+    /// An error naming the topography when a height is beyond ±[`MAX_LENGTH_M`] (infinite
+    /// included; `NaN` marks a missing point) or its physical size is not between
+    /// [`MIN_SIZE_M`] and [`MAX_LENGTH_M`]: such numbers overflow the statistics, spectra and
+    /// solves made of them (an x3p increment of 1e308 m gives an infinite size).
+    pub fn require_representable(&self) -> crate::error::Result<()> {
+        if let Some(((j, i), h)) = self.heights.indexed_iter().find(|(_, h)| h.abs() > MAX_LENGTH_M) {
+            return Err(self.error(format!(
+                "the value at row {j}, column {i} is {h:e}, beyond ±{MAX_LENGTH_M:e} (m): not representable"
+            )));
+        }
+        match self.physical_size {
+            Some((lx, ly)) if ![lx, ly].iter().all(|l| (MIN_SIZE_M..=MAX_LENGTH_M).contains(l)) => Err(self.error(
+                format!("the physical size {lx:e} × {ly:e} m is not between {MIN_SIZE_M:e} and {MAX_LENGTH_M:e} m"),
+            )),
+            _ => Ok(()),
+        }
     }
 
     /// Number of missing (`NaN`) points.

@@ -23,7 +23,7 @@ use rayon::prelude::*;
 
 use super::{Provenance, Topography};
 use crate::error::{Error, Result};
-use crate::limits::Limits;
+use crate::limits::{check_memory, grid_memory, Limits, RESAMPLE_BYTES_PER_POINT};
 
 impl Topography {
     /// Pixel size (dx, dy) [m]; an error naming the topography when it has no physical size
@@ -106,7 +106,9 @@ pub fn resample(topo: &Topography, pixel_size: f64, limits: &Limits) -> Result<T
     let (lx, ly) = topo.physical_size.expect("checked by pixel_size");
     let points = |l: f64| ((l / pixel_size).round() as usize).max(2);
     let (nx2, ny2) = (points(lx), points(ly));
-    if let Err(reason) = limits.check_grid(nx2, ny2) {
+    let memory = grid_memory(nx2, ny2, RESAMPLE_BYTES_PER_POINT);
+    let what = format!("resampling to {nx2} × {ny2} points");
+    if let Err(reason) = limits.check_grid(nx2, ny2).and_then(|()| check_memory(memory, &what)) {
         return Err(Error::invalid("--pixel-size", format!("{pixel_size} m on {lx} × {ly} m: {reason}")));
     }
     // Fractional source indices as exact ratios, so that an unchanged grid maps onto itself.

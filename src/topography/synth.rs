@@ -31,9 +31,10 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use super::{Provenance, Topography};
+use super::{Provenance, Topography, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::{Error, Result};
 use crate::fft::Fft2;
+use crate::limits::{check_memory, grid_memory, zeroed, GENERATE_BYTES_PER_POINT};
 
 /// How large the roughness is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,10 +172,7 @@ impl SelfAffine {
         positive("--rolloff", self.rolloff_wavelength)?;
         positive("--cutoff", self.short_cutoff_wavelength)?;
         positive("--long-cutoff", self.long_cutoff_wavelength)?;
-        let (option, value) = match self.amplitude {
-            Amplitude::RmsHeight(h) => ("--rms", h),
-            Amplitude::RmsSlope(g) => ("--rms-slope", g),
-        };
+        let (option, value) = self.amplitude_option();
         positive(option, Some(value))?;
         let order = |short: Option<f64>, long: Option<f64>, what: &str| match (short, long) {
             (Some(s), Some(l)) if s >= l => {
@@ -190,6 +188,14 @@ impl SelfAffine {
             }
         }
         Ok(())
+    }
+
+    /// The option giving the amplitude, with its value.
+    fn amplitude_option(&self) -> (&'static str, f64) {
+        match self.amplitude {
+            Amplitude::RmsHeight(h) => ("--rms", h),
+            Amplitude::RmsSlope(g) => ("--rms-slope", g),
+        }
     }
 
     /// The spectral shape C(q)/C0 at |q| [rad/m].
@@ -265,8 +271,10 @@ impl SelfAffine {
         };
         spectrum.par_iter_mut().for_each(|c| *c *= scale);
 
-        let mut heights = vec![0.0; nx * ny];
+        let mut heights = zeroed(nx * ny, "the heights").map_err(|r| Error::invalid("--grid", r))?;
         plan.inverse(&mut spectrum, &mut heights, ny, nx, &mut plan.make_work());
+        let (option, value) = self.amplitude_option();
+        within_half_range(&heights, option, value)?;
         Ok(Topography {
             heights: Array2::from_shape_vec((ny, nx), heights).expect("length is nx·ny"),
             physical_size: Some(size),
@@ -307,10 +315,27 @@ fn unit_phasor(rng: &mut ChaCha20Rng) -> Complex64 {
     }
 }
 
+/// Refuse heights (of the roughness or of the cap) past half the lengths a topography may have
+/// ([`Topography::require_representable`]), so that their sum stays within it: parameters
+/// far outside any surface (an rms of 1e308 m) would otherwise give infinite or NaN heights.
+fn within_half_range(heights: &[f64], option: &str, value: f64) -> Result<()> {
+    let half = MAX_LENGTH_M / 2.0;
+    match heights.iter().find(|h| !(h.abs() <= half)) {
+        Some(h) => Err(Error::invalid(
+            option,
+            format!("{value:e} gives heights of {h:e} m, beyond ±{half:e} m: not representable"),
+        )),
+        None => Ok(()),
+    }
+}
+
 fn check_grid(size: (f64, f64), grid: (usize, usize)) -> Result<()> {
     let (lx, ly) = size;
-    if !(lx > 0.0 && ly > 0.0 && lx.is_finite() && ly.is_finite()) {
-        return Err(Error::invalid("--size", format!("must be positive and finite, got {lx},{ly}")));
+    if ![lx, ly].iter().all(|l| (MIN_SIZE_M..=MAX_LENGTH_M).contains(l)) {
+        return Err(Error::invalid(
+            "--size",
+            format!("must lie between {MIN_SIZE_M:e} and {MAX_LENGTH_M:e} m, got {lx},{ly}"),
+        ));
     }
     // How many points a caller may ask for is its input policy (`crate::limits`), checked
     // before it asks; here only what no grid can be.
@@ -375,14 +400,16 @@ impl Cap {
             ));
         }
         let (dx, dy) = (lx / nx as f64, ly / ny as f64);
-        Ok(Array2::from_shape_fn((ny, nx), |(j, i)| {
+        let heights = Array2::from_shape_fn((ny, nx), |(j, i)| {
             let rho2 = (i as f64 * dx - lx / 2.0).powi(2) + (j as f64 * dy - ly / 2.0).powi(2);
             match self.shape {
                 // R − √(R² − ρ²) written without cancellation.
                 CapShape::Sphere => -rho2 / (r + (r * r - rho2).sqrt()),
                 CapShape::Paraboloid => -rho2 / (2.0 * r),
             }
-        }))
+        });
+        within_half_range(heights.as_slice().expect("a new array is contiguous"), "--sphere-radius", r)?;
+        Ok(heights)
     }
 }
 
@@ -431,6 +458,9 @@ impl SyntheticSurface {
             return Err(Error::invalid("surface", "neither roughness nor a cap: nothing to generate"));
         }
         check_grid(self.size, self.grid)?;
+        let (nx, ny) = self.grid;
+        check_memory(grid_memory(nx, ny, GENERATE_BYTES_PER_POINT), &format!("generating a {nx} × {ny} surface"))
+            .map_err(|r| Error::invalid("--grid", r))?;
         let cap = self.cap.map(|c| c.heights(self.size, self.grid)).transpose()?;
         let mut topo = match &self.roughness {
             Some(r) => r.generate(self.size, self.grid, self.seed)?,
@@ -638,5 +668,28 @@ mod tests {
         };
         assert!(none.generate((1e-5, 1e-5), (16, 16), 0).unwrap_err().to_string().contains("no wavevector"));
         assert!(SelfAffine::silicon_ball().generate((1e-5, 1e-5), (1, 16), 0).is_err());
+    }
+
+    #[test]
+    fn parameters_that_overflow_the_heights_are_refused() {
+        // An rms of 1e308 m gave NaN heights, 1e200 m infinite statistics, written with exit 0.
+        for (amplitude, option) in [
+            (Amplitude::RmsHeight(1e308), "--rms"),
+            (Amplitude::RmsHeight(1e50), "--rms"),
+            (Amplitude::RmsSlope(1e300), "--rms-slope"),
+        ] {
+            let err = rough(0.8, amplitude).generate((1e-5, 1e-5), (16, 16), 0).unwrap_err().to_string();
+            assert!(err.starts_with(&format!("{option}: ")) && err.contains("not representable"), "{err}");
+        }
+        // Just within the range, every height is finite.
+        let t = rough(0.8, Amplitude::RmsHeight(1e48)).generate((1e-5, 1e-5), (16, 16), 0).unwrap();
+        assert!(t.heights.iter().all(|h| h.is_finite()) && height_stats(&t).unwrap().rms_height.is_finite());
+        let tiny_paraboloid = Cap { radius: 1e-300, shape: CapShape::Paraboloid };
+        let err = tiny_paraboloid.heights((1e-5, 1e-5), (16, 16)).unwrap_err().to_string();
+        assert!(err.starts_with("--sphere-radius: "), "{err}");
+        for size in [(1e308, 1e308), (1e-60, 1e-5)] {
+            let err = rough(0.8, Amplitude::RmsSlope(0.1)).generate(size, (16, 16), 0).unwrap_err().to_string();
+            assert!(err.starts_with("--size: "), "{err}");
+        }
     }
 }

@@ -82,7 +82,8 @@ pub fn grid(
     let len = n.checked_mul(stored.sample.size()).ok_or_else(|| format!("{what}: the declared data size overflows"))?;
     let raw = extent(bytes, offset, len, what)?;
     // Only now, with the bytes known to be there, is room made for the values.
-    let mut values = Vec::with_capacity(n);
+    let mut values = Vec::new();
+    crate::limits::reserve(&mut values, n, what)?;
     macro_rules! decode {
         ($t:ty, $n:literal) => {
             match stored.endian {

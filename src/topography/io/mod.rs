@@ -395,6 +395,7 @@ fn map(
         channel: ch.name,
         provenance: Provenance { file: Some(path.to_path_buf()), format: fmt.name().to_string(), height_unit: ch.unit },
     };
+    topo.require_representable()?;
     Ok((topo, names))
 }
 

@@ -9,6 +9,8 @@
 //! value spread over the full integer range, so one LSB is `hard / 2^(8·bytes) · soft`, here
 //! in nm. Lines are stored bottom first; they are returned top first.
 
+use std::collections::HashMap;
+
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
@@ -47,13 +49,13 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         .global("version")
         .and_then(|v| u32::from_str_radix(v.trim().trim_start_matches("0x").trim_start_matches("0X"), 16).ok())
         .unwrap_or(0);
-    let images: Vec<&Section> = header.sections.iter().filter(|s| IMAGE_SECTIONS.contains(&s.name.as_str())).collect();
-    if images.is_empty() {
+    if header.images.is_empty() {
         return Err("no image in this NanoScope file (force curves and spectra are not topographies)".into());
     }
-    images.into_iter().map(|s| read_image(bytes, &header, s, version)).collect()
+    let images: Vec<Image> = header.images.iter().map(|s| Image::parse(s, version)).collect::<Result<_, _>>()?;
+    disjoint(&images)?;
+    images.iter().map(|image| read_image(bytes, &header, image)).collect()
 }
-
 /// One `\*Section` with its `(lower-case key, value)` entries in file order.
 struct Section {
     name: String,
@@ -77,8 +79,13 @@ impl Section {
     }
 }
 
+/// The header: the image sections, and the keys of the other sections (file, scanner and scan
+/// lists), where soft scales and scan parameters live, indexed once so that each lookup is
+/// constant time whatever the number of images and keys.
 struct Header {
-    sections: Vec<Section>,
+    images: Vec<Section>,
+    /// Each key of the sections that are not images with its first value.
+    global: HashMap<String, String>,
 }
 
 impl Header {
@@ -111,16 +118,21 @@ impl Header {
         if !ended {
             return Err("truncated NanoScope header: no '\\*File list end' line".into());
         }
-        match sections.first() {
-            Some(s) if s.name == "file list" || s.name == "ec file list" => Ok(Header { sections }),
-            _ => Err("not a NanoScope file: the header does not start with '\\*File list'".into()),
+        if !matches!(sections.first(), Some(s) if s.name == "file list" || s.name == "ec file list") {
+            return Err("not a NanoScope file: the header does not start with '\\*File list'".into());
         }
+        let (images, others): (Vec<Section>, Vec<Section>) =
+            sections.into_iter().partition(|s| IMAGE_SECTIONS.contains(&s.name.as_str()));
+        let mut global = HashMap::new();
+        for (key, value) in others.into_iter().flat_map(|s| s.entries) {
+            global.entry(key).or_insert(value);
+        }
+        Ok(Header { images, global })
     }
 
-    /// A key from the sections that are not images (file, scanner, scan lists): soft scales
-    /// and scan parameters live there.
+    /// A key from the sections that are not images.
     fn global(&self, key: &str) -> Option<&str> {
-        self.sections.iter().filter(|s| !IMAGE_SECTIONS.contains(&s.name.as_str())).find_map(|s| s.get(key))
+        self.global.get(key).map(String::as_str)
     }
 }
 
@@ -171,31 +183,76 @@ fn number_and_unit(s: &str) -> Option<(f64, &str)> {
     x.is_finite().then_some((x, unit.trim()))
 }
 
-fn read_image(bytes: &[u8], header: &Header, s: &Section, version: u32) -> Result<Channel, String> {
-    let name = channel_name(s);
-    let what = format!("channel '{}'", binary::printable(&name));
-    let int = |key: &str| -> Result<usize, String> {
-        let v = s.get(key).ok_or_else(|| format!("{what}: no '{key}' in its image header"))?;
-        v.trim().parse::<usize>().map_err(|_| format!("{what}: '{key}' is not a count: '{v}'"))
-    };
-    let (nx, ny) = (int("samps/line")?, int("number of lines")?);
-    let offset = int("data offset")?;
-    let length = int("data length")?;
-    let bytes_per_pixel = match s.get("bytes/pixel").map(str::trim) {
-        None => 2,
-        Some("2") => 2,
-        Some("4") => 4,
-        Some(v) => return Err(format!("{what}: unsupported Bytes/pixel '{v}'")),
-    };
-    let n = binary::grid_points(nx, ny).map_err(|e| format!("{what}: {e}"))?;
-    let needed = |size: usize| n.checked_mul(size).ok_or_else(|| format!("{what}: the declared data size overflows"));
-    let stored = if version >= VERSION_32BIT && length >= needed(4)? { 4 } else { bytes_per_pixel };
-    if needed(stored)? > length {
-        return Err(format!(
-            "{what}: a {nx} x {ny} image of {stored}-byte pixels does not fit the declared Data length {length}"
-        ));
+/// Where an image section's data are and how they are stored.
+struct Image<'a> {
+    section: &'a Section,
+    name: String,
+    nx: usize,
+    ny: usize,
+    offset: usize,
+    /// Bytes per stored pixel (2 or 4).
+    stored: usize,
+    /// Bytes per pixel of the scaling (`Bytes/pixel`).
+    bytes_per_pixel: usize,
+}
+
+impl<'a> Image<'a> {
+    fn parse(s: &'a Section, version: u32) -> Result<Image<'a>, String> {
+        let name = channel_name(s);
+        let what = || format!("channel '{}'", binary::printable(&name));
+        let int = |key: &str| -> Result<usize, String> {
+            let v = s.get(key).ok_or_else(|| format!("{}: no '{key}' in its image header", what()))?;
+            v.trim().parse::<usize>().map_err(|_| format!("{}: '{key}' is not a count: '{v}'", what()))
+        };
+        let (nx, ny) = (int("samps/line")?, int("number of lines")?);
+        let offset = int("data offset")?;
+        let length = int("data length")?;
+        let bytes_per_pixel = match s.get("bytes/pixel").map(str::trim) {
+            None => 2,
+            Some("2") => 2,
+            Some("4") => 4,
+            Some(v) => return Err(format!("{}: unsupported Bytes/pixel '{v}'", what())),
+        };
+        let n = binary::grid_points(nx, ny).map_err(|e| format!("{}: {e}", what()))?;
+        let needed =
+            |size: usize| n.checked_mul(size).ok_or_else(|| format!("{}: the declared data size overflows", what()));
+        let stored = if version >= VERSION_32BIT && length >= needed(4)? { 4 } else { bytes_per_pixel };
+        if needed(stored)? > length {
+            return Err(format!(
+                "{}: a {nx} x {ny} image of {stored}-byte pixels does not fit the declared Data length {length}",
+                what()
+            ));
+        }
+        Ok(Image { section: s, name, nx, ny, offset, stored, bytes_per_pixel })
     }
 
+    /// The bytes its pixels take.
+    fn len(&self) -> usize {
+        self.nx * self.ny * self.stored
+    }
+}
+
+/// Refuse images whose data overlap: each channel decodes its own bytes, so all of them
+/// together never take more memory than a small multiple of the file (2 000 sections naming
+/// one offset would otherwise decode it 2 000 times).
+fn disjoint(images: &[Image]) -> Result<(), String> {
+    let mut order: Vec<&Image> = images.iter().collect();
+    order.sort_by_key(|i| i.offset);
+    match order.windows(2).find(|w| w[0].offset.saturating_add(w[0].len()) > w[1].offset) {
+        Some(w) => Err(format!(
+            "channels '{}' and '{}' declare overlapping data (at offsets {} and {}): each image has its own",
+            binary::printable(&w[0].name),
+            binary::printable(&w[1].name),
+            w[0].offset,
+            w[1].offset
+        )),
+        None => Ok(()),
+    }
+}
+
+fn read_image(bytes: &[u8], header: &Header, image: &Image) -> Result<Channel, String> {
+    let &Image { section: s, nx, ny, offset, stored, bytes_per_pixel, .. } = image;
+    let what = format!("channel '{}'", binary::printable(&image.name));
     let (per_lsb, unit) = z_scale(header, s, bytes_per_pixel).map_err(|e| format!("{what}: {e}"))?;
     let to_metres = metres_per(&unit);
     let factor = per_lsb * to_metres.unwrap_or(1.0);
@@ -209,7 +266,7 @@ fn read_image(bytes: &[u8], header: &Header, s: &Section, version: u32) -> Resul
         |v| v * factor,
     )?;
     Ok(Channel {
-        name,
+        name: image.name.clone(),
         data,
         physical_size: scan_size(header, s, nx, ny),
         unit: Some(unit).filter(|u| !u.is_empty()),

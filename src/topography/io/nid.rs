@@ -10,6 +10,8 @@
 //! Only the topography channels (those whose `Dim2Unit` is a length) are listed, named
 //! `Frame (Dim2Name)`, e.g. "Scan forward (Z-Axis)"; force and voltage channels are skipped.
 
+use std::collections::HashMap;
+
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
@@ -95,36 +97,41 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     Ok(channels)
 }
 
-/// INI sections in file order, each with its `(key, value)` entries.
+/// INI sections in file order, each with its `(key, value)` entries, indexed once so that each
+/// lookup is constant time whatever the number of sections and keys (the first of repeated
+/// names counts).
 struct Ini {
-    sections: Vec<(String, Vec<(String, String)>)>,
+    sections: Vec<(Vec<(String, String)>, HashMap<String, usize>)>,
+    index: HashMap<String, usize>,
 }
 
 impl Ini {
     fn parse(text: &str) -> Ini {
-        let mut sections: Vec<(String, Vec<(String, String)>)> = Vec::new();
+        let mut ini = Ini { sections: Vec::new(), index: HashMap::new() };
         for line in text.lines() {
             let line = line.trim();
             if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
-                sections.push((name.to_string(), Vec::new()));
-            } else if let (Some((k, v)), Some(s)) = (line.split_once('='), sections.last_mut()) {
-                s.1.push((k.trim().to_string(), v.trim().to_string()));
+                ini.index.entry(name.to_string()).or_insert(ini.sections.len());
+                ini.sections.push((Vec::new(), HashMap::new()));
+            } else if let (Some((k, v)), Some((entries, keys))) = (line.split_once('='), ini.sections.last_mut()) {
+                keys.entry(k.trim().to_string()).or_insert(entries.len());
+                entries.push((k.trim().to_string(), v.trim().to_string()));
             }
         }
-        Ini { sections }
+        ini
     }
 
     fn section(&self, name: &str) -> Option<Section<'_>> {
-        self.sections.iter().find(|(n, _)| n == name).map(|(_, e)| Section(e))
+        self.index.get(name).map(|&i| Section(&self.sections[i].0, &self.sections[i].1))
     }
 }
 
 #[derive(Clone, Copy)]
-struct Section<'a>(&'a [(String, String)]);
+struct Section<'a>(&'a [(String, String)], &'a HashMap<String, usize>);
 
 impl<'a> Section<'a> {
     fn get(&self, key: &str) -> Option<&'a String> {
-        self.0.iter().find(|(k, _)| k == key).map(|(_, v)| v)
+        self.1.get(key).map(|&i| &self.0[i].1)
     }
 
     fn iter(&self) -> impl Iterator<Item = &'a (String, String)> {

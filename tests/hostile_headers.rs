@@ -1,0 +1,175 @@
+//! Instrument headers built to exhaust memory or time, from real files: the channels of a file
+//! decode within a small multiple of its size (measured by a tracking allocator), and a header
+//! is parsed in time linear in its length.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::time::{Duration, Instant};
+
+use asperity::topography::io::read_channels;
+
+struct Tracking;
+
+thread_local! {
+    /// Bytes this thread holds now, and the most it held since the last reset.
+    static LIVE: Cell<usize> = const { Cell::new(0) };
+    static PEAK: Cell<usize> = const { Cell::new(0) };
+}
+
+fn grow(by: usize) {
+    let _ = LIVE.try_with(|l| {
+        l.set(l.get() + by);
+        let _ = PEAK.try_with(|p| p.set(p.get().max(l.get())));
+    });
+}
+
+fn shrink(by: usize) {
+    let _ = LIVE.try_with(|l| l.set(l.get().saturating_sub(by)));
+}
+
+// SAFETY: every call is forwarded unchanged to the system allocator; only sizes are counted.
+unsafe impl GlobalAlloc for Tracking {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        grow(layout.size());
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        grow(layout.size());
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        grow(new_size);
+        shrink(layout.size());
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        shrink(layout.size());
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Tracking = Tracking;
+
+/// Read `bytes` as `format`: the outcome as text, the most memory held while reading beyond
+/// what was held before [bytes], and the time it took.
+fn read(format: &str, bytes: &[u8]) -> (Result<usize, String>, usize, Duration) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("case");
+    std::fs::write(&path, bytes).unwrap();
+    let before = LIVE.with(|l| l.get());
+    PEAK.with(|p| p.set(before));
+    let start = Instant::now();
+    let result = read_channels(&path, Some(format)).map(|(_, channels)| channels.len()).map_err(|e| e.to_string());
+    let elapsed = start.elapsed();
+    let peak = PEAK.with(|p| p.get()) - before;
+    (result, peak, elapsed)
+}
+
+/// The file list, scanner and scan lists of the real `di-3.di` (everything before its first
+/// image section), with `keys` more scanner keys.
+fn nanoscope_preamble(keys: usize) -> Vec<u8> {
+    let b = std::fs::read(common::sample("di-3.di")).unwrap();
+    let first = b.windows(17).position(|w| w == b"\\*Ciao image list").unwrap();
+    let scanner = b.windows(14).position(|w| w == b"\\*Scanner list").unwrap() + 16;
+    assert_eq!(&b[scanner - 2..scanner], b"\r\n");
+    let mut out = b[..scanner].to_vec();
+    for k in 0..keys {
+        out.extend(format!("\\Key{k}: {k}\r\n").bytes());
+    }
+    out.extend(&b[scanner..first]);
+    out
+}
+
+/// A NanoScope image section of an `n` × `n` height image at `offset` (offsets padded to ten
+/// digits, so that a section's length does not depend on them).
+fn image_section(n: usize, offset: usize) -> String {
+    format!(
+        "\\*Ciao image list\r\n\\Data offset: {offset:010}\r\n\\Data length: {}\r\n\\Samps/line: {n}\r\n\
+         \\Number of lines: {n}\r\n\\@2:Image Data: S [Height] \"Height\"\r\n\
+         \\@2:Z scale: V [Sens. Zsens] (0.1 V/LSB) 1 V\r\n",
+        2 * n * n
+    )
+}
+
+/// A NanoScope file: `preamble`, then `images` sections of `n` × `n` 16-bit images whose data
+/// follow the header, each at its own offset or all at the first.
+fn nanoscope(preamble: Vec<u8>, images: usize, n: usize, shared: bool) -> Vec<u8> {
+    let end = "\\*File list end\r\n";
+    let data_start = preamble.len() + images * image_section(n, 0).len() + end.len();
+    let block = 2 * n * n;
+    let mut out = preamble;
+    for k in 0..images {
+        out.extend(image_section(n, data_start + if shared { 0 } else { k * block }).bytes());
+    }
+    out.extend(end.bytes());
+    assert_eq!(out.len(), data_start);
+    out.resize(data_start + block * if shared { 1 } else { images }, 1);
+    out
+}
+
+#[test]
+fn nanoscope_images_sharing_their_data_are_refused() {
+    // 200 sections naming one 256 × 256 image: 105 MB decoded from 0.5 MB (2 000 of them
+    // aborted past 4 GB).
+    let file = nanoscope(nanoscope_preamble(0), 200, 256, true);
+    let (result, peak, _) = read("nanoscope", &file);
+    let e = result.unwrap_err();
+    assert!(e.contains("channels 'Height' and 'Height' declare overlapping data"), "{e}");
+    assert!(peak < 4 * file.len(), "{peak} bytes held reading {} bytes", file.len());
+    // The same images, each with its own data, decode within a small multiple of the file: f64
+    // values from 16-bit integers take 4× their bytes.
+    let file = nanoscope(nanoscope_preamble(0), 20, 256, false);
+    let (result, peak, _) = read("nanoscope", &file);
+    assert_eq!(result, Ok(20));
+    assert!(peak < 6 * file.len(), "{peak} bytes held reading {} bytes", file.len());
+    // An image's data overlapping the next one's by a byte is refused as well.
+    let mut file = nanoscope(nanoscope_preamble(0), 2, 16, false);
+    let second = nanoscope_preamble(0).len() + 2 * image_section(16, 0).len() + 17 + 512;
+    let at = file.windows(10).position(|w| w == format!("{second:010}").as_bytes()).unwrap();
+    file[at..at + 10].copy_from_slice(format!("{:010}", second - 1).as_bytes());
+    assert!(read("nanoscope", &file).0.unwrap_err().contains("overlapping"));
+    file[at..at + 10].copy_from_slice(format!("{second:010}").as_bytes());
+    assert_eq!(read("nanoscope", &file).0, Ok(2));
+}
+
+#[test]
+fn nanoscope_headers_parse_in_linear_time() {
+    // 30 000 images and 300 000 scanner keys (10 MB): each image looked its scales up through
+    // every key, about a minute; linear, well under a second.
+    let file = nanoscope(nanoscope_preamble(300_000), 30_000, 1, false);
+    let (result, _, elapsed) = read("nanoscope", &file);
+    assert_eq!(result, Ok(30_000));
+    assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to read {} bytes", file.len());
+}
+
+#[test]
+fn nid_headers_parse_in_linear_time() {
+    // The real header of nid-1.nid listing 200 000 more channels, each a 1 × 1 block (3.5 MB):
+    // each looked its group's name up through every entry, 49 s; linear, well under a second.
+    let b = std::fs::read(common::sample("nid-1.nid")).unwrap();
+    let marker = b.windows(3).position(|w| w == b"\n#!").unwrap();
+    let header = String::from_utf8_lossy(&b[..marker]).to_string();
+    let list = header.find("Gr0-Ch0=").unwrap();
+    let channels = 200_000;
+    let mut text = header[..list].to_string();
+    for k in 8..8 + channels {
+        text += &format!("Gr0-Ch{k}=DataSet-0:9\r\n");
+    }
+    text += &header[list..];
+    text += "\r\n[DataSet-0:9]\r\nPoints=1\r\nLines=1\r\nDim2Name=Z\r\nDim2Unit=m\r\nDim2Range=1e-6\r\nDim2Min=0\r\n\
+             SaveBits=16\r\n";
+    let mut file = text.into_bytes();
+    file.extend(&b[marker..]);
+    file.resize(file.len() + 2 * channels, 0);
+    let (result, peak, elapsed) = read("nid", &file);
+    // The real file's 4 height channels, then the 200 000 listed ones.
+    assert_eq!(result, Ok(4 + channels));
+    assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to read {} bytes", file.len());
+    assert!(peak < 64 * file.len(), "{peak} bytes held reading {} bytes", file.len());
+}
