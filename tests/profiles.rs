@@ -161,3 +161,16 @@ fn the_summary_says_it_is_a_profile() {
     let (ok, out, _) = asperity(&["topo", "info", &data("xy-1.txt")], Path::new("."));
     assert!(ok && out.contains("rms slope    unknown"), "{out}");
 }
+
+#[test]
+fn a_profile_beyond_representable_lengths_is_refused() {
+    // Squares of 1e308 overflow: the statistics would be inf and NaN, printed as if measured.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("high.txt"), "0 1e308\n1 -1e308\n2 1e308\n3 5\n4 6\n").unwrap();
+    std::fs::write(d.join("long.txt"), "0 1\n1e300 2\n2e300 3\n3e300 5\n4e300 6\n").unwrap();
+    let e = refusal(&["topo", "info", "high.txt", "--height-unit", "m"], d);
+    assert!(e.contains("high.txt: point 1 has height 1e308, beyond ±1e50"), "{e}");
+    let e = refusal(&["topo", "info", "long.txt", "--height-unit", "km"], d);
+    assert!(e.contains("long.txt: the length 5e303 m is not between"), "{e}");
+}

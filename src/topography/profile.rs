@@ -8,7 +8,7 @@
 //! points times the step (each point stands for one step), otherwise the distance from the first
 //! point to the last.
 
-use super::Provenance;
+use super::{Provenance, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::Error;
 
 /// How far positions may lie from an equally spaced grid and still be uniform, as a fraction of
@@ -113,6 +113,20 @@ impl Profile {
         self.positions.iter_mut().for_each(|x| *x *= positions);
         self.step = self.step.map(|s| s * positions);
         self.heights.iter_mut().for_each(|h| *h *= heights);
+    }
+
+    /// Refuse heights beyond ±[`MAX_LENGTH_M`] and a length outside [`MIN_SIZE_M`] …
+    /// [`MAX_LENGTH_M`] (as for a map, [`super::Topography::require_representable`]): their
+    /// squares and slopes would overflow, and no statistic reported may be non-finite.
+    pub fn require_representable(&self) -> Result<(), String> {
+        if let Some((i, h)) = self.heights.iter().enumerate().find(|(_, h)| h.abs() > MAX_LENGTH_M) {
+            return Err(format!("point {} has height {h:e}, beyond ±{MAX_LENGTH_M:e} (m): not representable", i + 1));
+        }
+        let length = self.length();
+        if !(MIN_SIZE_M..=MAX_LENGTH_M).contains(&length) {
+            return Err(format!("the length {length:e} m is not between {MIN_SIZE_M:e} and {MAX_LENGTH_M:e} m"));
+        }
+        Ok(())
     }
 
     /// Number of missing (`NaN`) points.

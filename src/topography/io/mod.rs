@@ -333,6 +333,7 @@ fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> 
     let (height_unit, z_scale) = unit(data.height_unit);
     let mut p = Profile::new(data.positions, data.heights).map_err(|reason| Error::file(path, reason))?;
     p.scale(x_scale.unwrap_or(1.0), z_scale.unwrap_or(1.0));
+    p.require_representable().map_err(|reason| Error::file(path, reason))?;
     p.position_unit_known = x_scale.is_some();
     p.height_unit_known = z_scale.is_some();
     p.position_unit = position_unit;
