@@ -68,8 +68,7 @@ pub struct RunArgs {
 
 pub fn run(args: RunArgs) -> Result<()> {
     if args.print_default {
-        print!("{DEFAULT_STUDY}");
-        return Ok(());
+        return super::print(DEFAULT_STUDY);
     }
     super::stop_resumes();
     let start = Instant::now();
@@ -89,7 +88,7 @@ pub fn run(args: RunArgs) -> Result<()> {
                     0 => String::new(),
                     n => format!(" and {n} elastic onsets ({onsets_done} done by an earlier run), counted together"),
                 };
-                eprintln!("solving: {total} solves ({done} done by an earlier run){onsets}");
+                super::message(&format!("solving: {total} solves ({done} done by an earlier run){onsets}"));
             }
         }
         Progress::Slid { topography, load_n, law, iterations, seconds } => {
@@ -99,12 +98,12 @@ pub fn run(args: RunArgs) -> Result<()> {
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             if batch && last.elapsed() >= super::BATCH_PROGRESS {
                 *last = Instant::now();
-                eprintln!(
+                super::message(&format!(
                     "solving: {}/{} after {:.0} s ({what} in {seconds:.1} s)",
                     bar.position(),
                     bar.length().unwrap_or(0),
                     start.elapsed().as_secs_f64()
-                );
+                ));
             }
         }
         Progress::Solved { topography, load_n, iterations, .. } => {
@@ -114,18 +113,18 @@ pub fn run(args: RunArgs) -> Result<()> {
             let finished = bar.length().is_some_and(|l| bar.position() == l);
             if batch && (last.elapsed() >= super::BATCH_PROGRESS || finished) {
                 *last = Instant::now();
-                eprintln!(
+                super::message(&format!(
                     "solving: {}/{} after {:.0} s ({topography} at {load_n:.3e} N)",
                     bar.position(),
                     bar.length().unwrap_or(0),
                     start.elapsed().as_secs_f64()
-                );
+                ));
             }
         }
     })?;
     bar.finish_and_clear();
     for w in &outcome.warnings {
-        eprintln!("warning: {w}");
+        super::message(&format!("warning: {w}"));
     }
 
     let dir = args.out.display();
@@ -150,19 +149,25 @@ pub fn run(args: RunArgs) -> Result<()> {
     };
     if let Some(shard) = args.shard {
         let (resumed, share) = (outcome.resumed, outcome.share);
-        eprintln!(
+        super::message(&format!(
             "shard {shard} of {solved}: {share} solves, {} solved, {resumed} resumed{onsets}, in {seconds:.1} s",
             outcome.solved
-        );
-        eprintln!(
+        ));
+        super::message(&format!(
             "wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures"
-        );
+        ));
         return Ok(());
     }
-    eprintln!("{solved}: {} solved, {} resumed{onsets}, in {seconds:.1} s", outcome.solved, outcome.resumed);
-    eprintln!("wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml", outcome.rows.len());
+    super::message(&format!(
+        "{solved}: {} solved, {} resumed{onsets}, in {seconds:.1} s",
+        outcome.solved, outcome.resumed
+    ));
+    super::message(&format!(
+        "wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml",
+        outcome.rows.len()
+    ));
     if !outcome.figures.is_empty() {
-        eprintln!("wrote {} figures and {dir}/index.html", outcome.figures.len());
+        super::message(&format!("wrote {} figures and {dir}/index.html", outcome.figures.len()));
     }
     Ok(())
 }

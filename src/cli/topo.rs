@@ -6,6 +6,7 @@ use clap::{Args, Subcommand};
 use ndarray::Array2;
 use serde::Serialize;
 
+use asperity::error::escaped;
 use asperity::topography::io;
 
 use super::{topo_tools, ReadArgs};
@@ -119,11 +120,10 @@ fn info(args: InfoArgs) -> Result<()> {
         missing_points: topo.missing_points(),
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&info).expect("plain data serialises"));
+        super::print(&(serde_json::to_string_pretty(&info).expect("plain data serialises") + "\n"))
     } else {
-        print!("{}", summary(&info));
+        super::print(&summary(&info))
     }
-    Ok(())
 }
 
 /// Heights over the defined (non-NaN) points [m].
@@ -155,10 +155,11 @@ impl Stats {
 
 /// The readable form of `info`, one quantity a line, lengths with SI prefixes.
 fn summary(info: &Info) -> String {
-    let quoted = |names: &[String]| names.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ");
-    let mut s = format!("file         {} ({})\n", info.file.display(), info.format);
+    // Names and units as the file writes them, escaped: a name is never a second line.
+    let quoted = |names: &[String]| names.iter().map(|n| format!("'{}'", escaped(n))).collect::<Vec<_>>().join(", ");
+    let mut s = format!("file         {} ({})\n", escaped(&info.file.display().to_string()), info.format);
     s += &format!("channels     {}\n", quoted(&info.channels));
-    s += &format!("channel      '{}'\n", info.channel);
+    s += &format!("channel      '{}'\n", escaped(&info.channel));
     s += &format!("grid         {} × {} points (nx × ny)\n", info.nx, info.ny);
     s += &match info.physical_size_m {
         Some([lx, ly]) => format!(
@@ -171,8 +172,10 @@ fn summary(info: &Info) -> String {
         None => "size         not stated in the file (give it with --size LX[,LY], metres)\n".into(),
     };
     s += &match (&info.height_unit, info.height_unit_known) {
-        (Some(u), true) => format!("height unit  {u}\n"),
-        (Some(u), false) => format!("height unit  {u}: not a length, and the file gives no factor to metres\n"),
+        (Some(u), true) => format!("height unit  {}\n", escaped(u)),
+        (Some(u), false) => {
+            format!("height unit  {}: not a length, and the file gives no factor to metres\n", escaped(u))
+        }
         (None, _) => "height unit  unknown: the file states none (give it with --height-unit U)\n".into(),
     };
     let total = info.nx * info.ny;

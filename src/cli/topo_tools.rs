@@ -1,7 +1,6 @@
 //! `asperity topo convert | generate | psd`: prepare a measured topography for the contact
 //! solver, synthesise one, or print its power spectral density.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args};
@@ -199,17 +198,13 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
         topo = resample(&topo, p, &args.read.limits.limits())?;
     }
     format.write(&args.out, &topo)?;
-    if let Some(fit) = fit {
-        println!("{}", describe_fit(&fit));
-    }
-    println!("{}", describe(&args.out, &topo));
-    Ok(())
+    let fit = fit.map(|fit| describe_fit(&fit) + "\n").unwrap_or_default();
+    super::print(&format!("{fit}{}\n", describe(&args.out, &topo)))
 }
 
 /// `asperity topo generate`.
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
-    args.limits.limits().check_grid(args.grid.0, args.grid.1).map_err(|r| Error::invalid("--grid", r))?;
     let amplitude = match (args.rms, args.rms_slope) {
         (_, Some(g)) => Amplitude::RmsSlope(g),
         (h, None) => Amplitude::RmsHeight(h.expect("clap requires one of --rms and --rms-slope")),
@@ -229,23 +224,22 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
             .map(|radius| Cap { radius, shape: if args.paraboloid { CapShape::Paraboloid } else { CapShape::Sphere } }),
         seed: args.seed,
     };
-    let topo = surface.generate()?;
+    let topo = surface.generate_within(&args.limits.limits())?;
     format.write(&args.out, &topo)?;
     let stats = height_stats(&topo)?;
-    println!(
-        "{}; rms height {} m, rms slope {}",
+    super::print(&format!(
+        "{}; rms height {} m, rms slope {}\n",
         describe(&args.out, &topo),
         human(stats.rms_height),
         human(rms_slope(&topo)?)
-    );
-    Ok(())
+    ))
 }
 
 /// `asperity topo psd`: CSV `q_rad_per_m,psd_m4` on stdout.
 pub fn power_spectrum(args: PsdArgs) -> Result<()> {
     let (topo, fit) = prepare(&args.read, &args.prepare)?;
     if let Some(fit) = fit {
-        eprintln!("{}", describe_fit(&fit));
+        super::message(&describe_fit(&fit));
     }
     let window = match args.window.as_str() {
         "hann" => Window::Hann,
@@ -253,16 +247,13 @@ pub fn power_spectrum(args: PsdArgs) -> Result<()> {
         _ => Window::default_for(&topo),
     };
     let spectrum = psd(&topo, window)?;
-    // A reader that stops early (`| head`) ends the process by SIGPIPE (see `handle_signals`).
-    let write = || -> std::io::Result<()> {
-        let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    super::to_stdout(|w| {
         writeln!(w, "q_rad_per_m,psd_m4")?;
         for (q, c) in spectrum.q.iter().zip(&spectrum.c) {
             writeln!(w, "{q:e},{c:e}")?;
         }
-        w.flush()
-    };
-    write().map_err(|e| Error::io("standard output", e))
+        Ok(())
+    })
 }
 
 /// `NX[,NY]`: point counts.
@@ -292,9 +283,9 @@ fn parse_bound(s: &str) -> std::result::Result<Bound, String> {
     if let Ok(i) = s.parse::<usize>() {
         return Ok(Bound::Pixel(i));
     }
+    // A length's value is checked where the window is cut (`resample::crop`).
     match quantity::parse(s, &quantity::LENGTH, false) {
-        Ok(v) if v >= 0.0 => Ok(Bound::Length(v)),
-        Ok(_) => Err(format!("{} is negative: bounds are measured from the map's origin", quantity::quoted(s))),
+        Ok(v) => Ok(Bound::Length(v)),
         Err(_) if s.starts_with('-') => {
             Err(format!("{} is negative: bounds are pixel indices ≥ 0 or lengths ≥ 0", quantity::quoted(s)))
         }
