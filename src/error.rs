@@ -72,8 +72,7 @@ pub fn one_line(message: &str) -> String {
 /// Unicode bidirectional marks and overrides as `\u{202e}`. A file's content or an option's
 /// value then cannot move the cursor, clear the screen or make a line read otherwise.
 pub fn escaped(text: &str) -> Cow<'_, str> {
-    let unsafe_char = |c: char| c.is_control() || is_bidi_control(c);
-    if !text.chars().any(unsafe_char) {
+    if !text.chars().any(acts_on_terminal) {
         return Cow::Borrowed(text);
     }
     let mut out = String::with_capacity(text.len() + 8);
@@ -85,7 +84,7 @@ pub fn escaped(text: &str) -> Cow<'_, str> {
             c if c.is_ascii_control() => {
                 let _ = write!(out, "\\x{:02x}", c as u32);
             }
-            c if unsafe_char(c) => {
+            c if acts_on_terminal(c) => {
                 let _ = write!(out, "\\u{{{:x}}}", c as u32);
             }
             c => out.push(c),
@@ -94,10 +93,12 @@ pub fn escaped(text: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
-/// The invisible marks that change the order in which a terminal shows text (Unicode's
-/// bidirectional formatting characters).
-fn is_bidi_control(c: char) -> bool {
-    matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+/// Whether a terminal acts on `c` rather than showing it: a control character (C0, DEL, C1)
+/// or one of the invisible marks that change the order in which text is shown (Unicode's
+/// bidirectional formatting characters). All lie below U+10000.
+pub fn acts_on_terminal(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
 /// Result with the library's [`Error`].

@@ -99,11 +99,20 @@ fn control_characters_never_reach_the_terminal() {
     std::fs::copy(dir.join("s.npy"), dir.join("a\x1b]0;title\x07\rb.npy")).unwrap();
     let o = asperity(dir).args(["topo", "info", "a\x1b]0;title\x07\rb.npy", "--size", "1e-6"]).output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let out = String::from_utf8(o.stdout).unwrap();
+    let out = String::from_utf8(o.stdout.clone()).unwrap();
     assert!(out.starts_with("file         a\\x1b]0;title\\x07\\rb.npy (npy)\n"), "{out}");
     for (text, what) in [(&out, "stdout"), (&stderr(&o), "stderr")] {
         assert!(!text.chars().any(|c| c.is_control() && c != '\n'), "{what}: {text:?}");
     }
+    // In JSON, as JSON's own escapes: the output parses back to the very name.
+    let name = "c\x7f\u{9b}2J\u{202e}d.npy";
+    std::fs::copy(dir.join("s.npy"), dir.join(name)).unwrap();
+    let o = asperity(dir).args(["topo", "info", name, "--size", "1e-6", "--json"]).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.contains(r#""file": "c\u007f\u009b2J\u202ed.npy""#), "{out}");
+    let info: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(info["file"], name);
 }
 
 /// A tiny study: one small synthetic topography, two loads, no figures.

@@ -17,7 +17,7 @@ use clap::builder::PossibleValuesParser;
 use clap::Args;
 
 use asperity::contact::{combined_modulus, Material};
-use asperity::error::{escaped, one_line};
+use asperity::error::{acts_on_terminal, escaped, one_line};
 use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
@@ -96,6 +96,25 @@ pub fn to_stdout(fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Re
 pub fn print(text: &str) -> Result<()> {
     let lines: Vec<_> = text.split('\n').map(escaped).collect();
     to_stdout(|w| w.write_all(lines.join("\n").as_bytes()))
+}
+
+/// Print `value` as pretty JSON on standard output (see [`to_stdout`]). The characters that
+/// [`escaped`] escapes and JSON allows raw in a string (DEL, C1 controls, bidirectional marks)
+/// are written as JSON's `\uXXXX`: the output stays valid JSON, inert on a terminal.
+pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
+    use std::fmt::Write as _;
+    let text = serde_json::to_string_pretty(value).map_err(|e| Error::invalid("--json", e.to_string()))?;
+    let mut json = String::with_capacity(text.len() + 1);
+    // A raw newline is the layout's: serde_json escapes those in strings.
+    for c in text.chars() {
+        if acts_on_terminal(c) && c != '\n' {
+            let _ = write!(json, "\\u{:04x}", c as u32);
+        } else {
+            json.push(c);
+        }
+    }
+    json.push('\n');
+    to_stdout(|w| w.write_all(json.as_bytes()))
 }
 
 /// Print one line on standard error (an error, a warning, what was written, progress), all of

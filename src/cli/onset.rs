@@ -196,7 +196,7 @@ pub fn run(args: Args) -> Result<()> {
     }
 
     if args.json {
-        super::print(&(serde_json::to_string_pretty(&report).expect("the report serialises") + "\n"))
+        super::print_json(&report)
     } else {
         super::print(&summary(&report))
     }

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use clap::Args;
 
+use asperity::error::escaped;
 use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
 use asperity::study::shard::Shard;
@@ -92,7 +93,8 @@ pub fn run(args: RunArgs) -> Result<()> {
             }
         }
         Progress::Slid { topography, load_n, law, iterations, seconds } => {
-            let what = format!("{topography} at {load_n:.3e} N: elastic onset of \"{law}\"");
+            // The bar shows the study's names: escaped, as every message.
+            let what = format!("{} at {load_n:.3e} N: elastic onset of \"{}\"", escaped(topography), escaped(law));
             bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
@@ -107,6 +109,7 @@ pub fn run(args: RunArgs) -> Result<()> {
             }
         }
         Progress::Solved { topography, load_n, iterations, .. } => {
+            let topography = escaped(topography);
             bar.set_message(format!("{topography} at {load_n:.3e} N ({iterations} iterations)"));
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());

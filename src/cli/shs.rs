@@ -125,8 +125,7 @@ pub fn run(args: Args) -> asperity::Result<()> {
         plot::write_figure(path, &shs::trace_figure(&trace, &analysis, &options))?;
     }
     if args.json {
-        let json = serde_json::to_string_pretty(&analysis).map_err(|e| Error::invalid("--json", e.to_string()))?;
-        super::print(&(json + "\n"))
+        super::print_json(&analysis)
     } else {
         super::print(&table(&escaped(&args.trace.display().to_string()), &analysis, options.window))
     }

@@ -120,7 +120,7 @@ fn info(args: InfoArgs) -> Result<()> {
         missing_points: topo.missing_points(),
     };
     if args.json {
-        super::print(&(serde_json::to_string_pretty(&info).expect("plain data serialises") + "\n"))
+        super::print_json(&info)
     } else {
         super::print(&summary(&info))
     }
