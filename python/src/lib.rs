@@ -42,10 +42,24 @@ fn error(e: asperity::Error) -> PyErr {
     Error::new_err(asperity::error::one_line(&e.to_string()))
 }
 
+/// A whole number ≥ 0 (a seed, a count), refused as the command line refuses `--seed -1`.
+fn whole(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u64> {
+    value.extract::<u64>().map_err(|_| {
+        let shown = value.repr().map_or_else(|_| "?".to_string(), |r| r.to_string());
+        invalid(name, format!("{} is not a whole number ≥ 0", asperity::quantity::quoted(&shown)))
+    })
+}
+
 /// The input limits: `max_points`, the largest grid, as the command line's `--max-points`
 /// (default 2^28).
-fn limits(max_points: Option<usize>) -> PyResult<Limits> {
-    max_points.map_or(Ok(Limits::default()), |n| Limits::new(n, "max_points").map_err(error))
+fn limits(max_points: Option<&Bound<'_, PyAny>>) -> PyResult<Limits> {
+    match max_points {
+        None => Ok(Limits::default()),
+        Some(n) => {
+            let n = usize::try_from(whole(n, "max_points")?).unwrap_or(usize::MAX);
+            Limits::new(n, "max_points").map_err(error)
+        }
+    }
 }
 
 /// An `asperity.Error` about the argument `name`.
@@ -288,7 +302,7 @@ impl Topography {
     /// Resampled (cubic convolution) to the pixel size nearest to ``pixel_size`` [m] that
     /// divides the physical size, which is kept; at most ``max_points`` points (default 2^28).
     #[pyo3(signature = (pixel_size, *, max_points = None))]
-    fn resample(&self, py: Python<'_>, pixel_size: f64, max_points: Option<usize>) -> PyResult<Topography> {
+    fn resample(&self, py: Python<'_>, pixel_size: f64, max_points: Option<&Bound<'_, PyAny>>) -> PyResult<Topography> {
         let limits = limits(max_points)?;
         let topo = py.detach(|| resample::resample(&self.inner, pixel_size, &limits)).map_err(error)?;
         Ok(Topography { inner: topo, channels: self.channels.clone() })
@@ -329,7 +343,7 @@ fn read_topography(
     size: Option<&Bound<'_, PyAny>>,
     height_unit: Option<String>,
     format: Option<String>,
-    max_points: Option<usize>,
+    max_points: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Topography> {
     let options = io::ReadOptions {
         format,
@@ -366,7 +380,7 @@ fn generate(
     py: Python<'_>,
     size: &Bound<'_, PyAny>,
     grid: &Bound<'_, PyAny>,
-    seed: u64,
+    seed: &Bound<'_, PyAny>,
     hurst: Option<f64>,
     rms: Option<f64>,
     rms_slope: Option<f64>,
@@ -375,9 +389,10 @@ fn generate(
     long_cutoff: Option<f64>,
     sphere_radius: Option<f64>,
     paraboloid: bool,
-    max_points: Option<usize>,
+    max_points: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Topography> {
     let limits = limits(max_points)?;
+    let seed = whole(seed, "--seed")?;
     let size = lengths(size, "--size")?;
     let grid = match grid.extract::<usize>() {
         Ok(n) => (n, n),

@@ -263,6 +263,8 @@ def test_the_command_lines_checks_apply(tmp_path):
     raises(lambda: ap.generate(size=1e-6, grid=(2**20, 2**20), hurst=0.8, rms=1e-9, seed=0), "--grid", "--max-points")
     raises(lambda: ap.generate(size=1e-6, grid=64, hurst=0.8, rms=1e-9, seed=0, max_points=1000), "4096 points")
     raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=0, max_points=3), "max_points")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=0, max_points=-5), "max_points", "'-5'")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=-1), "--seed", "'-1' is not a whole")
     raises(lambda: t.resample(1e-9, max_points=10000), "--pixel-size", "over the limit of 10000 points")
     np.save(tmp_path / "h.npy", np.zeros((64, 64)))
     raises(lambda: ap.read_topography(tmp_path / "h.npy", size=1e-6, max_points=1000), "h.npy", "1000 points")

@@ -43,7 +43,7 @@ impl SlurmJob {
         let logs = "shard-%a.log";
         let run = format!("{} --shard \"$SLURM_ARRAY_TASK_ID/{}\"", self.command()?, self.shards);
         let what = format!("the {} shards of a study, one task each", self.shards);
-        self.script(&what, "asperity-shards", Some(self.shards), &logs, &run)
+        self.script(&what, "asperity-shards", Some(self.shards), logs, &run)
     }
 
     /// The assembling job's script (submitted with `--dependency=afterok:<the array's id>`):
