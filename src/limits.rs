@@ -13,6 +13,9 @@
 //! estimates the bytes it needs and refuses in one line, naming the estimate, when they exceed
 //! [`available_memory`]; the largest arrays are reserved fallibly ([`zeroed`]), so that an
 //! allocation failing despite the estimate is an error too, not an abort.
+//!
+//! The worker threads are bounded too ([`start_threads`]): at most [`MAX_THREADS`], and
+//! [`THREADS_PER_CORE`] per available core.
 
 use std::io::Read;
 use std::path::Path;
@@ -40,6 +43,51 @@ pub const GENERATE_BYTES_PER_POINT: u64 = 40;
 
 /// Bytes per point of the resampled grid (the heights, and the pass along x before y).
 pub const RESAMPLE_BYTES_PER_POINT: u64 = 16;
+
+/// The most worker threads asperity runs (`RAYON_NUM_THREADS`, `asperity slurm --cpus`).
+pub const MAX_THREADS: usize = 4096;
+
+/// The most worker threads per available core: more only share the same cores.
+pub const THREADS_PER_CORE: usize = 64;
+
+/// The environment variable that sets the number of worker threads (rayon's).
+const THREADS_VARIABLE: &str = "RAYON_NUM_THREADS";
+
+/// Start the global pool of worker threads once per process, as many as `RAYON_NUM_THREADS`
+/// says (unset or 0: one per available core); the number started. A value that is not a count,
+/// or above [`MAX_THREADS`] or [`THREADS_PER_CORE`] per available core, is refused in one line
+/// naming the variable, and threads the system will not start are an error, not a panic.
+pub fn start_threads() -> Result<usize> {
+    static STARTED: std::sync::OnceLock<std::result::Result<usize, String>> = std::sync::OnceLock::new();
+    let started = STARTED.get_or_init(|| {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let threads = threads_asked(std::env::var_os(THREADS_VARIABLE).as_deref(), cores)?;
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global()
+            .map(|()| threads)
+            .map_err(|e| format!("{threads} worker threads could not be started: {e}"))
+    });
+    started.clone().map_err(|reason| Error::invalid(THREADS_VARIABLE, reason))
+}
+
+/// The number of threads `value` (of `RAYON_NUM_THREADS`) asks for on `cores` available cores.
+fn threads_asked(value: Option<&std::ffi::OsStr>, cores: usize) -> std::result::Result<usize, String> {
+    let Some(value) = value else { return Ok(cores) };
+    let text = value.to_string_lossy();
+    let n = text.trim().parse::<usize>().map_err(|_| {
+        format!("{} is not a number of threads (leave it unset for one per core)", crate::quantity::quoted(&text))
+    })?;
+    let most = MAX_THREADS.min(THREADS_PER_CORE.saturating_mul(cores));
+    match n {
+        0 => Ok(cores),
+        n if n > most => Err(format!(
+            "{n} threads is more than the {most} asperity runs on {cores} available cores (at most \
+             {THREADS_PER_CORE} a core and {MAX_THREADS} in all)"
+        )),
+        n => Ok(n),
+    }
+}
 
 /// How large an input may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -236,6 +284,19 @@ mod tests {
         assert_eq!((gib(3 << 29), gib(5 << 20)), ("1.5 GiB".to_string(), "5 MiB".to_string()));
         assert_eq!(zeroed(3, "x").unwrap(), vec![0.0; 3]);
         assert!(zeroed(usize::MAX / 8, "the heights").unwrap_err().contains("out of memory"));
+    }
+
+    #[test]
+    fn threads_are_bounded() {
+        use std::ffi::OsStr;
+        assert_eq!(threads_asked(None, 8), Ok(8));
+        assert_eq!(threads_asked(Some(OsStr::new("0")), 8), Ok(8));
+        assert_eq!(threads_asked(Some(OsStr::new(" 3 ")), 8), Ok(3));
+        assert_eq!(threads_asked(Some(OsStr::new("512")), 8), Ok(512));
+        let e = threads_asked(Some(OsStr::new("513")), 8).unwrap_err();
+        assert!(e.starts_with("513 threads is more than the 512 asperity runs on 8 available cores"), "{e}");
+        assert!(threads_asked(Some(OsStr::new("4097")), 1000).unwrap_err().contains("the 4096 asperity runs"));
+        assert!(threads_asked(Some(OsStr::new("-1")), 8).unwrap_err().contains("'-1' is not a number of threads"));
     }
 
     #[test]

@@ -31,7 +31,7 @@ enum Command {
 
 fn main() -> ExitCode {
     if let Err(e) = cli::handle_signals() {
-        eprintln!("error: {e}");
+        cli::message(&format!("error: {e}"));
         return ExitCode::FAILURE;
     }
     let command = cli::negative_values_reach_their_option(Cli::command());
@@ -39,7 +39,9 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return cli::exit_on_usage_error(e),
     };
-    let result: asperity::Result<()> = match cli.command {
+    // The worker threads, started once, before any work (a bad RAYON_NUM_THREADS is refused).
+    let started = asperity::limits::start_threads();
+    let result: asperity::Result<()> = started.and_then(|_| match cli.command {
         Command::Contact(args) => cli::contact::run(args),
         Command::Onset(args) => cli::onset::run(args),
         Command::Slide(args) => cli::slide::run(args),
@@ -47,11 +49,11 @@ fn main() -> ExitCode {
         Command::Shs(args) => cli::shs::run(args),
         Command::Run(args) => cli::run::run(args),
         Command::Slurm(args) => cli::slurm::run(args),
-    };
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("{}", cli::one_short_line(&format!("error: {e}")));
+            cli::message(&asperity::error::one_line(&format!("error: {e}")));
             ExitCode::FAILURE
         }
     }

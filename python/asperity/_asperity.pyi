@@ -60,7 +60,7 @@ class Topography:
         rows: Optional[Tuple[int, int]] = None,
     ) -> Topography:
         """The part inside x, y [m] from the origin, or columns, rows [pixels], end excluded."""
-    def resample(self, pixel_size: float) -> Topography:
+    def resample(self, pixel_size: float, *, max_points: Optional[int] = None) -> Topography:
         """Resampled to the pixel size [m] nearest to pixel_size that divides the size."""
     def fill_missing(self) -> Topography:
         """Missing points filled harmonically."""
@@ -149,6 +149,7 @@ def read_topography(
     size: Optional[_Lengths] = None,
     height_unit: Optional[str] = None,
     format: Optional[str] = None,
+    max_points: Optional[int] = None,
 ) -> Topography: ...
 def compound(ball: Topography, wafer: Topography) -> Topography: ...
 def generate(
@@ -164,6 +165,7 @@ def generate(
     long_cutoff: Optional[float] = None,
     sphere_radius: Optional[float] = None,
     paraboloid: bool = False,
+    max_points: Optional[int] = None,
 ) -> Topography: ...
 def psd(
     topography: Topography, window: str = "auto"

@@ -36,9 +36,30 @@ pyo3::create_exception!(
     "Bad input or a computation that failed: the one-line message of the asperity command line."
 );
 
-/// A library error as `asperity.Error`.
+/// A library error as `asperity.Error`: its one line as the command line prints it, control
+/// characters escaped.
 fn error(e: asperity::Error) -> PyErr {
-    Error::new_err(e.to_string())
+    Error::new_err(asperity::error::one_line(&e.to_string()))
+}
+
+/// A whole number ≥ 0 (a seed, a count), refused as the command line refuses `--seed -1`.
+fn whole(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u64> {
+    value.extract::<u64>().map_err(|_| {
+        let shown = value.repr().map_or_else(|_| "?".to_string(), |r| r.to_string());
+        invalid(name, format!("{} is not a whole number ≥ 0", asperity::quantity::quoted(&shown)))
+    })
+}
+
+/// The input limits: `max_points`, the largest grid, as the command line's `--max-points`
+/// (default 2^28).
+fn limits(max_points: Option<&Bound<'_, PyAny>>) -> PyResult<Limits> {
+    match max_points {
+        None => Ok(Limits::default()),
+        Some(n) => {
+            let n = usize::try_from(whole(n, "max_points")?).unwrap_or(usize::MAX);
+            Limits::new(n, "max_points").map_err(error)
+        }
+    }
 }
 
 /// An `asperity.Error` about the argument `name`.
@@ -120,9 +141,14 @@ fn lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(f64, f64)> {
     Ok((x, y))
 }
 
-/// A finite number range `(start, end)`.
+/// A number range `(start, end)` (checked where it is used).
 fn range(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(f64, f64)> {
     value.extract::<(f64, f64)>().map_err(|_| invalid(name, "expected a pair (start, end)"))
+}
+
+/// A pixel range `(start, end)`: indices ≥ 0.
+fn pixels(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(usize, usize)> {
+    value.extract::<(usize, usize)>().map_err(|_| invalid(name, "expected a pair (start, end) of pixel indices ≥ 0"))
 }
 
 /// A read-only view of `array`, whose data `owner` holds and never changes.
@@ -252,13 +278,15 @@ impl Topography {
         &self,
         x: Option<&Bound<'_, PyAny>>,
         y: Option<&Bound<'_, PyAny>>,
-        columns: Option<(usize, usize)>,
-        rows: Option<(usize, usize)>,
+        columns: Option<&Bound<'_, PyAny>>,
+        rows: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Topography> {
         let window = if columns.is_some() || rows.is_some() {
             if x.is_some() || y.is_some() {
                 return Err(invalid("--crop", "give lengths (x, y) or pixels (columns, rows), not both"));
             }
+            let columns = columns.map(|v| pixels(v, "columns")).transpose()?;
+            let rows = rows.map(|v| pixels(v, "rows")).transpose()?;
             let (c, r) = (columns.unwrap_or((0, self.inner.nx())), rows.unwrap_or((0, self.inner.ny())));
             CropWindow::Pixels { x: c.0..c.1, y: r.0..r.1 }
         } else {
@@ -272,9 +300,11 @@ impl Topography {
     }
 
     /// Resampled (cubic convolution) to the pixel size nearest to ``pixel_size`` [m] that
-    /// divides the physical size, which is kept.
-    fn resample(&self, py: Python<'_>, pixel_size: f64) -> PyResult<Topography> {
-        let topo = py.detach(|| resample::resample(&self.inner, pixel_size, &Limits::default())).map_err(error)?;
+    /// divides the physical size, which is kept; at most ``max_points`` points (default 2^28).
+    #[pyo3(signature = (pixel_size, *, max_points = None))]
+    fn resample(&self, py: Python<'_>, pixel_size: f64, max_points: Option<&Bound<'_, PyAny>>) -> PyResult<Topography> {
+        let limits = limits(max_points)?;
+        let topo = py.detach(|| resample::resample(&self.inner, pixel_size, &limits)).map_err(error)?;
         Ok(Topography { inner: topo, channels: self.channels.clone() })
     }
 
@@ -302,8 +332,10 @@ impl Topography {
 /// extension; ``format`` overrides). ``channel``: name or 0-based index (default: the first
 /// height channel). ``size``: the physical size [m], needed for a bare array (.npy), checked
 /// against a size the file states. ``height_unit``: unit of a file that states none.
+/// ``max_points``: the largest grid read (default 2^28), the file read only up to 128 bytes a
+/// point.
 #[pyfunction]
-#[pyo3(signature = (path, channel = None, *, size = None, height_unit = None, format = None))]
+#[pyo3(signature = (path, channel = None, *, size = None, height_unit = None, format = None, max_points = None))]
 fn read_topography(
     py: Python<'_>,
     path: PathBuf,
@@ -311,13 +343,14 @@ fn read_topography(
     size: Option<&Bound<'_, PyAny>>,
     height_unit: Option<String>,
     format: Option<String>,
+    max_points: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Topography> {
     let options = io::ReadOptions {
         format,
         channel: channel.map(|c| c.str().map(|s| s.to_string())).transpose()?,
         physical_size: size.map(|s| lengths(s, "--size")).transpose()?,
         height_unit,
-        limits: Limits::default(),
+        limits: limits(max_points)?,
     };
     let (inner, channels) = py.detach(|| io::read_listing(&path, &options)).map_err(error)?;
     Ok(Topography { inner, channels })
@@ -336,16 +369,18 @@ fn compound(py: Python<'_>, ball: &Topography, wafer: &Topography) -> PyResult<T
 /// wavevector of ``rolloff`` [m], nothing below ``cutoff`` [m] or above ``long_cutoff`` [m]
 /// wavelengths) on an optional cap of radius ``sphere_radius`` [m] (a paraboloid with
 /// ``paraboloid=True``), apex at the centre. ``size``: lx or (lx, ly) [m]; ``grid``: n or
-/// (nx, ny) points. The same seed gives bit-identical heights, as ``asperity topo generate``.
+/// (nx, ny) points, at most ``max_points`` in all (default 2^28). The same seed gives
+/// bit-identical heights, as ``asperity topo generate``.
 #[pyfunction]
 #[pyo3(signature = (*, size, grid, seed, hurst = None, rms = None, rms_slope = None, rolloff = None,
-                    cutoff = None, long_cutoff = None, sphere_radius = None, paraboloid = false))]
+                    cutoff = None, long_cutoff = None, sphere_radius = None, paraboloid = false,
+                    max_points = None))]
 #[allow(clippy::too_many_arguments)]
 fn generate(
     py: Python<'_>,
     size: &Bound<'_, PyAny>,
     grid: &Bound<'_, PyAny>,
-    seed: u64,
+    seed: &Bound<'_, PyAny>,
     hurst: Option<f64>,
     rms: Option<f64>,
     rms_slope: Option<f64>,
@@ -354,7 +389,10 @@ fn generate(
     long_cutoff: Option<f64>,
     sphere_radius: Option<f64>,
     paraboloid: bool,
+    max_points: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Topography> {
+    let limits = limits(max_points)?;
+    let seed = whole(seed, "--seed")?;
     let size = lengths(size, "--size")?;
     let grid = match grid.extract::<usize>() {
         Ok(n) => (n, n),
@@ -379,7 +417,7 @@ fn generate(
     let cap = sphere_radius
         .map(|radius| Cap { radius, shape: if paraboloid { CapShape::Paraboloid } else { CapShape::Sphere } });
     let surface = SyntheticSurface { size, grid, roughness, cap, seed };
-    let inner = py.detach(|| surface.generate()).map_err(error)?;
+    let inner = py.detach(|| surface.generate_within(&limits)).map_err(error)?;
     Ok(Topography::wrap(inner))
 }
 
@@ -504,6 +542,10 @@ fn contact(
     };
     let surface = &topography.inner;
     let size = core_contact::contact_size(surface).map_err(error)?;
+    // Every load checked before any is solved, as the command line does.
+    for &load in &loads {
+        core_contact::check_load(load, size, e_star).map_err(error)?;
+    }
     let shape = surface.heights.dim();
     let options = SolverOptions { tolerance, max_iterations: max_iter };
     let mut signals = Signals::new(py)?;
@@ -969,6 +1011,9 @@ fn _run_study(
 #[pymodule]
 fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Error", m.py().get_type::<Error>())?;
+    // The worker threads, as the command line starts them: a bad RAYON_NUM_THREADS is refused
+    // here rather than panicking in the first solve.
+    asperity::limits::start_threads().map_err(error)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PRESETS", asperity::friction::PRESETS.iter().map(|(n, s, d)| (*n, *s, *d)).collect::<Vec<_>>())?;
     m.add_class::<Topography>()?;

@@ -250,6 +250,44 @@ def test_every_bad_input_raises_asperity_error(tmp_path):
     assert (tmp_path / "full" / "mine.txt").read_text() == "a user's file"
 
 
+def test_the_command_lines_checks_apply(tmp_path):
+    # What the command line refuses, the package refuses with the same library check.
+    t = rough_ball(grid=32)
+    nan = float("nan")
+    raises(lambda: t.crop(x=(nan, 1e-6)), "--crop", "x0 = NaN", "finite lengths ≥ 0")
+    raises(lambda: t.crop(x=(-1e-6, 5e-6)), "--crop", "x0 = -1e-6 m")
+    raises(lambda: t.crop(y=(1e-6, float("inf"))), "--crop", "y1 = inf")
+    raises(lambda: t.crop(columns=(-1, 5)), "columns", "pixel indices ≥ 0")
+    assert t.crop(x=(0.0, 10e-6)).shape == (32, 11)
+    # The point limit, before anything is allocated: 2^40 points would kill the interpreter.
+    raises(lambda: ap.generate(size=1e-6, grid=(2**20, 2**20), hurst=0.8, rms=1e-9, seed=0), "--grid", "--max-points")
+    raises(lambda: ap.generate(size=1e-6, grid=64, hurst=0.8, rms=1e-9, seed=0, max_points=1000), "4096 points")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=0, max_points=3), "max_points")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=0, max_points=-5), "max_points", "'-5'")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=-1), "--seed", "'-1' is not a whole")
+    raises(lambda: t.resample(1e-9, max_points=10000), "--pixel-size", "over the limit of 10000 points")
+    np.save(tmp_path / "h.npy", np.zeros((64, 64)))
+    raises(lambda: ap.read_topography(tmp_path / "h.npy", size=1e-6, max_points=1000), "h.npy", "1000 points")
+    assert ap.read_topography(tmp_path / "h.npy", size=1e-6, max_points=4096).shape == (64, 64)
+    # Every load is checked as the command line checks it: 1e120 N on 31 µm is no pressure.
+    raises(lambda: ap.contact(t, loads=[1e-3, 1e120]), "--load", "not representable")
+    # A file's content is quoted with its control characters escaped, on one line.
+    (tmp_path / "t.txt").write_bytes(b"1 2\n3 4\x1b[2J\rX\n")
+    message = raises(lambda: ap.read_topography(tmp_path / "t.txt"), "t.txt", "\\x1b[2J")
+    assert "\x1b" not in message and "\r" not in message, message
+
+
+def test_too_many_threads_are_refused_at_import():
+    done = subprocess.run(
+        [sys.executable, "-c", "import asperity"],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "RAYON_NUM_THREADS": "100000"},
+    )
+    assert done.returncode != 0
+    assert "asperity.Error: RAYON_NUM_THREADS: 100000 threads is more than" in done.stderr, done.stderr
+
+
 # --- slide-hold-slide and studies -------------------------------------------------------------
 
 

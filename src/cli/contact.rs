@@ -178,7 +178,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         })?;
         let summary = contact::summarize(solver.pressure(), shape, size, boundary, args.hardness);
         for w in summary.warnings() {
-            bar.suspend(|| eprintln!("warning: at {load:e} N: {w}"));
+            bar.suspend(|| super::message(&format!("warning: at {load:e} N: {w}")));
             warnings.push(format!("at {load:e} N: {w}"));
         }
         let to_field = |v: Vec<f64>| ndarray::Array2::from_shape_vec(shape, v).expect("field has the grid's shape");
@@ -230,7 +230,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     };
     output::write_json(&out.path("contact.json"), &file)?;
     let dir = out.commit()?;
-    eprintln!("wrote {}", dir.join("contact.json").display());
+    super::message(&format!("wrote {}", dir.join("contact.json").display()));
     Ok(())
 }
 

@@ -9,6 +9,7 @@ pub mod slurm;
 pub mod topo;
 pub mod topo_tools;
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -16,10 +17,11 @@ use clap::builder::PossibleValuesParser;
 use clap::Args;
 
 use asperity::contact::{combined_modulus, Material};
+use asperity::error::{acts_on_terminal, escaped, one_line};
 use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
-use asperity::Result;
+use asperity::{Error, Result};
 
 /// SIGINT and SIGTERM remove the temporaries in flight (`.asperity-*.partial`) and end the
 /// process with 130 and 143 (locks go with the process); SIGPIPE, a reader such as `head` that
@@ -51,7 +53,10 @@ pub fn handle_signals() -> std::io::Result<()> {
                 ""
             };
             // On a line of its own, below a progress bar.
-            eprintln!("\nasperity: stopped by {name}; its temporaries removed, nothing half-written kept{resume}");
+            let _ = std::io::stderr().write_all(b"\n");
+            message(&format!(
+                "asperity: stopped by {name}; its temporaries removed, nothing half-written kept{resume}"
+            ));
             std::process::exit(128 + signal);
         }
     })?;
@@ -72,10 +77,51 @@ pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
             }
         }
         _ => {
-            eprintln!("{}", usage_line(&e));
+            message(&usage_line(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// Write to standard output through `fill`: the one way every command prints its results. A
+/// failed write (a full disk) is an error naming standard output, not a panic; a reader that
+/// stops early (`| head`) ends the process quietly by SIGPIPE first (see [`handle_signals`]).
+pub fn to_stdout(fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    fill(&mut w).and_then(|()| w.flush()).map_err(|e| Error::io("standard output", e))
+}
+
+/// Print `text` on standard output (see [`to_stdout`]), each of its lines [`escaped`]: a
+/// command's readable output quotes file names, channel names and units.
+pub fn print(text: &str) -> Result<()> {
+    let lines: Vec<_> = text.split('\n').map(escaped).collect();
+    to_stdout(|w| w.write_all(lines.join("\n").as_bytes()))
+}
+
+/// Print `value` as pretty JSON on standard output (see [`to_stdout`]). The characters that
+/// [`escaped`] escapes and JSON allows raw in a string (DEL, C1 controls, bidirectional marks)
+/// are written as JSON's `\uXXXX`: the output stays valid JSON, inert on a terminal.
+pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
+    use std::fmt::Write as _;
+    let text = serde_json::to_string_pretty(value).map_err(|e| Error::invalid("--json", e.to_string()))?;
+    let mut json = String::with_capacity(text.len() + 1);
+    // A raw newline is the layout's: serde_json escapes those in strings.
+    for c in text.chars() {
+        if acts_on_terminal(c) && c != '\n' {
+            let _ = write!(json, "\\u{:04x}", c as u32);
+        } else {
+            json.push(c);
+        }
+    }
+    json.push('\n');
+    to_stdout(|w| w.write_all(json.as_bytes()))
+}
+
+/// Print one line on standard error (an error, a warning, what was written, progress), all of
+/// it [`escaped`]: it may echo a path, a file's content or an option's value. A failed write
+/// is ignored: nothing is left to tell it to.
+pub fn message(line: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{}", escaped(line));
 }
 
 /// Clap's own first line of an error.
@@ -83,11 +129,8 @@ fn first_line(e: &clap::Error) -> String {
     e.render().to_string().lines().next().unwrap_or("error: invalid usage").to_string()
 }
 
-/// The longest error line printed [characters].
-const USAGE_LINE_CHARS: usize = 300;
-
-/// `error: --option: reason` for a bad value, else clap's first line; never longer than
-/// [`USAGE_LINE_CHARS`] (clap quotes a bad token whole).
+/// `error: --option: reason` for a bad value, else clap's first line, as one short line
+/// ([`one_line`]; clap quotes a bad token whole).
 fn usage_line(e: &clap::Error) -> String {
     use clap::error::{ContextKind, ContextValue, ErrorKind};
     let text = |kind| match e.get(kind) {
@@ -117,18 +160,7 @@ fn usage_line(e: &clap::Error) -> String {
         },
         _ => first_line(e),
     };
-    one_short_line(&line)
-}
-
-/// An error message as printed: its first line, cut at [`USAGE_LINE_CHARS`] characters (a
-/// message may echo a value of any length).
-pub fn one_short_line(message: &str) -> String {
-    let line = message.lines().next().unwrap_or_default();
-    if line.chars().count() <= USAGE_LINE_CHARS {
-        line.to_string()
-    } else {
-        line.chars().take(USAGE_LINE_CHARS).chain(['…']).collect()
-    }
+    one_line(&line)
 }
 
 /// Let every option whose value is a number or a quantity take a value starting with '-'

@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use asperity::error::escaped;
 use asperity::friction::{write_curves_csv, ClassShare, Curve, ElementLoads, FrictionLaw, Loading, Onset};
 use asperity::limits::Limits;
 use asperity::output::{write_json, write_npy, StagedDir};
@@ -197,11 +198,10 @@ pub fn run(args: Args) -> Result<()> {
     }
 
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report).expect("the report serialises"));
+        super::print_json(&report)
     } else {
-        print_summary(&report);
+        super::print(&summary(&report))
     }
-    Ok(())
 }
 
 /// The local law from --mu-s/--mu-d, --curve or a preset --law, labelled by --law.
@@ -391,27 +391,31 @@ fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> R
     Ok(Input { pressure, path, pixel_area: Some(area), load: Some((index, load.load_n)) })
 }
 
-fn print_summary(r: &Report) {
+/// The readable form of the report, one quantity a line.
+fn summary(r: &Report) -> String {
+    use std::fmt::Write;
     let law = match r.law.name {
-        Some(name) => format!("\"{name}\": mu_s {}, mu_d {}", human(r.law.mu_s), human(r.law.mu_d)),
+        Some(name) => format!("\"{}\": mu_s {}, mu_d {}", escaped(name), human(r.law.mu_s), human(r.law.mu_d)),
         None => format!("mu_s {}, mu_d {}", human(r.law.mu_s), human(r.law.mu_d)),
     };
-    println!("{}  ({law})", r.input);
-    println!("elements            {}", r.elements);
+    let mut s = format!("{}  ({law})\n", escaped(&r.input));
+    let _ = writeln!(s, "elements            {}", r.elements);
     if let (Some(n), Some(fs)) = (r.load_n, r.static_force_n) {
-        println!("normal load         {n:.6e} N");
-        println!("static friction     {fs:.6e} N");
+        let _ = writeln!(s, "normal load         {n:.6e} N");
+        let _ = writeln!(s, "static friction     {fs:.6e} N");
     }
-    println!("static coefficient  {:.6}", r.static_coefficient);
-    println!("dynamic coefficient {:.6}", r.dynamic_coefficient);
-    println!("friction drop       {:.6}", r.friction_drop);
-    println!("                    count       of N      of F_S");
-    for (name, s) in [("critical", r.critical), ("pre-sliding", r.pre_sliding), ("subcritical", r.subcritical)] {
-        println!(
+    let _ = writeln!(s, "static coefficient  {:.6}", r.static_coefficient);
+    let _ = writeln!(s, "dynamic coefficient {:.6}", r.dynamic_coefficient);
+    let _ = writeln!(s, "friction drop       {:.6}", r.friction_drop);
+    let _ = writeln!(s, "                    count       of N      of F_S");
+    for (name, c) in [("critical", r.critical), ("pre-sliding", r.pre_sliding), ("subcritical", r.subcritical)] {
+        let _ = writeln!(
+            s,
             "{name:<19} {:<11} {:>6.2} %  {:>6.2} %",
-            s.count,
-            100.0 * s.normal_fraction,
-            100.0 * s.friction_fraction
+            c.count,
+            100.0 * c.normal_fraction,
+            100.0 * c.friction_fraction
         );
     }
+    s
 }

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use clap::Args;
 
+use asperity::error::escaped;
 use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
 use asperity::study::shard::Shard;
@@ -68,8 +69,7 @@ pub struct RunArgs {
 
 pub fn run(args: RunArgs) -> Result<()> {
     if args.print_default {
-        print!("{DEFAULT_STUDY}");
-        return Ok(());
+        return super::print(DEFAULT_STUDY);
     }
     super::stop_resumes();
     let start = Instant::now();
@@ -89,56 +89,54 @@ pub fn run(args: RunArgs) -> Result<()> {
                     0 => String::new(),
                     n => format!(" and {n} elastic onsets ({onsets_done} done by an earlier run), counted together"),
                 };
-                eprintln!("solving: {total} solves ({done} done by an earlier run){onsets}");
+                super::message(&format!("solving: {total} solves ({done} done by an earlier run){onsets}"));
             }
         }
         Progress::Slid { topography, load_n, law, iterations, seconds } => {
-            let what = format!("{topography} at {load_n:.3e} N: elastic onset of \"{law}\"");
+            // The bar shows the study's names: escaped, as every message.
+            let what = format!("{} at {load_n:.3e} N: elastic onset of \"{}\"", escaped(topography), escaped(law));
             bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             if batch && last.elapsed() >= super::BATCH_PROGRESS {
                 *last = Instant::now();
-                eprintln!(
+                super::message(&format!(
                     "solving: {}/{} after {:.0} s ({what} in {seconds:.1} s)",
                     bar.position(),
                     bar.length().unwrap_or(0),
                     start.elapsed().as_secs_f64()
-                );
+                ));
             }
         }
         Progress::Solved { topography, load_n, iterations, .. } => {
+            let topography = escaped(topography);
             bar.set_message(format!("{topography} at {load_n:.3e} N ({iterations} iterations)"));
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             let finished = bar.length().is_some_and(|l| bar.position() == l);
             if batch && (last.elapsed() >= super::BATCH_PROGRESS || finished) {
                 *last = Instant::now();
-                eprintln!(
+                super::message(&format!(
                     "solving: {}/{} after {:.0} s ({topography} at {load_n:.3e} N)",
                     bar.position(),
                     bar.length().unwrap_or(0),
                     start.elapsed().as_secs_f64()
-                );
+                ));
             }
         }
     })?;
     bar.finish_and_clear();
     if !outcome.left.is_empty() {
-        // Debug quoting escapes line breaks and control characters in names.
         let names: Vec<String> = outcome.left.iter().map(|p| format!("{:?}", p.display().to_string())).collect();
-        eprintln!(
-            "{}",
-            super::one_short_line(&format!(
-                "--fresh: left {} file(s) in {} that asperity did not write: {}",
-                names.len(),
-                args.out.display(),
-                names.join(", ")
-            ))
-        );
+        super::message(&asperity::error::one_line(&format!(
+            "--fresh: left {} file(s) in {} that asperity did not write: {}",
+            names.len(),
+            args.out.display(),
+            names.join(", ")
+        )));
     }
     for w in &outcome.warnings {
-        eprintln!("warning: {w}");
+        super::message(&format!("warning: {w}"));
     }
 
     let dir = args.out.display();
@@ -163,19 +161,25 @@ pub fn run(args: RunArgs) -> Result<()> {
     };
     if let Some(shard) = args.shard {
         let (resumed, share) = (outcome.resumed, outcome.share);
-        eprintln!(
+        super::message(&format!(
             "shard {shard} of {solved}: {share} solves, {} solved, {resumed} resumed{onsets}, in {seconds:.1} s",
             outcome.solved
-        );
-        eprintln!(
+        ));
+        super::message(&format!(
             "wrote the solve records only: `asperity run` into {dir} without --shard writes the table and figures"
-        );
+        ));
         return Ok(());
     }
-    eprintln!("{solved}: {} solved, {} resumed{onsets}, in {seconds:.1} s", outcome.solved, outcome.resumed);
-    eprintln!("wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml", outcome.rows.len());
+    super::message(&format!(
+        "{solved}: {} solved, {} resumed{onsets}, in {seconds:.1} s",
+        outcome.solved, outcome.resumed
+    ));
+    super::message(&format!(
+        "wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml",
+        outcome.rows.len()
+    ));
     if !outcome.figures.is_empty() {
-        eprintln!("wrote {} figures and {dir}/index.html", outcome.figures.len());
+        super::message(&format!("wrote {} figures and {dir}/index.html", outcome.figures.len()));
     }
     Ok(())
 }

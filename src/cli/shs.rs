@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use asperity::error::escaped;
 use asperity::shs::{self, Analysis, ShsOptions, ShsPoint, Stat, TraceFormat};
 use asperity::{plot, Error};
 
@@ -119,7 +120,7 @@ pub fn run(args: Args) -> asperity::Result<()> {
     let analysis = shs::analyse(&trace, &options)?;
 
     for reason in &analysis.skipped {
-        eprintln!("warning: {}: {reason}", args.trace.display());
+        super::message(&format!("warning: {}: {reason}", args.trace.display()));
     }
     if let Some(path) = &args.out {
         let points: Vec<ShsPoint> = analysis.groups.iter().map(ShsPoint::from).collect();
@@ -129,12 +130,10 @@ pub fn run(args: Args) -> asperity::Result<()> {
         plot::write_figure(path, &shs::trace_figure(&trace, &analysis, &options))?;
     }
     if args.json {
-        let json = serde_json::to_string_pretty(&analysis).map_err(|e| Error::invalid("--json", e.to_string()))?;
-        println!("{json}");
+        super::print_json(&analysis)
     } else {
-        print!("{}", table(&args.trace.display().to_string(), &analysis, options.window));
+        super::print(&table(&escaped(&args.trace.display().to_string()), &analysis, options.window))
     }
-    Ok(())
 }
 
 /// The restarts and groups as aligned text, forces in a prefixed unit that suits them.

@@ -250,7 +250,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             work: work_report(work),
         };
         output::write_json(&out.path("slide.json"), &report)?;
-        eprintln!(
+        super::message(&format!(
             "Q {:.6e} N at δ {:.6e} m: {} stuck, {} slipping ({} solves, {} iterations, {:.1} s)",
             report.tangential_force_n,
             report.displacement_m,
@@ -259,7 +259,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             work.solves,
             work.iterations,
             report.work.seconds
-        );
+        ));
     } else {
         // Level 0 is the path from δ = 0, levels 1… the refinements of the step holding the
         // largest force; the bar shows the finest level reached.
@@ -282,7 +282,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             if batch {
                 if last_line.elapsed() >= super::BATCH_PROGRESS {
                     last_line = Instant::now();
-                    eprintln!("sliding: {line} after {:.0} s", start.elapsed().as_secs_f64());
+                    super::message(&format!("sliding: {line} after {:.0} s", start.elapsed().as_secs_f64()));
                 }
             } else {
                 bar.set_position(bar.position().max(p.level.min(SLIDE_LEVELS) as u64));
@@ -318,7 +318,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             work: work_report(onset.work),
         };
         output::write_json(&out.path("slide.json"), &report)?;
-        eprintln!(
+        super::message(&format!(
             "friction drop {:.6} (equal sharing {:.6}), static coefficient {:.6} ({} steps, {} solves, {} iterations, {:.1} s)",
             report.friction_drop,
             report.equal_sharing.friction_drop,
@@ -327,10 +327,10 @@ pub fn run(args: SlideArgs) -> Result<()> {
             onset.work.solves,
             onset.work.iterations,
             report.work.seconds
-        );
+        ));
     }
     let dir = out.commit()?;
-    eprintln!("wrote {}", dir.join("slide.json").display());
+    super::message(&format!("wrote {}", dir.join("slide.json").display()));
     Ok(())
 }
 
@@ -429,10 +429,12 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
         SolverOptions::default(),
     )?;
     let report = solver.solve(load, |_, _| {})?;
-    eprintln!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds);
+    super::message(&format!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds));
     // As `contact` warns: a contact cut by the window, or pressures beyond belief.
     for w in contact::summarize(solver.pressure(), shape, size, boundary, None).warnings() {
-        eprintln!("warning: at {load:e} N: {w} (`asperity contact` levels, crops and caps; `slide` takes its folder)");
+        super::message(&format!(
+            "warning: at {load:e} N: {w} (`asperity contact` levels, crops and caps; `slide` takes its folder)"
+        ));
     }
     Ok(Normal { pressure: solver.pressure().to_vec(), shape, size, boundary, load })
 }

@@ -38,8 +38,8 @@ pub struct SlurmArgs {
     /// Time limit of each job, in Slurm's forms (minutes, H:MM:SS, D-HH:MM…).
     #[arg(long, value_name = "T")]
     time: Option<String>,
-    /// CPUs per job (the solver runs as many threads) [default: Slurm's].
-    #[arg(long, value_name = "C", value_parser = cpus)]
+    /// CPUs per job, 1 to 4096 (the solver runs as many threads) [default: Slurm's].
+    #[arg(long, value_name = "C", value_parser = super::count::<usize>)]
     cpus: Option<usize>,
     /// Memory per job, in Slurm's form (4G, 500M) [default: Slurm's].
     #[arg(long, value_name = "M")]
@@ -84,20 +84,17 @@ pub fn run(args: SlurmArgs) -> Result<()> {
     job.shards_script()?;
     study.claim_dir(&dir)?;
     let (shards, assemble) = job.write()?;
-    eprintln!("wrote {} ({} array tasks) and {}", shards.display(), args.shards, assemble.display());
+    super::message(&format!("wrote {} ({} array tasks) and {}", shards.display(), args.shards, assemble.display()));
     if !args.submit {
-        eprintln!(
-            "submit: id=$(sbatch --parsable {}) && sbatch --dependency=afterok:${{id%%;*}} {}",
-            shards.display(),
-            assemble.display()
-        );
+        super::message(&format!("submit: {}", job.submit_line()?));
         return Ok(());
     }
     let array = sbatch(&shards, &[])?;
     let assembling = sbatch(&assemble, &[&format!("--dependency=afterok:{array}")])?;
-    println!("shards job {array} (array 1-{})", args.shards);
-    println!("assembling job {assembling} (after every shard succeeded)");
-    Ok(())
+    super::print(&format!(
+        "shards job {array} (array 1-{})\nassembling job {assembling} (after every shard succeeded)\n",
+        args.shards
+    ))
 }
 
 /// Submit `script` with sbatch (and `options`); the job's id.
@@ -124,14 +121,6 @@ fn text(path: &Path) -> Result<String> {
 fn shards(s: &str) -> std::result::Result<usize, String> {
     match super::count::<usize>(s)? {
         0 => Err("the number of shards must be at least 1".into()),
-        n => Ok(n),
-    }
-}
-
-/// `--cpus C`: at least 1.
-fn cpus(s: &str) -> std::result::Result<usize, String> {
-    match super::count::<usize>(s)? {
-        0 => Err("a job needs at least 1 CPU".into()),
         n => Ok(n),
     }
 }

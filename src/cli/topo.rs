@@ -6,6 +6,7 @@ use clap::{Args, Subcommand};
 use ndarray::Array2;
 use serde::Serialize;
 
+use asperity::error::escaped;
 use asperity::topography::io;
 use asperity::topography::profile::Profile;
 use asperity::topography::stats::{profile_height, profile_rms_slope};
@@ -173,11 +174,10 @@ fn info(args: InfoArgs) -> Result<()> {
         missing_points: topo.missing_points(),
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&info).expect("plain data serialises"));
+        super::print_json(&info)
     } else {
-        print!("{}", summary(&info));
+        super::print(&summary(&info))
     }
-    Ok(())
 }
 
 /// `topo info` of a line profile: its statistics as SurfaceTopography defines them.
@@ -210,11 +210,10 @@ fn profile_info(args: InfoArgs, p: &Profile, channels: Vec<String>) -> Result<()
         missing_points: p.missing_points(),
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&info).expect("plain data serialises"));
+        super::print_json(&info)
     } else {
-        print!("{}", profile_summary(&info));
+        super::print(&profile_summary(&info))
     }
-    Ok(())
 }
 
 struct Stats {
@@ -245,10 +244,11 @@ impl Stats {
 
 /// The readable form of `info`, one quantity a line, lengths with SI prefixes.
 fn summary(info: &Info) -> String {
-    let quoted = |names: &[String]| names.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ");
-    let mut s = format!("file         {} ({})\n", info.file.display(), info.format);
+    // Names and units as the file writes them, escaped: a name is never a second line.
+    let quoted = |names: &[String]| names.iter().map(|n| format!("'{}'", escaped(n))).collect::<Vec<_>>().join(", ");
+    let mut s = format!("file         {} ({})\n", escaped(&info.file.display().to_string()), info.format);
     s += &format!("channels     {}\n", quoted(&info.channels));
-    s += &format!("channel      '{}'\n", info.channel);
+    s += &format!("channel      '{}'\n", escaped(&info.channel));
     s += &format!("grid         {} × {} points (nx × ny)\n", info.nx, info.ny);
     s += &match info.physical_size_m {
         Some([lx, ly]) => format!(
@@ -261,8 +261,10 @@ fn summary(info: &Info) -> String {
         None => "size         not stated in the file (give it with --size LX[,LY], metres)\n".into(),
     };
     s += &match (&info.height_unit, info.height_unit_known) {
-        (Some(u), true) => format!("height unit  {u}\n"),
-        (Some(u), false) => format!("height unit  {u}: not a length, and the file gives no factor to metres\n"),
+        (Some(u), true) => format!("height unit  {}\n", escaped(u)),
+        (Some(u), false) => {
+            format!("height unit  {}: not a length, and the file gives no factor to metres\n", escaped(u))
+        }
         (None, _) => "height unit  unknown: the file states none (give it with --height-unit U)\n".into(),
     };
     let total = info.nx * info.ny;

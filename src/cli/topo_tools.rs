@@ -1,7 +1,6 @@
 //! `asperity topo convert | generate | psd`: prepare a measured topography for the contact
 //! solver, synthesise one, or print its power spectral density.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args};
@@ -273,13 +272,12 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
             refuse_missing_points(&p)?;
             format.write_profile(&args.out, &p)?;
             let uniform = if p.step().is_some() { "uniform" } else { "non-uniform" };
-            println!(
-                "wrote {}: a line profile of {} points, {uniform}, {} m long",
+            return super::print(&format!(
+                "wrote {}: a line profile of {} points, {uniform}, {} m long\n",
                 args.out.display(),
                 p.points(),
                 human(p.length())
-            );
-            return Ok(());
+            ));
         }
     };
     format.require_map(&args.out)?;
@@ -288,11 +286,8 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
         topo = resample(&topo, p, &args.read.limits.limits())?;
     }
     format.write(&args.out, &topo)?;
-    if let Some(fit) = fit {
-        println!("{}", describe_fit(&fit));
-    }
-    println!("{}", describe(&args.out, &topo));
-    Ok(())
+    let fit = fit.map(|fit| describe_fit(&fit) + "\n").unwrap_or_default();
+    super::print(&format!("{fit}{}\n", describe(&args.out, &topo)))
 }
 
 /// `asperity topo generate`.
@@ -300,7 +295,6 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     let format = OutFormat::of(&args.out)?;
     check_output_file(&args.out, &[])?;
     format.require_map(&args.out)?;
-    args.limits.limits().check_grid(args.grid.0, args.grid.1).map_err(|r| Error::invalid("--grid", r))?;
     let amplitude = match (args.rms, args.rms_slope) {
         (_, Some(g)) => Amplitude::RmsSlope(g),
         (h, None) => Amplitude::RmsHeight(h.expect("clap requires one of --rms and --rms-slope")),
@@ -320,16 +314,15 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
             .map(|radius| Cap { radius, shape: if args.paraboloid { CapShape::Paraboloid } else { CapShape::Sphere } }),
         seed: args.seed,
     };
-    let topo = surface.generate()?;
+    let topo = surface.generate_within(&args.limits.limits())?;
     format.write(&args.out, &topo)?;
     let stats = height_stats(&topo)?;
-    println!(
-        "{}; rms height {} m, rms slope {}",
+    super::print(&format!(
+        "{}; rms height {} m, rms slope {}\n",
         describe(&args.out, &topo),
         human(stats.rms_height),
         human(rms_slope(&topo)?)
-    );
-    Ok(())
+    ))
 }
 
 /// A profile is written whole: the default refusal of missing points, as for a map.
@@ -351,7 +344,7 @@ pub fn power_spectrum(args: PsdArgs) -> Result<()> {
         AnyTopography::Map(topo) => {
             let (topo, fit) = prepare(topo, &args.prepare)?;
             if let Some(fit) = fit {
-                eprintln!("{}", describe_fit(&fit));
+                super::message(&describe_fit(&fit));
             }
             (psd(&topo, window.unwrap_or_else(|| Window::default_for(&topo)))?, "m4")
         }
@@ -362,16 +355,13 @@ pub fn power_spectrum(args: PsdArgs) -> Result<()> {
             (profile_psd(&p, window.unwrap_or(Window::Hann))?, "m3")
         }
     };
-    // A reader that stops early (`| head`) ends the process by SIGPIPE (see `handle_signals`).
-    let write = || -> std::io::Result<()> {
-        let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    super::to_stdout(|w| {
         writeln!(w, "q_rad_per_m,psd_{unit}")?;
         for (q, c) in spectrum.q.iter().zip(&spectrum.c) {
             writeln!(w, "{q:e},{c:e}")?;
         }
-        w.flush()
-    };
-    write().map_err(|e| Error::io("standard output", e))
+        Ok(())
+    })
 }
 
 /// `NX[,NY]`: point counts.
@@ -401,9 +391,9 @@ fn parse_bound(s: &str) -> std::result::Result<Bound, String> {
     if let Ok(i) = s.parse::<usize>() {
         return Ok(Bound::Pixel(i));
     }
+    // A length's value is checked where the window is cut (`resample::crop`).
     match quantity::parse(s, &quantity::LENGTH, false) {
-        Ok(v) if v >= 0.0 => Ok(Bound::Length(v)),
-        Ok(_) => Err(format!("{} is negative: bounds are measured from the map's origin", quantity::quoted(s))),
+        Ok(v) => Ok(Bound::Length(v)),
         Err(_) if s.starts_with('-') => {
             Err(format!("{} is negative: bounds are pixel indices ≥ 0 or lengths ≥ 0", quantity::quoted(s)))
         }

@@ -1257,7 +1257,7 @@ fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limi
             s.grid = g;
         }
         limits.check_grid(s.grid.0, s.grid.1).map_err(|r| Error::invalid("synthetic.grid", r))?;
-        return s.generate();
+        return s.generate_within(limits);
     }
     let path = spec.file.as_ref().expect("checked: a surface is synthetic or a file");
     let options = ReadOptions {

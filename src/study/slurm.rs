@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::limits::MAX_THREADS;
 use crate::output;
 
 /// The first line after the shebang of every script asperity writes: how it recognises its own.
@@ -32,26 +33,25 @@ pub struct SlurmJob {
     pub partition: Option<String>,
     pub time: Option<String>,
     pub mem: Option<String>,
-    /// CPUs per task; the solver then uses as many threads.
+    /// CPUs per task, 1 to [`MAX_THREADS`]; the solver then uses as many threads.
     pub cpus: Option<usize>,
 }
 
 impl SlurmJob {
     /// The job array's script: task I of 1..=N runs shard I/N.
     pub fn shards_script(&self) -> Result<String> {
-        let logs = self.folder().join("shard-%a.log");
+        let logs = "shard-%a.log";
         let run = format!("{} --shard \"$SLURM_ARRAY_TASK_ID/{}\"", self.command()?, self.shards);
         let what = format!("the {} shards of a study, one task each", self.shards);
-        self.script(&what, "asperity-shards", Some(self.shards), &logs, &run)
+        self.script(&what, "asperity-shards", Some(self.shards), logs, &run)
     }
 
     /// The assembling job's script (submitted with `--dependency=afterok:<the array's id>`):
     /// the study without a shard, which finds every solve done and writes the table, figures
     /// and report.
     pub fn assemble_script(&self) -> Result<String> {
-        let logs = self.folder().join("assemble.log");
         let what = "the table, figures and report once every shard is done";
-        self.script(what, "asperity-assemble", None, &logs, &self.command()?)
+        self.script(what, "asperity-assemble", None, "assemble.log", &self.command()?)
     }
 
     /// Write both scripts into the DIR's [`FOLDER`] (atomically), replacing only scripts
@@ -83,6 +83,20 @@ impl SlurmJob {
         self.dir.join(FOLDER)
     }
 
+    /// The command that submits both scripts, every path quoted for the shell, to paste into
+    /// one: the array, then the assembling job once every task has succeeded.
+    pub fn submit_line(&self) -> Result<String> {
+        let script = |name: &str| -> Result<String> {
+            let path = self.folder().join(name);
+            quote(&text(&path, "the script's path")?)
+        };
+        Ok(format!(
+            "id=$(sbatch --parsable {}) && sbatch --dependency=afterok:${{id%%;*}} {}",
+            script(SHARDS)?,
+            script(ASSEMBLE)?
+        ))
+    }
+
     /// `exec asperity run …`, every word quoted for the shell.
     fn command(&self) -> Result<String> {
         let mut words = vec![quote(&text(&self.binary, "the asperity binary")?)?, "run".to_string()];
@@ -92,7 +106,9 @@ impl SlurmJob {
         Ok(format!("exec {}", words.join(" ")))
     }
 
-    fn script(&self, what: &str, name: &str, array: Option<usize>, logs: &Path, run: &str) -> Result<String> {
+    /// A script named `name` that runs `run`, its log `log` (a Slurm filename pattern) in the
+    /// [`FOLDER`].
+    fn script(&self, what: &str, name: &str, array: Option<usize>, log: &str, run: &str) -> Result<String> {
         let mut lines = vec![
             "#!/bin/sh".to_string(),
             format!("{MARK} {}: {what}.", env!("CARGO_PKG_VERSION")),
@@ -101,13 +117,18 @@ impl SlurmJob {
         if let Some(n) = array {
             lines.push(format!("#SBATCH --array=1-{n}"));
         }
-        lines.push(format!("#SBATCH --output={}", directive(&text(logs, "the log's path")?, "--out")?));
+        // Slurm expands `%` in the log's path (`%j`, `%a`): the folder's own are written `%%`.
+        let folder = text(&self.folder(), "the log's path")?.replace('%', "%%");
+        lines.push(format!("#SBATCH --output={}/{log}", directive(&folder, "--out")?));
         for (option, value) in [("--partition", &self.partition), ("--time", &self.time), ("--mem", &self.mem)] {
             if let Some(v) = value {
                 lines.push(format!("#SBATCH {option}={}", directive(v, option)?));
             }
         }
         if let Some(c) = self.cpus {
+            if !(1..=MAX_THREADS).contains(&c) {
+                return Err(Error::invalid("--cpus", format!("{c} CPUs: a job runs 1 to {MAX_THREADS} threads")));
+            }
             lines.push(format!("#SBATCH --cpus-per-task={c}"));
             // The solver's threads (rayon) follow the CPUs given, not the node's.
             lines.push(format!("export RAYON_NUM_THREADS={c}"));

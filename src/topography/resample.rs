@@ -54,13 +54,20 @@ pub enum CropWindow {
 }
 
 /// The part of `topo` inside `window`. The pixel size is kept; the result is periodic only
-/// when the window is the whole map.
+/// when the window is the whole map. A physical window's bounds are finite lengths ≥ 0.
 pub fn crop(topo: &Topography, window: &CropWindow) -> Result<Topography> {
     let (nx, ny) = (topo.nx(), topo.ny());
     let (x, y) = match window {
         CropWindow::Pixels { x, y } => (x.clone(), y.clone()),
         CropWindow::Physical { x, y } => {
             let (dx, dy) = topo.pixel_size("cropping to a physical window")?;
+            let bounds = [("x0", x.0), ("x1", x.1), ("y0", y.0), ("y1", y.1)];
+            if let Some((name, v)) = bounds.into_iter().find(|(_, v)| !(*v >= 0.0 && v.is_finite())) {
+                return Err(Error::invalid(
+                    "--crop",
+                    format!("{name} = {v:e} m: bounds are finite lengths ≥ 0, measured from the map's origin"),
+                ));
+            }
             (samples_within(x.0, x.1, dx, nx), samples_within(y.0, y.1, dy, ny))
         }
     };
@@ -260,6 +267,13 @@ mod tests {
         assert!(crop(&t, &CropWindow::Pixels { x: 0..50, y: 0..40 }).unwrap().periodic);
         let err = crop(&t, &CropWindow::Pixels { x: 45..55, y: 0..10 }).unwrap_err().to_string();
         assert!(err.starts_with("--crop: ") && err.contains("50×40"), "{err}");
+        // A bound that is not a length from the origin is refused, not read as 0 or as the end.
+        for (x, y) in
+            [((f64::NAN, 5e-6), (2e-6, 8e-6)), ((-1e-6, 5e-6), (2e-6, 8e-6)), ((1e-6, 5e-6), (2e-6, f64::INFINITY))]
+        {
+            let e = crop(&t, &CropWindow::Physical { x, y }).unwrap_err().to_string();
+            assert!(e.starts_with("--crop: ") && e.contains("bounds are finite lengths ≥ 0"), "{e}");
+        }
     }
 
     #[test]

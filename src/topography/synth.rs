@@ -34,7 +34,7 @@ use serde::{Deserialize, Serialize};
 use super::{Provenance, Topography, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::{Error, Result};
 use crate::fft::Fft2;
-use crate::limits::{check_memory, grid_memory, zeroed, GENERATE_BYTES_PER_POINT};
+use crate::limits::{check_memory, grid_memory, zeroed, Limits, GENERATE_BYTES_PER_POINT};
 
 /// How large the roughness is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -452,8 +452,15 @@ impl Default for SyntheticSurface {
 }
 
 impl SyntheticSurface {
-    /// Generate the surface. It is periodic when it is roughness only (a cap does not repeat).
+    /// Generate the surface within the default [`Limits`] (see [`SyntheticSurface::generate_within`]).
     pub fn generate(&self) -> Result<Topography> {
+        self.generate_within(&Limits::default())
+    }
+
+    /// Generate the surface, its grid no larger than `limits` allow (else an error naming
+    /// `--grid`). It is periodic when it is roughness only (a cap does not repeat).
+    pub fn generate_within(&self, limits: &Limits) -> Result<Topography> {
+        limits.check_grid(self.grid.0, self.grid.1).map_err(|r| Error::invalid("--grid", r))?;
         if self.roughness.is_none() && self.cap.is_none() {
             return Err(Error::invalid("surface", "neither roughness nor a cap: nothing to generate"));
         }
