@@ -185,7 +185,7 @@ pub fn available_memory() -> Option<u64> {
         let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
         // SAFETY: getrlimit writes the struct it is given and nothing else.
         let known = unsafe { libc::getrlimit(resource, &mut limit) } == 0 && limit.rlim_cur != libc::RLIM_INFINITY;
-        known.then(|| (limit.rlim_cur as u64).saturating_sub(used))
+        known.then(|| limit.rlim_cur.saturating_sub(used))
     };
     [
         meminfo.as_deref().and_then(|m| kib(m, "MemAvailable:")),

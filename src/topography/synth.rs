@@ -320,7 +320,7 @@ fn unit_phasor(rng: &mut ChaCha20Rng) -> Complex64 {
 /// far outside any surface (an rms of 1e308 m) would otherwise give infinite or NaN heights.
 fn within_half_range(heights: &[f64], option: &str, value: f64) -> Result<()> {
     let half = MAX_LENGTH_M / 2.0;
-    match heights.iter().find(|h| !(h.abs() <= half)) {
+    match heights.iter().find(|h| h.is_nan() || h.abs() > half) {
         Some(h) => Err(Error::invalid(
             option,
             format!("{value:e} gives heights of {h:e} m, beyond ±{half:e} m: not representable"),

@@ -97,11 +97,14 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     Ok(channels)
 }
 
+/// A section's `(key, value)` entries in file order, with the index of each key's first entry.
+type Entries = (Vec<(String, String)>, HashMap<String, usize>);
+
 /// INI sections in file order, each with its `(key, value)` entries, indexed once so that each
 /// lookup is constant time whatever the number of sections and keys (the first of repeated
 /// names counts).
 struct Ini {
-    sections: Vec<(Vec<(String, String)>, HashMap<String, usize>)>,
+    sections: Vec<Entries>,
     index: HashMap<String, usize>,
 }
 
