@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use asperity::contact::{Boundary, ContactSolver, SolverOptions};
+use asperity::contact::{full_contact_load, Boundary, ContactSolver, SolverOptions};
 use ndarray::Array2;
 use ndarray_npy::read_npy;
 
@@ -72,6 +72,30 @@ fn westergaard_full_contact() {
         assert!((p - want).abs() < 1e-8 * p_star, "pixel {i}: {p} vs {want}");
     }
     assert!(force_error(&s, load) < 1e-10);
+}
+
+/// The load of full contact, known before any solve, is Westergaard's p* = πE*h0/λ times the
+/// area; on a rough window the solve just above it touches everywhere, just below it not.
+#[test]
+fn full_contact_load_is_westergaards_and_the_solvers() {
+    let (nx, lambda, h0) = (256, 10e-6, 20e-9);
+    let ly = 2.0 * lambda / nx as f64;
+    let want = PI * E_STAR * h0 / lambda * lambda * ly;
+    let got = full_contact_load(&sinusoid(nx, h0), (2, nx), (lambda, ly), E_STAR);
+    assert!((got / want - 1.0).abs() < 1e-12, "{got:e} vs {want:e}");
+
+    let h: Array2<f64> =
+        read_npy(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tamaas/heights.npy")).unwrap();
+    let (ny, nx) = h.dim();
+    let size = (8e-6, 6e-6);
+    let h = h.as_standard_layout();
+    let h = h.as_slice().unwrap();
+    let full = full_contact_load(h, (ny, nx), size, E_STAR);
+    for (factor, touches_everywhere) in [(1.02, true), (0.98, false)] {
+        let mut s = solver(h, (ny, nx), size, Boundary::Periodic);
+        s.solve(factor * full, |_, _| {}).unwrap();
+        assert_eq!(s.pressure().iter().all(|p| *p > 0.0), touches_everywhere, "at {factor} × the full-contact load");
+    }
 }
 
 /// Partial contact (Johnson): p̄/p* = sin²(πa/λ) for contact half-width a, and the peak

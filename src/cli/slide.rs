@@ -212,14 +212,9 @@ pub fn run(args: SlideArgs) -> Result<()> {
     // Before the normal solve: an --out that cannot be written is said at once.
     let out = StagedDir::new(&args.out, "slide", &[&args.read.file])?;
     let normal = normal_pressure(&args, e_star)?;
+    // Checked before the solve for a topography; a contact folder's pressures tell it here.
     if normal.boundary == Boundary::Periodic && normal.pressure.iter().all(|p| *p > 0.0) {
-        return Err(Error::invalid(
-            "--load",
-            format!(
-                "at {:e} N every point of the periodic window touches (full contact): the periodic half-space has no stiffness for a uniform shift, so there is no sliding onset to find; lower the load or solve with --free",
-                normal.load
-            ),
-        ));
+        return Err(full_contact(normal.load));
     }
     let mut solver = TangentialSolver::new(
         &normal.pressure,
@@ -399,6 +394,18 @@ fn law_report(args: &SlideArgs, law: &SlipLaw) -> LawReport {
 }
 
 /// The normal pressure: solved here for a topography, or read from a contact directory.
+/// The error of a load that puts a periodic window in full contact.
+fn full_contact(load: f64) -> Error {
+    Error::invalid(
+        "--load",
+        format!(
+            "at {load:e} N every point of the periodic window touches (full contact): the periodic half-space has \
+             no stiffness for a uniform shift, so there is no sliding onset to find; lower the load or solve with \
+             --free"
+        ),
+    )
+}
+
 fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let path = &args.read.file;
     if path.is_dir() {
@@ -420,14 +427,11 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
-    let mut solver = ContactSolver::new(
-        heights.as_slice().expect("standard layout"),
-        shape,
-        size,
-        e_star,
-        boundary,
-        SolverOptions::default(),
-    )?;
+    let heights = heights.as_slice().expect("standard layout");
+    if boundary == Boundary::Periodic && load >= contact::full_contact_load(heights, shape, size, e_star) {
+        return Err(full_contact(load));
+    }
+    let mut solver = ContactSolver::new(heights, shape, size, e_star, boundary, SolverOptions::default())?;
     let report = solver.solve(load, |_, _| {})?;
     super::message(&format!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds));
     // As `contact` warns: a contact cut by the window, or pressures beyond belief.

@@ -207,6 +207,29 @@ pub fn plausibility_warnings(
     warnings
 }
 
+/// The load [N] from which a periodic window of `heights` [m] (shape (ny, nx), row-major) over
+/// `size` (Lx, Ly) [m] touches everywhere on a half-space of modulus `e_star` [Pa]: the pressure
+/// that flattens the surface, p̄ + (E*/2)·F⁻¹[|q| ĥ(q)], is then nowhere negative. For a
+/// sinusoid of amplitude Δ and wavelength λ it is Westergaard's p* = π E* Δ / λ times the area.
+/// Known before any solve, so that what needs a partial contact can refuse such a load first.
+pub fn full_contact_load(heights: &[f64], (ny, nx): (usize, usize), (lx, ly): (f64, f64), e_star: f64) -> f64 {
+    use std::f64::consts::PI;
+    let plan = crate::fft::Fft2::<f64>::new(ny, nx);
+    let mut work = plan.make_work();
+    let mut spectrum = plan.make_spectrum();
+    plan.forward(heights, ny, nx, &mut spectrum, &mut work);
+    // The inverse is unnormalised: 1/(nx·ny) with the operator's E*/2 |q|.
+    let scale = 0.5 * e_star / (nx * ny) as f64;
+    for (c, (kx, ky)) in spectrum.iter_mut().zip(plan.wavevectors()) {
+        let q = (2.0 * PI * kx as f64 / lx).hypot(2.0 * PI * ky as f64 / ly);
+        *c *= q * scale;
+    }
+    let mut flattening = vec![0.0; nx * ny];
+    plan.inverse(&mut spectrum, &mut flattening, ny, nx, &mut work);
+    let lowest = flattening.iter().copied().fold(f64::INFINITY, f64::min);
+    (-lowest).max(0.0) * lx * ly
+}
+
 /// Probability density p(σ) of the local normal stress σ over the contact points: `bins`
 /// equal bins from 0 to the largest pressure. Returns (bin centre [Pa], density [1/Pa]).
 pub fn pressure_density(pressure: &[f64], bins: usize) -> Vec<(f64, f64)> {
