@@ -377,6 +377,38 @@ fn files_below(dir: &Path) -> Vec<String> {
 }
 
 #[test]
+fn a_run_never_writes_through_a_link_in_its_folder() {
+    // A link in DIR in place of a run's file, or of a folder it writes in, leads to a user's
+    // files: the run refuses instead of replacing them.
+    // A run says its progress first, then its one error line.
+    let last_error = |o: &Output| {
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(o));
+        stderr(o).lines().last().unwrap_or_default().to_string()
+    };
+    let tmp = study_dir();
+    let dir = tmp.path();
+    let study = STUDY.replace("figures = []", "figures = [\"friction-drop\"]");
+    std::fs::write(dir.join("study.toml"), &study).unwrap();
+    succeeds(&run(dir, "study.toml", "R", &[]));
+    let r = dir.join("R");
+    std::fs::write(dir.join("victim.csv"), "mine").unwrap();
+    std::fs::remove_file(r.join("results.csv")).unwrap();
+    std::os::unix::fs::symlink("../victim.csv", r.join("results.csv")).unwrap();
+    let e = last_error(&run(dir, "study.toml", "R", &[]));
+    assert!(e.contains("results.csv: a symbolic link in a folder asperity writes"), "{e}");
+    assert_eq!(std::fs::read_to_string(dir.join("victim.csv")).unwrap(), "mine");
+    std::fs::remove_file(r.join("results.csv")).unwrap();
+    std::fs::create_dir(dir.join("mine")).unwrap();
+    std::fs::write(dir.join("mine/friction-drop.png"), "mine").unwrap();
+    std::fs::remove_dir_all(r.join("figures")).unwrap();
+    std::os::unix::fs::symlink("../mine", r.join("figures")).unwrap();
+    let e = last_error(&run(dir, "study.toml", "R", &[]));
+    assert!(e.contains("figures: a symbolic link in a folder asperity writes"), "{e}");
+    assert_eq!(std::fs::read_to_string(dir.join("mine/friction-drop.png")).unwrap(), "mine");
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+}
+
+#[test]
 fn fresh_removes_what_runs_wrote_and_nothing_else() {
     let tmp = study_dir();
     let dir = tmp.path();

@@ -71,9 +71,22 @@ fn open_ledgers() -> std::sync::MutexGuard<'static, Vec<(u64, PathBuf, PathBuf)>
 pub(super) fn record(path: &Path) -> Result<()> {
     let found = open_ledgers().iter().find_map(|(_, folder, file)| {
         let relative = path.strip_prefix(folder).ok()?;
-        (path != file && relative.components().next().is_some()).then(|| (relative.to_path_buf(), file.clone()))
+        (path != file && relative.components().next().is_some())
+            .then(|| (folder.clone(), relative.to_path_buf(), file.clone()))
     });
-    let Some((relative, file)) = found else { return Ok(()) };
+    let Some((folder, relative, file)) = found else { return Ok(()) };
+    // A link below the folder leads out of it: writing through it would replace a user's file.
+    let mut below = folder;
+    for part in relative.components() {
+        below.push(part);
+        if std::fs::symlink_metadata(&below).is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(Error::file(
+                &below,
+                "a symbolic link in a folder asperity writes: it never writes through one (it would replace what \
+                 the link points to); remove the link, or choose another --out",
+            ));
+        }
+    }
     let io = |e| Error::io(&file, e);
     let mut line = serde_json::to_string(&relative.to_string_lossy()).map_err(|e| io(std::io::Error::other(e)))?;
     line.push('\n');
