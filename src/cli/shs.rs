@@ -113,8 +113,16 @@ pub fn run(args: Args) -> asperity::Result<()> {
     options.validate()?;
     // The figure's .svg goes beside its .png.
     let outputs = [args.out.clone(), args.plot.clone(), args.plot.as_ref().map(|p| p.with_extension("svg"))];
-    for out in outputs.iter().flatten() {
+    let outputs: Vec<&PathBuf> = outputs.iter().flatten().collect();
+    for (i, out) in outputs.iter().enumerate() {
         asperity::output::check_output_file(out, &[&args.trace])?;
+        // Two outputs of one name: the second would replace the first without a word.
+        if let Some(first) = outputs[..i].iter().find(|o| o == &out) {
+            return Err(Error::invalid(
+                "--plot",
+                format!("{} is also written as {}: give each output its own name", out.display(), first.display()),
+            ));
+        }
     }
     let trace = shs::read_trace(&args.trace, &format)?;
     let analysis = shs::analyse(&trace, &options)?;
