@@ -331,7 +331,7 @@ fn what_a_killed_command_left_beside_its_output_goes_with_the_next_run() {
     assert_eq!(owned_by(killed), 0, "the killed run's temporary stays: {left:?}");
     // The living run may have finished meanwhile on a busy machine; while it runs, its own stays.
     if still_running {
-        assert_eq!(owned_by(living.id()), 1, "{left:?}");
+        assert!(owned_by(living.id()) >= 1, "{left:?}");
     }
     living.kill().unwrap();
     living.wait().unwrap();
