@@ -444,13 +444,27 @@ fn fresh_removes_what_runs_wrote_and_nothing_else() {
     }
     std::fs::remove_file(r.join("pressure/study.lock/01.npy")).unwrap();
     std::os::unix::fs::symlink("../../notes.txt", r.join("pressure/study.lock/01.npy")).unwrap();
+    // The user's own file put in place of an output, and a ledger edited by hand to claim the
+    // user's files (an older ledger's bare path, a made-up identity): all stay.
+    std::fs::remove_file(r.join("pressure/study.lock/00.npy")).unwrap();
+    std::fs::write(r.join("pressure/study.lock/00.npy"), "mine").unwrap();
+    let mut ledger = std::fs::OpenOptions::new().append(true).open(r.join("solves/written.jsonl")).unwrap();
+    std::io::Write::write_all(
+        &mut ledger,
+        b"\"notes.txt\"\n{\"path\":\"snapshots/lab-notes.json\",\"identity\":{\"dev\":1,\"ino\":2,\"len\":4,\"mtime\":[0,0]}}\n",
+    )
+    .unwrap();
     let o = run(dir, "renamed.toml", "R", &["--fresh"]);
     succeeds(&o);
     let err = stderr(&o);
     let said: Vec<&str> = err.lines().filter(|l| l.starts_with("--fresh")).collect();
     assert_eq!(said.len(), 1, "{err}");
-    let left: Vec<String> = mine.iter().chain(&["pressure/study.lock/01.npy"]).map(|m| format!("\"{m}\"")).collect();
-    assert!(said[0].starts_with("--fresh: left 7 file(s) in R that asperity did not write: "), "{}", said[0]);
+    let left: Vec<String> = mine
+        .iter()
+        .chain(&["pressure/study.lock/01.npy", "pressure/study.lock/00.npy"])
+        .map(|m| format!("\"{m}\""))
+        .collect();
+    assert!(said[0].starts_with("--fresh: left 8 file(s) in R that asperity did not write: "), "{}", said[0]);
     for m in &left {
         assert!(said[0].contains(m.as_str()), "{m}: {}", said[0]);
     }
@@ -459,13 +473,14 @@ fn fresh_removes_what_runs_wrote_and_nothing_else() {
     }
     assert!(std::fs::symlink_metadata(r.join("pressure/study.lock/01.npy")).unwrap().file_type().is_symlink());
     // The earlier study's files are gone, with the folders they alone were in.
-    assert!(!r.join("pressure/study.lock/00.npy").exists() && !r.join("solves/topographies/study.lock").exists());
+    assert!(!r.join("solves/topographies/study.lock").exists());
+    assert_eq!(std::fs::read_to_string(r.join("pressure/study.lock/00.npy")).unwrap(), "mine");
     succeeds(&run(dir, "renamed.toml", "clean", &[]));
     assert_eq!(table(&r.join("results.csv")), table(&dir.join("clean/results.csv")));
     // Again: what it wrote is recorded, the user's files still are not.
     let o = run(dir, "renamed.toml", "R", &["--fresh"]);
     succeeds(&o);
-    assert!(stderr(&o).contains("--fresh: left 7 file(s)"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--fresh: left 8 file(s)"), "{}", stderr(&o));
 
     // A DIR whose runs kept no record: --fresh refuses, removing nothing; it still resumes.
     std::fs::remove_file(r.join("solves/written.jsonl")).unwrap();

@@ -1,7 +1,9 @@
 //! What a command wrote into a folder it shares with its user (a study's DIR), so that what it
 //! removes later (`run --fresh`) is exactly that: a ledger file of one line per file written,
-//! each a JSON string (the path relative to the folder), appended before the file is renamed
-//! into place, so that no kill leaves an output unrecorded. Processes working in one folder at
+//! each a JSON object of the path relative to the folder and the file's identity (device,
+//! inode, length and modification time: an inode number is reused at once by the next file), appended before the file is renamed into place, so that no kill leaves an output
+//! unrecorded. A file is this ledger's only while it is the very file written: a user's file
+//! named in a hand-edited line, or put where an output was, has another identity. Processes working in one folder at
 //! once append under an exclusive `flock` of the ledger (also over a shared filesystem); a line
 //! torn by a crash does not parse and is skipped.
 
@@ -34,25 +36,71 @@ impl Ledger {
         Ledger { id }
     }
 
-    /// The paths recorded in the ledger file `file`, relative to its folder, in the order
-    /// written, each once; `None` when there is no ledger.
-    pub fn read(file: &Path) -> Result<Option<Vec<PathBuf>>> {
+    /// The files recorded in the ledger file `file`, in the order first written, each once with
+    /// every identity it was written with; `None` when there is no ledger.
+    pub fn read(file: &Path) -> Result<Option<Vec<Written>>> {
         let text = match std::fs::read(file) {
             Ok(bytes) => bytes,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(e) => return Err(Error::io(file, e)),
         };
-        let (mut paths, mut seen) = (Vec::new(), std::collections::HashSet::new());
+        let mut written: Vec<Written> = Vec::new();
+        let mut index = std::collections::HashMap::new();
         for line in text.split(|&b| b == b'\n') {
-            // A torn line, or anything that is not a relative path staying below the folder.
-            let Ok(path) = serde_json::from_slice::<String>(line) else { continue };
+            // A torn line, a line without an identity, or a path not staying below the folder.
+            let Ok(Line { path, identity }) = serde_json::from_slice::<Line>(line) else { continue };
             let path = PathBuf::from(path);
-            let below = path.components().all(|c| matches!(c, std::path::Component::Normal(_)));
-            if below && seen.insert(path.clone()) {
-                paths.push(path);
+            if !path.components().all(|c| matches!(c, std::path::Component::Normal(_))) {
+                continue;
             }
+            let at = *index.entry(path.clone()).or_insert_with(|| {
+                written.push(Written { path, identities: Vec::new() });
+                written.len() - 1
+            });
+            written[at].identities.push(identity);
         }
-        Ok(Some(paths))
+        Ok(Some(written))
+    }
+}
+
+/// One ledger line.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Line {
+    path: String,
+    identity: Identity,
+}
+
+/// What tells a file from any other that takes its name or its inode: device, inode, length
+/// [bytes] and modification time [s and ns since the epoch] once written (a rename keeps them
+/// all).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+struct Identity {
+    dev: u64,
+    ino: u64,
+    len: u64,
+    mtime: (i64, i64),
+}
+
+impl Identity {
+    fn of(meta: &std::fs::Metadata) -> Identity {
+        use std::os::unix::fs::MetadataExt;
+        Identity { dev: meta.dev(), ino: meta.ino(), len: meta.len(), mtime: (meta.mtime(), meta.mtime_nsec()) }
+    }
+}
+
+/// A file the ledger records: its path relative to the folder, and its identity each time it
+/// was written.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Written {
+    pub path: PathBuf,
+    identities: Vec<Identity>,
+}
+
+impl Written {
+    /// Whether `meta` (of what is now at the path) is a file the ledger's writer wrote there,
+    /// unchanged since.
+    pub fn is(&self, meta: &std::fs::Metadata) -> bool {
+        meta.is_file() && self.identities.contains(&Identity::of(meta))
     }
 }
 
@@ -66,16 +114,16 @@ fn open_ledgers() -> std::sync::MutexGuard<'static, Vec<(u64, PathBuf, PathBuf)>
     OPEN.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Record `path` in the open ledger whose folder holds it (none: nothing to do). Called before
-/// the file appears under its name.
-pub(super) fn record(path: &Path) -> Result<()> {
+/// Refuse a path below an open ledger's folder that passes through a symbolic link: it leads
+/// out of the folder, and writing through it would replace a user's file. Returns the folder's
+/// ledger file and the path relative to the folder (`None` when no open ledger holds `path`).
+pub(super) fn check(path: &Path) -> Result<Option<(PathBuf, PathBuf)>> {
     let found = open_ledgers().iter().find_map(|(_, folder, file)| {
         let relative = path.strip_prefix(folder).ok()?;
         (path != file && relative.components().next().is_some())
             .then(|| (folder.clone(), relative.to_path_buf(), file.clone()))
     });
-    let Some((folder, relative, file)) = found else { return Ok(()) };
-    // A link below the folder leads out of it: writing through it would replace a user's file.
+    let Some((folder, relative, file)) = found else { return Ok(None) };
     let mut below = folder;
     for part in relative.components() {
         below.push(part);
@@ -87,8 +135,17 @@ pub(super) fn record(path: &Path) -> Result<()> {
             ));
         }
     }
+    Ok(Some((file, relative)))
+}
+
+/// Record `path`, the file of metadata `meta`, in the open ledger whose folder holds it (none:
+/// nothing to do), refusing a path through a link ([`check`]). Called before the file appears
+/// under its name.
+pub(super) fn record(path: &Path, meta: &std::fs::Metadata) -> Result<()> {
+    let Some((file, relative)) = check(path)? else { return Ok(()) };
     let io = |e| Error::io(&file, e);
-    let mut line = serde_json::to_string(&relative.to_string_lossy()).map_err(|e| io(std::io::Error::other(e)))?;
+    let record = Line { path: relative.to_string_lossy().into_owned(), identity: Identity::of(meta) };
+    let mut line = serde_json::to_string(&record).map_err(|e| io(std::io::Error::other(e)))?;
     line.push('\n');
     let mut ledger = OpenOptions::new().read(true).append(true).create(true).open(&file).map_err(io)?;
     // Released when the file closes.
@@ -135,7 +192,39 @@ mod tests {
         }
         super::super::write_json(&dir.join("after.json"), &1).unwrap();
         let recorded = Ledger::read(&file).unwrap().unwrap();
-        let expected = ["results.json", "solves/a.lock", "odd\nname.json"].map(PathBuf::from);
-        assert_eq!(recorded, expected);
+        let paths: Vec<_> = recorded.iter().map(|w| w.path.clone()).collect();
+        assert_eq!(paths, ["results.json", "solves/a.lock", "odd\nname.json"].map(PathBuf::from));
+        let meta = |p: &str| std::fs::symlink_metadata(dir.join(p)).unwrap();
+        assert!(recorded[0].is(&meta("results.json")) && recorded[1].is(&meta("solves/a.lock")));
+    }
+
+    /// A line naming a user's file (hand-edited, or the identity of a file since replaced) does
+    /// not make it the ledger's, nor does a line of an older ledger without identity.
+    #[test]
+    fn only_the_very_file_written_is_the_ledgers() {
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path().join("R");
+        let file = dir.join("written.jsonl");
+        std::fs::create_dir_all(&dir).unwrap();
+        {
+            let _ledger = Ledger::open(&dir, &file);
+            super::super::write_json(&dir.join("results.json"), &1).unwrap();
+        }
+        std::fs::write(dir.join("mine.txt"), "mine").unwrap();
+        let mut f = OpenOptions::new().append(true).open(&file).unwrap();
+        writeln!(
+            f,
+            "{{\"path\":\"mine.txt\",\"identity\":{{\"dev\":1,\"ino\":2,\"len\":4,\"mtime\":[0,0]}}}}\n\"mine.txt\""
+        )
+        .unwrap();
+        let recorded = Ledger::read(&file).unwrap().unwrap();
+        assert_eq!(recorded.len(), 2);
+        let meta = |p: &str| std::fs::symlink_metadata(dir.join(p)).unwrap();
+        assert!(recorded[0].is(&meta("results.json")));
+        assert!(!recorded[1].is(&meta("mine.txt")));
+        // The user's own file in place of the output written.
+        std::fs::remove_file(dir.join("results.json")).unwrap();
+        std::fs::write(dir.join("results.json"), "mine").unwrap();
+        assert!(!recorded[0].is(&meta("results.json")));
     }
 }

@@ -27,16 +27,19 @@ impl Lock {
     /// [`Ledger`](super::Ledger) of its folder). With `wait`, block until it is free;
     /// without, `None` when another process holds it.
     pub fn acquire(path: &Path, access: Access, wait: bool) -> Result<Option<Lock>> {
-        if std::fs::symlink_metadata(path).is_err() {
-            super::ledger::record(path)?;
-        }
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(path)
-            .map_err(|e| Error::io(path, e))?;
+        let io = |e| Error::io(path, e);
+        super::ledger::check(path)?;
+        let open = |create_new| OpenOptions::new().read(true).write(true).create_new(create_new).open(path);
+        let file = match open(true) {
+            Ok(file) => {
+                // A kill before the record leaves an empty lock file that `--fresh` lists as not
+                // written by asperity: the record needs the file's identity.
+                super::ledger::record(path, &file.metadata().map_err(io)?)?;
+                file
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => open(false).map_err(io)?,
+            Err(e) => return Err(io(e)),
+        };
         let lock = Lock { file, path: path.to_path_buf() };
         Ok(lock.take(access, wait)?.then_some(lock))
     }

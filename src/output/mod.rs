@@ -25,7 +25,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 
-pub use ledger::Ledger;
+pub use ledger::{Ledger, Written};
 pub use lock::{Access, Lock};
 pub use staged::{StagedDir, MANIFEST};
 pub use temp::{is_temporary, remove_temporaries, Interrupted};
@@ -54,7 +54,7 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
     tmp.as_file().sync_all().map_err(io)?;
     // Again: something else may have taken the name while the file was written.
     replaceable(shown, &path)?;
-    ledger::record(shown)?;
+    ledger::record(shown, &tmp.as_file().metadata().map_err(io)?)?;
     tmp.persist(&path).map_err(io)
 }
 

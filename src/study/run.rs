@@ -1071,29 +1071,30 @@ impl Study {
 }
 
 /// Remove what runs wrote into `dir`, for `--fresh`: the files of its ledger, `recorded`, that
-/// are still regular files (never a folder, nor what a link points to), then the folders that
-/// held them once empty; files put in DIR by hand stay, and so do the folders holding them.
-/// Returns those files, relative to `dir`. The fingerprint stays for the claim to replace in
-/// one rename, so that a discard cut short still leaves a study's DIR (its ledger whole until
-/// the end, for the next `fresh` to go on); the solve records go first, so that what such a DIR
-/// resumes is solved again.
-fn discard(dir: &Path, mut recorded: Vec<PathBuf>) -> Result<Vec<PathBuf>> {
+/// are still the very files written (the identity recorded; never a folder, nor what a link
+/// points to, nor a user's file named by a hand-edited line or put in an output's place), then
+/// the folders that held them once empty; files put in DIR by hand stay, and so do the folders
+/// holding them. Returns those files, relative to `dir`. The fingerprint stays for the claim to
+/// replace in one rename, so that a discard cut short still leaves a study's DIR (its ledger
+/// whole until the end, for the next `fresh` to go on); the solve records go first, so that
+/// what such a DIR resumes is solved again.
+fn discard(dir: &Path, mut recorded: Vec<output::Written>) -> Result<Vec<PathBuf>> {
     let index = |s: &str| s.len() >= 2 && s.bytes().all(|b| b.is_ascii_digit());
     let is_record = |p: &Path| {
         p.starts_with(Path::new(SOLVES).join(TOPOGRAPHIES))
             && p.file_name().and_then(|n| n.to_str()?.strip_suffix(".json")).is_some_and(index)
     };
     let kept = |p: &Path| p.parent() == Some(Path::new(SOLVES)) && KEPT.iter().any(|k| p.ends_with(k));
-    recorded.retain(|p| !kept(p));
-    recorded.sort_by_key(|p| !is_record(p));
-    for path in &recorded {
-        if reached_without_links(dir, path).is_some_and(|m| m.is_file()) {
-            let full = dir.join(path);
+    recorded.retain(|w| !kept(&w.path));
+    recorded.sort_by_key(|w| !is_record(&w.path));
+    for written in &recorded {
+        if reached_without_links(dir, &written.path).is_some_and(|m| written.is(&m)) {
+            let full = dir.join(&written.path);
             std::fs::remove_file(&full).map_err(|e| Error::io(&full, e))?;
         }
     }
     // The emptied folders, deepest first; one still holding a file stays.
-    let mut folders: Vec<&Path> = recorded.iter().flat_map(|p| p.ancestors().skip(1)).collect();
+    let mut folders: Vec<&Path> = recorded.iter().flat_map(|w| w.path.ancestors().skip(1)).collect();
     folders.retain(|f| !f.as_os_str().is_empty() && *f != Path::new(SOLVES));
     folders.sort_by_key(|f| std::cmp::Reverse(f.components().count()));
     folders.dedup();
