@@ -169,10 +169,11 @@ impl Limits {
     }
 }
 
-/// The memory this process may still allocate [bytes]: the smaller of what the system has
-/// available (`MemAvailable` of /proc/meminfo) and what the address-space and data limits
-/// (`ulimit -v`, RLIMIT_AS; RLIMIT_DATA) leave beyond what the process already maps; `None`
-/// when neither is known.
+/// The memory this process may still allocate [bytes]: the smallest of what the system has
+/// available (`MemAvailable` of /proc/meminfo), what the memory limit of its control groups
+/// leaves (a container's, a batch job's: [`cgroup_left`]) and what the address-space and data
+/// limits (`ulimit -v`, RLIMIT_AS; RLIMIT_DATA) leave beyond what the process already maps;
+/// `None` when none is known.
 pub fn available_memory() -> Option<u64> {
     let kib = |text: &str, key: &str| -> Option<u64> {
         let line = text.lines().find(|l| l.starts_with(key))?;
@@ -189,12 +190,54 @@ pub fn available_memory() -> Option<u64> {
     };
     [
         meminfo.as_deref().and_then(|m| kib(m, "MemAvailable:")),
+        std::fs::read_to_string("/proc/self/cgroup")
+            .ok()
+            .and_then(|groups| cgroup_left(Path::new("/sys/fs/cgroup"), &groups)),
         left(libc::RLIMIT_AS, used("VmSize:")),
         left(libc::RLIMIT_DATA, used("VmData:")),
     ]
     .into_iter()
     .flatten()
     .min()
+}
+
+/// What the memory limits of the control groups listed in `groups` (the text of
+/// /proc/self/cgroup), mounted at `root`, leave [bytes]: for the group and each group above it
+/// (the limits nest), its limit less the memory it holds that cannot be reclaimed (anonymous
+/// memory; the page cache gives way), the smallest; `None` when no limit is set or readable.
+/// cgroup v2 (`memory.max`) and v1 (`memory/memory.limit_in_bytes`). Inside a container the
+/// mount shows the container's own group at its root: a path missing below it falls back to it.
+fn cgroup_left(root: &Path, groups: &str) -> Option<u64> {
+    let v2 = groups.lines().find_map(|l| l.strip_prefix("0::"));
+    let v1 = || {
+        groups.lines().find_map(|l| {
+            let mut fields = l.splitn(3, ':').skip(1);
+            let memory = fields.next()?.split(',').any(|c| c == "memory");
+            memory.then(|| fields.next()).flatten()
+        })
+    };
+    let (mount, path, limit_file, anon_key) = match (v2, v1()) {
+        (_, Some(path)) => (root.join("memory"), path, "memory.limit_in_bytes", "total_rss"),
+        (Some(path), None) => (root.to_path_buf(), path, "memory.max", "anon"),
+        (None, None) => return None,
+    };
+    let group = mount.join(path.trim_start_matches('/'));
+    let group = if group.is_dir() { group } else { mount.clone() };
+    let read = |dir: &Path, file: &str| std::fs::read_to_string(dir.join(file)).ok();
+    group
+        .ancestors()
+        .take_while(|dir| dir.starts_with(&mount))
+        .filter_map(|dir| {
+            // "max" (v2) or a huge number (v1's unlimited, rounded to a page) is no limit.
+            let limit = read(dir, limit_file)?.trim().parse::<u64>().ok().filter(|&l| l < 1 << 62)?;
+            let stat = read(dir, "memory.stat").unwrap_or_default();
+            let held = stat
+                .lines()
+                .find_map(|l| l.strip_prefix(anon_key)?.strip_prefix(' ')?.trim().parse::<u64>().ok())
+                .unwrap_or(0);
+            Some(limit.saturating_sub(held))
+        })
+        .min()
 }
 
 /// Whether `what`, estimated to need `bytes` of memory, fits in [`available_memory`]; the
@@ -260,6 +303,33 @@ fn open_regular(path: &Path) -> Result<std::fs::File> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A container's or batch job's memory limit counts: the tightest of the group and those
+    /// above it, less what they hold that cannot be reclaimed; no limit, no answer.
+    #[test]
+    fn control_group_limits_count() {
+        let root = tempfile::tempdir().unwrap();
+        let r = root.path();
+        let write = |dir: &Path, limit: &str, stat: &str| {
+            std::fs::create_dir_all(dir).unwrap();
+            std::fs::write(dir.join("memory.max"), limit).unwrap();
+            std::fs::write(dir.join("memory.stat"), stat).unwrap();
+        };
+        write(r, "max\n", "anon 5\n");
+        write(&r.join("slurm/job7"), "4096\n", "anon_thp 9\nanon 1000\nfile 50000\n");
+        assert_eq!(cgroup_left(r, "0::/slurm/job7\n"), Some(3096));
+        write(&r.join("slurm"), "2048\n", "anon 1500\n");
+        assert_eq!(cgroup_left(r, "0::/slurm/job7\n"), Some(548));
+        assert_eq!(cgroup_left(r, "0::/\n"), None);
+        // v1, in a container whose own group is the mount's root; the host's path is not there.
+        let m = r.join("memory");
+        std::fs::create_dir_all(&m).unwrap();
+        std::fs::write(m.join("memory.limit_in_bytes"), "10000\n").unwrap();
+        std::fs::write(m.join("memory.stat"), "rss 1\ntotal_rss 2500\n").unwrap();
+        assert_eq!(cgroup_left(r, "4:memory:/process_api/abc\n0::/\n"), Some(7500));
+        std::fs::write(m.join("memory.limit_in_bytes"), "9223372036854771712\n").unwrap();
+        assert_eq!(cgroup_left(r, "4:cpu,memory:/x\n"), None);
+    }
 
     #[test]
     fn grids_are_checked_against_the_limit() {

@@ -45,6 +45,7 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
     };
     let io = |e| Error::io(shown, e);
     replaceable(shown, &path)?;
+    temp::remove_orphaned_temporaries_once(dir);
     let tmp = temp::TempFile::new_in(dir).map_err(io)?;
     {
         let mut w = BufWriter::new(tmp.as_file());
@@ -164,6 +165,25 @@ mod tests {
         assert!(write_json(&dir.path().join("d"), &1).is_err());
         let names: Vec<_> = fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(names, ["d"]);
+    }
+
+    /// A single-file write clears what a killed writer left beside it (SIGKILL: no handler ran),
+    /// and never a living process's temporary.
+    #[test]
+    fn a_killed_writers_temporary_goes_with_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let mut ended = std::process::Command::new("true").spawn().unwrap();
+        ended.wait().unwrap();
+        let gone = format!("{}abc.partial", temp::owner_tag(ended.id()));
+        let living = format!("{}abc.partial", temp::owner_tag(std::process::id()));
+        fs::write(d.join(&gone), "half").unwrap();
+        fs::write(d.join(&living), "half").unwrap();
+        write_json(&d.join("x.json"), &1).unwrap();
+        let mut names: Vec<_> =
+            fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        assert_eq!(names, [living, "x.json".to_string()]);
     }
 
     #[test]

@@ -105,6 +105,19 @@ pub fn remove_orphaned_temporaries(dir: &Path) -> io::Result<()> {
     remove_temporaries_in(dir, |name| Owner::of(name).is_some_and(|o| o.is_gone()))
 }
 
+/// [`remove_orphaned_temporaries`] in `dir`, once per folder in a process: the first file this
+/// process writes into a folder clears what a killed writer left there (a `topo convert`
+/// killed with SIGKILL, which no handler sees). Best effort: a folder that cannot be listed
+/// fails the write itself, with its own error.
+pub fn remove_orphaned_temporaries_once(dir: &Path) {
+    static SWEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    let mut swept = SWEPT.lock().unwrap_or_else(|e| e.into_inner());
+    if !swept.iter().any(|d| d == dir) {
+        let _ = remove_orphaned_temporaries(dir);
+        swept.push(dir.to_path_buf());
+    }
+}
+
 /// Remove the temporaries in `dir` (not below it) whose names `pick` chooses: a folder with all
 /// it holds, a link but not what it points to; none when `dir` is missing.
 pub fn remove_temporaries_in(dir: &Path, pick: impl Fn(&str) -> bool) -> io::Result<()> {
