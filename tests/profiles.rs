@@ -141,6 +141,12 @@ fn convert_writes_a_profile_as_two_columns_only() {
             assert_eq!(copy[key], source[key], "{out}: {key}");
         }
     }
+    // The file's positions are kept, not moved to start at 0: xy-1.txt's first x is 13.381669 µm.
+    let (ok, _, err) = asperity(&["topo", "convert", &data("xy-1.txt"), "x.csv", "--height-unit", "um"], d);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(d.join("x.csv")).unwrap();
+    let first: Vec<f64> = text.lines().nth(1).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    assert!((first[0] - 13.381669e-6).abs() < 1e-18 && (first[1] - 17.854970e-6).abs() < 1e-18, "{first:?}");
     let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "p.npy"], d);
     assert!(e.contains("p.npy") && e.contains("line profile") && e.contains("*.csv or *.txt"), "{e}");
     let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "q.csv", "--detrend", "plane"], d);
@@ -150,6 +156,23 @@ fn convert_writes_a_profile_as_two_columns_only() {
     let e = refusal(&["topo", "convert", &data("xy-5.txt"), "m.csv", "--height-unit", "um"], d);
     assert!(e.contains("1 of 4 points are missing"), "{e}");
     assert!(!d.join("p.npy").exists() && !d.join("q.csv").exists() && !d.join("m.csv").exists());
+}
+
+/// A file stating its heights' unit only takes `--height-unit` for its positions, as the message
+/// says (it was refused: "states its own height unit"); a file stating both refuses it.
+#[test]
+fn a_profile_stating_only_its_heights_unit_takes_the_positions_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("h.csv"), "x,height in nm\n0,1\n1,2\n2,4\n3,1\n4,2\n5,3\n6,1\n7,2\n").unwrap();
+    let (ok, out, err) = asperity(&["topo", "info", "--json", "h.csv", "--height-unit", "um"], d);
+    assert!(ok, "{err}");
+    let info: Value = serde_json::from_str(&out).unwrap();
+    assert!((info["length_m"].as_f64().unwrap() - 8e-6).abs() < 1e-18, "{info}");
+    assert!((info["mean_m"].as_f64().unwrap() - 2e-9).abs() < 1e-21, "{info}");
+    std::fs::write(d.join("b.csv"), "x in um,height in nm\n0,1\n1,2\n2,4\n3,1\n4,2\n5,3\n6,1\n7,2\n").unwrap();
+    let e = refusal(&["topo", "info", "b.csv", "--height-unit", "um"], d);
+    assert!(e.starts_with("error: --height-unit: ") && e.contains("states its own units"), "{e}");
 }
 
 #[test]

@@ -245,7 +245,11 @@ fn bad_shards_are_refused_in_one_line_naming_the_option() {
     let o = asperity(dir, &["run", "study.toml", "--out", "out", "--shard", "1/2", "--fresh"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!dir.join("out").exists());
-    for (args, says) in [(&["--shards", "0"][..], "--shards"), (&["--shards", "2", "--time", "1 h"], "--time")] {
+    for (args, says) in [
+        (&["--shards", "0"][..], "--shards"),
+        (&["--shards", "100000000"], "--shards"),
+        (&["--shards", "2", "--time", "1 h"], "--time"),
+    ] {
         let o = asperity(dir, &[&["slurm", "study.toml", "--out", "out"][..], args].concat());
         assert!(!o.status.success());
         let e = stderr(&o);

@@ -51,6 +51,9 @@ fn a_full_standard_output_is_a_one_line_error() {
         &["onset", "p.npy", "--mu-s", "0.6", "--mu-d", "0.4"],
         &["onset", "p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--json"],
         &["run", "--print-default"],
+        &["--help"],
+        &["--version"],
+        &["contact", "--help"],
     ] {
         let full = File::options().write(true).open("/dev/full").unwrap();
         let o = asperity(dir).args(args).stdout(full).output().unwrap();

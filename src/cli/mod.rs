@@ -68,13 +68,22 @@ pub fn handle_signals() -> std::io::Result<()> {
 pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     match e.kind() {
-        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            let _ = e.print();
-            if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
+        // Asked for: on standard output, whose failure (a full disk) is an error as any command's.
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            use std::io::IsTerminal;
+            let text = e.render();
+            let shown = if std::io::stdout().is_terminal() { text.ansi().to_string() } else { text.to_string() };
+            match to_stdout(|w| w.write_all(shown.as_bytes())) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    message(&asperity::error::one_line(&format!("error: {e}")));
+                    ExitCode::FAILURE
+                }
             }
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            ExitCode::from(2)
         }
         _ => {
             message(&usage_line(&e));

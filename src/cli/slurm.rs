@@ -53,6 +53,19 @@ pub struct SlurmArgs {
 
 pub fn run(args: SlurmArgs) -> Result<()> {
     let study = super::run::prepare(args.study.as_deref(), args.quick, &args.limits)?;
+    // A shard without a solve is an array task queued for nothing (and 10^8 of them a flood of
+    // a cluster's scheduler).
+    if args.shards > study.solves() {
+        return Err(Error::invalid(
+            "--shards",
+            format!(
+                "{}: more shards than the study's {} contact solves; use at most {}",
+                args.shards,
+                study.solves(),
+                study.solves()
+            ),
+        ));
+    }
     let absolute = |p: &Path| -> Result<PathBuf> {
         let cwd = std::env::current_dir().map_err(|e| Error::io(".", e))?;
         Ok(cwd.join(p))

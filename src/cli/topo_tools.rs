@@ -205,8 +205,8 @@ impl OutFormat {
         }
     }
 
-    /// Write a profile's positions and heights [m], one point a line (shortest round-trip
-    /// digits, `NaN` for a missing height).
+    /// Write a profile's positions (from the file's origin) and heights [m], one point a line
+    /// (shortest round-trip digits, `NaN` for a missing height).
     fn write_profile(self, out: &Path, p: &Profile) -> Result<()> {
         let OutFormat::Columns(sep) = self else {
             return Err(Error::invalid(
@@ -221,7 +221,7 @@ impl OutFormat {
         write_atomic(out, |w| {
             writeln!(w, "x_m{sep}height_m")?;
             for (x, h) in p.positions().iter().zip(p.heights()) {
-                writeln!(w, "{x:e}{sep}{h:e}")?;
+                writeln!(w, "{:e}{sep}{h:e}", p.origin() + x)?;
             }
             Ok(())
         })

@@ -338,6 +338,12 @@ impl Study {
         self.coarse.len()
     }
 
+    /// The contact solves of the study, the units shards divide: every load of every sweep (a
+    /// topography or a coarser copy, elastic or plastic).
+    pub fn solves(&self) -> usize {
+        self.sweeps().len() * self.loads.len()
+    }
+
     /// The friction laws, one per law of the study file or per hold time of an aging law.
     pub fn laws(&self) -> &[FrictionLaw] {
         &self.laws

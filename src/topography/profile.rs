@@ -26,6 +26,9 @@ pub struct Profile {
     heights: Vec<f64>,
     /// The grid step when the positions are equally spaced.
     step: Option<f64>,
+    /// Where the first point lies, in the positions' unit: `positions` start at 0 for the
+    /// statistics, and what the profile is written to keeps the file's positions.
+    origin: f64,
     /// Whether the positions are known to be metres (the file states their unit, or the user).
     pub position_unit_known: bool,
     /// Whether the heights are known to be metres.
@@ -71,6 +74,7 @@ impl Profile {
             positions,
             heights,
             step: uniform.then_some(step),
+            origin,
             position_unit_known: false,
             height_unit_known: false,
             position_unit: None,
@@ -94,6 +98,14 @@ impl Profile {
         &self.heights
     }
 
+    /// The position of the first point as the file gives it [m, or as stored]: [`positions`]
+    /// count from it.
+    ///
+    /// [`positions`]: Profile::positions
+    pub fn origin(&self) -> f64 {
+        self.origin
+    }
+
     /// The grid step [m, or as stored] of a uniform profile; `None` when the positions are not
     /// equally spaced.
     pub fn step(&self) -> Option<f64> {
@@ -111,6 +123,7 @@ impl Profile {
     /// Multiply the positions by `positions` and the heights by `heights` (a change of unit).
     pub fn scale(&mut self, positions: f64, heights: f64) {
         self.positions.iter_mut().for_each(|x| *x *= positions);
+        self.origin *= positions;
         self.step = self.step.map(|s| s * positions);
         self.heights.iter_mut().for_each(|h| *h *= heights);
     }

@@ -310,8 +310,11 @@ fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> 
         return Err(Error::file(path, format!("no channel '{c}' (channels: '{}')", data.name)));
     }
     let user = match opts.height_unit.as_deref() {
-        Some(_) if data.height_unit.is_some() => {
-            return Err(Error::invalid("--height-unit", format!("{} states its own height unit", path.display())));
+        Some(_) if data.height_unit.is_some() && data.position_unit.is_some() => {
+            return Err(Error::invalid(
+                "--height-unit",
+                format!("{} states its own units, of positions and heights", path.display()),
+            ));
         }
         Some(u) => Some((
             u.to_string(),
