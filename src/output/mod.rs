@@ -64,20 +64,25 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
 /// as `cp` does by device and inode, so that a hard link or a symbolic link to an input counts.
 /// [`write_atomic`] checks the kind again when it writes.
 pub fn check_output_file(path: &Path, inputs: &[&Path]) -> Result<()> {
-    use std::os::unix::fs::MetadataExt;
     replaceable(path, &resolve_symlinks(path)?)?;
     let Ok(out) = std::fs::metadata(path) else { return Ok(()) };
-    for input in inputs {
-        if let Ok(m) = std::fs::metadata(input) {
-            if (m.dev(), m.ino()) == (out.dev(), out.ino()) {
-                return Err(Error::file(
-                    path,
-                    format!("is the input {} (the same file): write the output to another name", input.display()),
-                ));
-            }
-        }
+    match the_input(&out, inputs) {
+        Some(input) => Err(Error::file(
+            path,
+            format!("is the input {} (the same file): write the output to another name", input.display()),
+        )),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// The one of `inputs` that is the file of `meta`, compared as `cp` does, by device and inode
+/// (links followed): a hard link or a symbolic link to an input is that input.
+fn the_input<'a, P: AsRef<Path>>(meta: &std::fs::Metadata, inputs: &'a [P]) -> Option<&'a Path> {
+    use std::os::unix::fs::MetadataExt;
+    inputs
+        .iter()
+        .map(AsRef::as_ref)
+        .find(|input| std::fs::metadata(input).is_ok_and(|m| (m.dev(), m.ino()) == (meta.dev(), meta.ino())))
 }
 
 /// Refuse to replace `path` (shown as `shown`) unless it is missing or a regular file: a

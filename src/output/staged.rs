@@ -4,7 +4,6 @@
 
 use std::collections::BTreeSet;
 use std::fs;
-use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -169,8 +168,6 @@ impl StagedDir {
         }
         // Only files are removed from an earlier output: a folder or link in a listed file's
         // place is someone else's, and an input (the same file, as `cp` compares them) is read.
-        let inputs: Vec<(u64, u64)> =
-            self.inputs.iter().filter_map(|p| fs::metadata(p).ok()).map(|m| (m.dev(), m.ino())).collect();
         for name in &names {
             let meta = fs::symlink_metadata(self.target.join(name)).map_err(|e| Error::io(&self.shown, e))?;
             let kind = meta.file_type();
@@ -181,7 +178,7 @@ impl StagedDir {
                     self.written_by
                 ));
             }
-            if inputs.contains(&(meta.dev(), meta.ino())) {
+            if super::the_input(&meta, &self.inputs).is_some() {
                 return refuse(format!(
                     "holds {name}, an input of this command, which replacing the folder would delete: copy it \
                      elsewhere, or"
