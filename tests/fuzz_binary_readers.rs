@@ -339,8 +339,11 @@ fn sur_survives_mutation() {
 
 #[test]
 fn al3d_survives_mutation() {
-    let keys = &["TagCount", "Cols", "Rows", "PixelSize", "DepthImageOffset", "InvalidPixelValue"];
-    fuzz("al3d-1.al3d", "al3d", Header::Text(position("al3d-1.al3d", b"InvalidPixelValue") + 40, keys));
+    // The values (30 bytes after each 20-byte key) of TagCount, Cols, Rows and DepthImageOffset.
+    let file = "al3d-1.al3d";
+    let fields =
+        ["TagCount", "Cols", "Rows", "DepthImageOffset"].iter().map(|k| position(file, k.as_bytes())).collect();
+    fuzz(file, "al3d", Header::Binary(position(file, b"DepthImageOffset") + 30, fields, |_| {}));
 }
 
 #[test]
