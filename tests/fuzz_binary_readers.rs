@@ -321,3 +321,41 @@ fn gwy_survives_mutation() {
 fn x3p_survives_mutation() {
     fuzz("x3p-2.x3p", "x3p", Header::X3pXml);
 }
+
+#[test]
+fn metropro_survives_mutation() {
+    // header_size, the intensity and phase grids and byte counts, the scale factors, phase_res.
+    let fields = vec![6, 52, 56, 60, 68, 72, 164, 168, 176, 184, 218];
+    fuzz("metropro-1.dat", "metropro", Header::Binary(834, fields, |_| {}));
+}
+
+#[test]
+fn sur_survives_mutation() {
+    // special_points, item size, zmin, nx, ny, point count, spacings, scale, units, inversion,
+    // comment and private sizes.
+    let fields = vec![86, 98, 100, 108, 112, 116, 120, 124, 128, 180, 212, 290, 334];
+    fuzz("sur-2.sur", "sur", Header::Binary(512, fields, |_| {}));
+}
+
+#[test]
+fn al3d_survives_mutation() {
+    // The values (30 bytes after each 20-byte key) of TagCount, Cols, Rows and DepthImageOffset.
+    let file = "al3d-1.al3d";
+    let fields =
+        ["TagCount", "Cols", "Rows", "DepthImageOffset"].iter().map(|k| position(file, k.as_bytes())).collect();
+    fuzz(file, "al3d", Header::Binary(position(file, b"DepthImageOffset") + 30, fields, |_| {}));
+}
+
+#[test]
+fn opd_survives_mutation() {
+    // The directory's length, the Raw entry's type and length, the Raw block's nx, ny, item size.
+    let fields = vec![20, 2 + 5 * 24 + 16, 2 + 5 * 24 + 18, 24020, 24022];
+    fuzz("opd-1.opd", "opd", Header::Binary(24030, fields, |_| {}));
+}
+
+#[test]
+fn plu_survives_mutation() {
+    // Pixel sizes, the measurement type, layer and image counts, the layer's ny and nx.
+    let fields = vec![404, 408, 428, 488, 492, 500, 504];
+    fuzz("plu-1.plu", "plu", Header::Binary(508, fields, |_| {}));
+}

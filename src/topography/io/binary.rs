@@ -166,6 +166,11 @@ impl<'a> Cursor<'a> {
         Ok(self.take(1, what)?[0])
     }
 
+    pub fn u16(&mut self, what: &str) -> Result<u16, String> {
+        let a = self.array::<2>(what)?;
+        Ok(if self.endian == Endian::Little { u16::from_le_bytes(a) } else { u16::from_be_bytes(a) })
+    }
+
     pub fn i16(&mut self, what: &str) -> Result<i16, String> {
         let a = self.array::<2>(what)?;
         Ok(if self.endian == Endian::Little { i16::from_le_bytes(a) } else { i16::from_be_bytes(a) })
@@ -184,6 +189,11 @@ impl<'a> Cursor<'a> {
     pub fn i64(&mut self, what: &str) -> Result<i64, String> {
         let a = self.array::<8>(what)?;
         Ok(if self.endian == Endian::Little { i64::from_le_bytes(a) } else { i64::from_be_bytes(a) })
+    }
+
+    pub fn f32(&mut self, what: &str) -> Result<f32, String> {
+        let a = self.array::<4>(what)?;
+        Ok(if self.endian == Endian::Little { f32::from_le_bytes(a) } else { f32::from_be_bytes(a) })
     }
 
     pub fn f64(&mut self, what: &str) -> Result<f64, String> {

@@ -6,6 +6,7 @@
 //! knows only its own bytes; paths, options and the choice of channel are handled here once.
 //! What needs a map reads with [`read`], which refuses a profile by name.
 
+mod al3d;
 mod binary;
 mod dektak;
 mod gsf;
@@ -13,12 +14,16 @@ mod gwy;
 mod gwyddion_txt;
 mod ibw;
 mod matrix;
+mod metropro;
 mod mi;
 mod nanoscope;
 mod nid;
 pub mod npy;
+mod opd;
+mod plu;
 mod profile;
 mod sdf;
+mod sur;
 mod text;
 mod x3p;
 mod xyz;
@@ -144,6 +149,12 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&mi::Mi),
     Reader::Map(&x3p::X3p),
     Reader::Map(&ibw::Ibw),
+    Reader::Map(&metropro::MetroPro),
+    Reader::Map(&sur::Sur),
+    Reader::Map(&al3d::Al3d),
+    Reader::Map(&opd::Opd),
+    // Sensofar files have no magic number: known by their extension only.
+    Reader::Map(&plu::Plu),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
