@@ -321,3 +321,36 @@ fn gwy_survives_mutation() {
 fn x3p_survives_mutation() {
     fuzz("x3p-2.x3p", "x3p", Header::X3pXml);
 }
+
+#[test]
+fn frt_survives_mutation() {
+    // The block count, the grid block (its size, nx, ny, bits), the physical size, the height
+    // scale and the size of the topography block, which starts at byte 140.
+    let fields = [16, 50, 54, 58, 62, 72, 80, 126, 130, 136];
+    fuzz("frt-2.frt", "frt", Header::Binary(140, fields.to_vec(), |_| {}));
+}
+
+#[test]
+fn tmd_survives_mutation() {
+    // nx, ny, the lengths and offsets after the 56 bytes of magic and comment.
+    fuzz("tmd-1.tmd", "tmd", Header::Binary(80, vec![56, 60, 64, 68, 72, 76], |_| {}));
+}
+
+#[test]
+fn wsxm_survives_mutation() {
+    let keys = &["Image header size", "Number of", "Amplitude", "Maximum", "Minimum"];
+    fuzz("top-1.top", "wsxm", Header::Text(position("top-1.top", b"[Header end]\r\n"), keys));
+}
+
+#[test]
+fn bcr_survives_mutation() {
+    // A UTF-16 header of 2048 characters: the values of its sizes and units.
+    let file = "bcrf-1.bcrf";
+    let utf16 = |s: &str| s.encode_utf16().flat_map(u16::to_le_bytes).collect::<Vec<u8>>();
+    let fields =
+        ["headersize = ", "xpixels = ", "ypixels = ", "intelmode = ", "xlength = ", "voidpixels = ", "zunit = "]
+            .iter()
+            .map(|k| position(file, &utf16(k)))
+            .collect();
+    fuzz(file, "bcr", Header::Binary(4096, fields, |_| {}));
+}

@@ -6,11 +6,14 @@
 //! knows only its own bytes; paths, options and the choice of channel are handled here once.
 //! What needs a map reads with [`read`], which refuses a profile by name.
 
+mod bcr;
 mod binary;
 mod dektak;
+mod frt;
 mod gsf;
 mod gwy;
 mod gwyddion_txt;
+mod hfm;
 mod ibw;
 mod matrix;
 mod mi;
@@ -20,6 +23,8 @@ pub mod npy;
 mod profile;
 mod sdf;
 mod text;
+mod tmd;
+mod wsxm;
 mod x3p;
 mod xyz;
 
@@ -144,6 +149,10 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&mi::Mi),
     Reader::Map(&x3p::X3p),
     Reader::Map(&ibw::Ibw),
+    Reader::Map(&frt::Frt),
+    Reader::Map(&tmd::Tmd),
+    Reader::Map(&wsxm::Wsxm),
+    Reader::Map(&bcr::Bcr),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
@@ -151,6 +160,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&sdf::Sdf),
     Reader::Map(&gwyddion_txt::GwyddionTxt),
     Reader::Profile(&dektak::Dektak),
+    Reader::Profile(&hfm::Hfm),
     Reader::Map(&xyz::Xyz),
     Reader::Profile(&profile::ProfileText),
     Reader::Map(&matrix::Matrix),
