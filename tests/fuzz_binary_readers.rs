@@ -354,3 +354,12 @@ fn bcr_survives_mutation() {
             .collect();
     fuzz(file, "bcr", Header::Binary(4096, fields, |_| {}));
 }
+
+#[test]
+fn ps_survives_mutation() {
+    // The TIFF header and directory (its count, the data and header tags' counts and offsets),
+    // then the vendor header at 1050617: grid, scan size, gain, scale, offset, data type.
+    let fields =
+        [4, 8, 162, 174, 182, 186, 194, 198, 1050717, 1050721, 1050757, 1050765, 1050837, 1050845, 1050853, 1050965];
+    fuzz("example_ps.tiff", "ps", Header::Binary(1051197, fields.to_vec(), |_| {}));
+}

@@ -21,6 +21,7 @@ mod nanoscope;
 mod nid;
 pub mod npy;
 mod profile;
+mod ps;
 mod sdf;
 mod text;
 mod tmd;
@@ -153,6 +154,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&tmd::Tmd),
     Reader::Map(&wsxm::Wsxm),
     Reader::Map(&bcr::Bcr),
+    Reader::Map(&ps::Ps),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
