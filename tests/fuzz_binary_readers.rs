@@ -358,4 +358,43 @@ fn plu_survives_mutation() {
     // Pixel sizes, the measurement type, layer and image counts, the layer's ny and nx.
     let fields = vec![404, 408, 428, 488, 492, 500, 504];
     fuzz("plu-1.plu", "plu", Header::Binary(508, fields, |_| {}));
+fn frt_survives_mutation() {
+    // The block count, the grid block (its size, nx, ny, bits), the physical size, the height
+    // scale and the size of the topography block, which starts at byte 140.
+    let fields = [16, 50, 54, 58, 62, 72, 80, 126, 130, 136];
+    fuzz("frt-2.frt", "frt", Header::Binary(140, fields.to_vec(), |_| {}));
+}
+
+#[test]
+fn tmd_survives_mutation() {
+    // nx, ny, the lengths and offsets after the 56 bytes of magic and comment.
+    fuzz("tmd-1.tmd", "tmd", Header::Binary(80, vec![56, 60, 64, 68, 72, 76], |_| {}));
+}
+
+#[test]
+fn wsxm_survives_mutation() {
+    let keys = &["Image header size", "Number of", "Amplitude", "Maximum", "Minimum"];
+    fuzz("top-1.top", "wsxm", Header::Text(position("top-1.top", b"[Header end]\r\n"), keys));
+}
+
+#[test]
+fn bcr_survives_mutation() {
+    // A UTF-16 header of 2048 characters: the values of its sizes and units.
+    let file = "bcrf-1.bcrf";
+    let utf16 = |s: &str| s.encode_utf16().flat_map(u16::to_le_bytes).collect::<Vec<u8>>();
+    let fields =
+        ["headersize = ", "xpixels = ", "ypixels = ", "intelmode = ", "xlength = ", "voidpixels = ", "zunit = "]
+            .iter()
+            .map(|k| position(file, &utf16(k)))
+            .collect();
+    fuzz(file, "bcr", Header::Binary(4096, fields, |_| {}));
+}
+
+#[test]
+fn ps_survives_mutation() {
+    // The TIFF header and directory (its count, the data and header tags' counts and offsets),
+    // then the vendor header at 1050617: grid, scan size, gain, scale, offset, data type.
+    let fields =
+        [4, 8, 162, 174, 182, 186, 194, 198, 1050717, 1050721, 1050757, 1050765, 1050837, 1050845, 1050853, 1050965];
+    fuzz("example_ps.tiff", "ps", Header::Binary(1051197, fields.to_vec(), |_| {}));
 }

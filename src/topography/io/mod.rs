@@ -7,11 +7,14 @@
 //! What needs a map reads with [`read`], which refuses a profile by name.
 
 mod al3d;
+mod bcr;
 mod binary;
 mod dektak;
+mod frt;
 mod gsf;
 mod gwy;
 mod gwyddion_txt;
+mod hfm;
 mod ibw;
 mod matrix;
 mod metropro;
@@ -22,9 +25,12 @@ pub mod npy;
 mod opd;
 mod plu;
 mod profile;
+mod ps;
 mod sdf;
 mod sur;
 mod text;
+mod tmd;
+mod wsxm;
 mod x3p;
 mod xyz;
 
@@ -155,6 +161,11 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&opd::Opd),
     // Sensofar files have no magic number: known by their extension only.
     Reader::Map(&plu::Plu),
+    Reader::Map(&frt::Frt),
+    Reader::Map(&tmd::Tmd),
+    Reader::Map(&wsxm::Wsxm),
+    Reader::Map(&bcr::Bcr),
+    Reader::Map(&ps::Ps),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
@@ -162,6 +173,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&sdf::Sdf),
     Reader::Map(&gwyddion_txt::GwyddionTxt),
     Reader::Profile(&dektak::Dektak),
+    Reader::Profile(&hfm::Hfm),
     Reader::Map(&xyz::Xyz),
     Reader::Profile(&profile::ProfileText),
     Reader::Map(&matrix::Matrix),
