@@ -271,3 +271,45 @@ fn a_study_names_a_member_through_the_same_reading_path() {
     assert!(stderr.contains("no member 'other.npy'"), "{stderr}");
     assert!(!dir.path().join("out").exists());
 }
+
+#[test]
+fn hdf5_datasets_are_channels_of_a_bare_map() {
+    // Two root datasets, float64 256 × 256 and float32 640 × 480 (h5py's shapes); no size, no
+    // unit: SurfaceTopography asks for the size too.
+    let path = common::sample("multiple_data_sets.h5");
+    let e = read(&path, &ReadOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("physical size") && !e.contains('\n'), "{e}");
+    let opts = |channel: &str| ReadOptions {
+        physical_size: Some((1e-6, 1e-6)),
+        channel: Some(channel.into()),
+        ..ReadOptions::default()
+    };
+    for (channel, (nx, ny), want, corners) in [
+        (
+            "dataset1",
+            (256, 256),
+            [-0.5588049271074124, 0.033215426493512654, -0.6299615478515626, -0.4643220520019532],
+            [-0.49869003295898445, -0.5122423553466797, -0.5981623077392578],
+        ),
+        (
+            "dataset2",
+            (480, 640),
+            [-0.0002719687105871079, 1.850009003891213e-05, -0.00035255696275271475, 0.0005772949662059546],
+            [-0.0002655062125995755, -0.00028399284929037094, -0.0002564632741268724],
+        ),
+    ] {
+        let t = read(&path, &opts(channel)).unwrap();
+        assert_eq!((t.nx(), t.ny(), t.provenance.format.as_str()), (nx, ny, "hdf5"), "{channel}");
+        let got = stats(&t);
+        for i in 0..4 {
+            let scale: f64 = if i == 0 { want[1] } else { want[i] };
+            let tol = 1e-9 * scale.abs();
+            assert!((got[i] - want[i]).abs() <= tol, "{channel}: {} vs {}", got[i], want[i]);
+        }
+        // h5py's [0, 0], [0, -1] and [-1, 0]: rows are the dataset's first index.
+        let (a, b, c) = (t.heights[[0, 0]], t.heights[[0, nx - 1]], t.heights[[ny - 1, 0]]);
+        assert_eq!([a, b, c], corners, "{channel}");
+    }
+    let (_, names) = asperity::topography::io::read_listing(&path, &opts("0")).unwrap();
+    assert_eq!(names, ["dataset1", "dataset2"]);
+}

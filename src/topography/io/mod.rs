@@ -17,6 +17,7 @@ mod gsf;
 mod gwy;
 mod gwyddion_txt;
 mod gzip;
+mod hdf5;
 mod ibw;
 mod matrix;
 mod mi;
@@ -160,6 +161,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&x3p::X3p),
     Reader::Map(&npz::Npz),
     Reader::Map(&netcdf::NetCdf),
+    Reader::Map(&hdf5::Hdf5),
     Reader::Map(&ibw::Ibw),
     // Zip formats told by their extension only.
     Reader::Profile(&mitutoyo::Mitutoyo),
