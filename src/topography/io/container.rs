@@ -126,9 +126,13 @@ fn open(zip: &[u8]) -> std::result::Result<zip::ZipArchive<Cursor<&[u8]>>, Strin
 /// The name of a member, refused when it is absolute or climbs out of the archive's folder.
 fn safe<R: Read>(file: &zip::read::ZipFile<'_, R>) -> std::result::Result<String, String> {
     let name = file.name().map_err(|e| format!("a member's name: {e}"))?;
+    // Absolute (`/x`, a backslash first, `C:x`), climbing (`..`) or holding NUL, whatever the zip crate
+    // makes of it.
+    let climbs = name.split(['/', '\\']).any(|c| c == "..");
+    let absolute = name.starts_with(['/', '\\']) || name.as_bytes().get(1) == Some(&b':');
     match file.enclosed_name() {
-        Some(_) => Ok(name.into_owned()),
-        None => Err(format!(
+        Some(_) if !climbs && !absolute && !name.contains('\0') => Ok(name.into_owned()),
+        _ => Err(format!(
             "member {} has an unsafe name (absolute, or leaving the archive's folder): refused",
             crate::quantity::quoted(&name)
         )),
