@@ -208,6 +208,20 @@ fn a_container_lists_its_members_and_reads_each() {
 }
 
 #[test]
+fn a_gzipped_container_is_listed_and_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let gz = dir.path().join("scans.zip.gz");
+    let mut w = flate2::write::GzEncoder::new(std::fs::File::create(&gz).unwrap(), flate2::Compression::fast());
+    w.write_all(&std::fs::read(container()).unwrap()).unwrap();
+    w.finish().unwrap();
+    let members = container_members(&gz, &Limits::default()).unwrap().unwrap();
+    assert_eq!(members.len(), 5);
+    let member = PathBuf::from(format!("{}#gain_control_uncd_35_z03tr3R.001", gz.display()));
+    let t = read(&member, &ReadOptions::default()).unwrap();
+    assert_eq!((t.nx(), t.ny(), t.provenance.format.as_str()), (512, 512, "nanoscope"));
+}
+
+#[test]
 fn topo_info_lists_a_container() {
     let o = Command::new(env!("CARGO_BIN_EXE_asperity"))
         .args(["topo", "info", "--json", container().to_str().unwrap()])

@@ -40,7 +40,9 @@ pub(super) fn split(path: &Path) -> Option<(PathBuf, String)> {
 pub(super) fn load(path: &Path, limits: &Limits) -> Result<(Vec<u8>, String)> {
     let (bytes, name) = match split(path) {
         Some((archive, member)) => {
-            let zip = limits.read_file(&archive)?;
+            // The archive may itself be gzip data (`scans.zip.gz#member`), as `topo info` lists it.
+            let (zip, _) = gzip::unwrap(limits.read_file(&archive)?, String::new(), limits)
+                .map_err(|reason| Error::file(&archive, reason))?;
             (member_bytes(&zip, &member, limits).map_err(|reason| Error::file(path, reason))?, member)
         }
         None => {
