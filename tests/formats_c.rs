@@ -332,3 +332,27 @@ fn hdf5_datasets_are_channels_of_a_bare_map() {
     let (_, names) = asperity::topography::io::read_listing(&path, &opts("0")).unwrap();
     assert_eq!(names, ["dataset1", "dataset2"]);
 }
+
+#[test]
+fn matlab_variables_are_channels() {
+    // scipy.io.savemat, uncompressed and compressed (tools/make_generated_mat.py): 2-D numeric
+    // variables in file order, a string left out; SurfaceTopography lists the same two.
+    for file in ["generated-matlab.mat", "generated-matlab-compressed.mat"] {
+        let path = common::sample(file);
+        let e = read(&path, &ReadOptions::default()).unwrap_err().to_string();
+        assert!(e.contains("physical size"), "{e}");
+        let opts = |channel: &str| ReadOptions {
+            physical_size: Some((1e-6, 1e-6)),
+            channel: Some(channel.into()),
+            ..ReadOptions::default()
+        };
+        let (t, names) = asperity::topography::io::read_listing(&path, &opts("heights")).unwrap();
+        assert_eq!(names, ["heights", "small"], "{file}");
+        // MATLAB's A(row, column) at [row, column]: 0 … 11 row by row.
+        assert_eq!((t.nx(), t.ny(), t.provenance.format.as_str()), (4, 3, "mat"), "{file}");
+        assert_eq!(t.heights.iter().copied().collect::<Vec<_>>(), (0..12).map(f64::from).collect::<Vec<_>>());
+        let s = read(&path, &opts("small")).unwrap();
+        assert_eq!((s.nx(), s.ny()), (3, 2));
+        assert_eq!((s.heights[[0, 2]], s.heights[[1, 2]]), (3.25, -6.75), "{file}");
+    }
+}

@@ -38,7 +38,8 @@ warnings.simplefilter("ignore")
 from SurfaceTopography import open_topography  # noqa: E402
 
 # Metres per unit, for SurfaceTopography's unit names.
-METRES = {"km": 1e3, "m": 1.0, "cm": 1e-2, "mm": 1e-3, "µm": 1e-6, "um": 1e-6, "μm": 1e-6, "nm": 1e-9,
+METRES = {"km": 1e3, "m": 1.0, "cm": 1e-2, "mm": 1e-3, "µm": 1e-6, "um": 1e-6, "μm": 1e-6, "micron": 1e-6,
+          "microns": 1e-6, "nm": 1e-9,
           "Å": 1e-10, "A": 1e-10, "pm": 1e-12}
 
 REL = 1e-9
@@ -139,7 +140,7 @@ def compare(st, a, transposed=False, unitless=False):
         got = a.get(key + suffix)
         ref = st[key] * s
         spread = st["rms"] * s if key == "mean" else None
-        if got is None or not close(got, ref, scale=spread if spread else None):
+        if not close(got, ref, scale=spread if spread else None):
             diffs.append(f"{key} {got!r} vs {ref!r}")
     return diffs
 

@@ -19,6 +19,7 @@ mod gwyddion_txt;
 mod gzip;
 mod hdf5;
 mod ibw;
+mod mat;
 mod matrix;
 mod mi;
 mod mitutoyo;
@@ -162,6 +163,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&npz::Npz),
     Reader::Map(&netcdf::NetCdf),
     Reader::Map(&hdf5::Hdf5),
+    Reader::Map(&mat::Mat),
     Reader::Map(&ibw::Ibw),
     // Zip formats told by their extension only.
     Reader::Profile(&mitutoyo::Mitutoyo),
