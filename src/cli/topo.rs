@@ -142,6 +142,9 @@ struct ExtentStored {
 }
 
 fn info(args: InfoArgs) -> Result<()> {
+    if let Some(members) = io::container_members(&args.read.file, &args.read.options().limits)? {
+        return container_info(args, members);
+    }
     let (topo, channels) = io::read_any(&args.read.file, &args.read.options())?;
     let topo = match topo {
         AnyTopography::Map(topo) => topo,
@@ -178,6 +181,59 @@ fn info(args: InfoArgs) -> Result<()> {
     } else {
         super::print(&summary(&info))
     }
+}
+
+/// What `topo info --json` prints for each member of a zip container.
+#[derive(Serialize)]
+struct MemberInfo {
+    name: String,
+    format: Option<&'static str>,
+    kind: Option<&'static str>,
+    nx: Option<usize>,
+    ny: Option<usize>,
+    /// The reason a member is not read as a topography.
+    error: Option<String>,
+}
+
+/// `topo info` of a zip container: its members, what each holds, and how to name one.
+fn container_info(args: InfoArgs, members: Vec<io::Member>) -> Result<()> {
+    let members: Vec<MemberInfo> = members
+        .into_iter()
+        .map(|m| match m.content {
+            Ok(c) => MemberInfo {
+                name: m.name,
+                format: Some(c.format),
+                kind: Some(c.kind),
+                nx: Some(c.grid.0),
+                ny: Some(c.grid.1),
+                error: None,
+            },
+            Err(e) => MemberInfo { name: m.name, format: None, kind: None, nx: None, ny: None, error: Some(e) },
+        })
+        .collect();
+    if args.json {
+        return super::print_json(&serde_json::json!({
+            "file": args.read.file, "kind": "container", "members": members
+        }));
+    }
+    let file = escaped(&args.read.file.display().to_string()).into_owned();
+    let mut s = format!("file         {file} (zip container of {} files; read one as {file}#MEMBER)\n", members.len());
+    for m in &members {
+        s += &match (&m.error, m.kind, m.format) {
+            (Some(e), ..) => format!("member       {}: not read: {}\n", escaped(&m.name), escaped(e)),
+            (None, Some("profile"), Some(f)) => {
+                format!("member       {}: line profile of {} points ({f})\n", escaped(&m.name), m.nx.unwrap_or(0))
+            }
+            (None, _, f) => format!(
+                "member       {}: map of {} × {} points ({})\n",
+                escaped(&m.name),
+                m.nx.unwrap_or(0),
+                m.ny.unwrap_or(0),
+                f.unwrap_or("")
+            ),
+        };
+    }
+    super::print(&s)
 }
 
 /// `topo info` of a line profile: its statistics as SurfaceTopography defines them.

@@ -5,25 +5,36 @@
 //! metres, or the line profile a profile format decodes as a [`Profile`]. Each format module
 //! knows only its own bytes; paths, options and the choice of channel are handled here once.
 //! What needs a map reads with [`read`], which refuses a profile by name.
+//!
+//! In front of the registry, two layers serve every format: gzip data are inflated
+//! ([`gzip`]), and a member of a zip container is named `archive.zip#member` ([`container`],
+//! whose members [`container_members`] lists). Both inflate within the input limits.
 
 mod al3d;
 mod bcr;
 mod binary;
+mod container;
 mod dektak;
 mod frt;
 mod gsf;
 mod gwy;
 mod gwyddion_txt;
 mod hfm;
+mod gzip;
+mod hdf5;
 mod ibw;
+mod mat;
 mod matrix;
 mod metropro;
 mod mi;
+mod mitutoyo;
 mod nanoscope;
+mod netcdf;
 mod nid;
 pub mod npy;
 mod opd;
 mod plu;
+mod npz;
 mod profile;
 mod ps;
 mod sdf;
@@ -36,7 +47,7 @@ mod xyz;
 
 pub use gsf::write_gsf;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
 
@@ -114,6 +125,12 @@ pub trait ProfileFormat: Sync {
     fn sniff(&self, head: &[u8]) -> bool;
     /// Decode the profile. Errors are reasons; the registry adds the path.
     fn read(&self, bytes: &[u8]) -> std::result::Result<ProfileData, String>;
+    /// Decode the profile within `limits`: only a compressed format needs them while it
+    /// decodes (see [`Format::read_within`]).
+    fn read_within(&self, bytes: &[u8], limits: &Limits) -> std::result::Result<ProfileData, String> {
+        let _ = limits;
+        self.read(bytes)
+    }
 }
 
 /// A format of the registry: of maps (channels) or of a line profile.
@@ -154,6 +171,10 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&nid::Nid),
     Reader::Map(&mi::Mi),
     Reader::Map(&x3p::X3p),
+    Reader::Map(&npz::Npz),
+    Reader::Map(&netcdf::NetCdf),
+    Reader::Map(&hdf5::Hdf5),
+    Reader::Map(&mat::Mat),
     Reader::Map(&ibw::Ibw),
     Reader::Map(&metropro::MetroPro),
     Reader::Map(&sur::Sur),
@@ -166,6 +187,8 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&wsxm::Wsxm),
     Reader::Map(&bcr::Bcr),
     Reader::Map(&ps::Ps),
+    // Zip formats told by their extension only.
+    Reader::Profile(&mitutoyo::Mitutoyo),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
@@ -206,8 +229,10 @@ pub fn format_names() -> Vec<&'static str> {
     FORMATS.iter().map(|f| f.name()).collect()
 }
 
-/// The format of the file at `path` with contents `bytes`, and whether `--format` forced it.
-fn detect(path: &Path, bytes: &[u8], forced: Option<&str>) -> Result<(Reader, bool)> {
+/// The format of the file at `path` with contents `bytes`, told from its leading bytes, else
+/// from the ending of `name` (the file's or the member's name, less `.gz`); and whether
+/// `--format` forced it.
+fn detect(path: &Path, name: &str, bytes: &[u8], forced: Option<&str>) -> Result<(Reader, bool)> {
     if let Some(name) = forced {
         return FORMATS.iter().copied().find(|f| f.name() == name).map(|f| (f, true)).ok_or_else(|| {
             Error::invalid("--format", format!("unknown format '{name}' (known: {})", format_names().join(", ")))
@@ -217,10 +242,21 @@ fn detect(path: &Path, bytes: &[u8], forced: Option<&str>) -> Result<(Reader, bo
     if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff(head)) {
         return Ok((f, false));
     }
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())).map(|f| (f, false)).ok_or_else(|| {
-        Error::file(path, format!("not a topography file asperity can read (formats: {})", format_names().join(", ")))
-    })
+    let ext = Path::new(name).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if let Some(f) = FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())) {
+        return Ok((f, false));
+    }
+    if container::is_zip(bytes) {
+        return Err(Error::file(
+            path,
+            format!(
+                "a zip container, not one topography: name a member as {}#MEMBER ('asperity topo info {}' lists them)",
+                path.display(),
+                path.display()
+            ),
+        ));
+    }
+    Err(Error::file(path, format!("not a topography file asperity can read (formats: {})", format_names().join(", "))))
 }
 
 /// Read the file at `path` and decode all its channels (within the default [`Limits`]);
@@ -235,14 +271,25 @@ pub fn read_channels(path: &Path, format: Option<&str>) -> Result<(&'static str,
     }
 }
 
-/// Whether `--format` forced the format of the file at `path`, and what the file holds, each
-/// grid within `limits`.
+/// Whether `--format` forced the format of the file at `path` (or `archive#member`, gzip data
+/// or not), and what the file holds, each grid within `limits`.
 fn decode(path: &Path, format: Option<&str>, limits: &Limits) -> Result<(bool, Decoded)> {
-    let bytes = limits.read_file(path)?;
-    let (reader, forced) = detect(path, &bytes, format)?;
+    let (bytes, name) = container::load(path, limits)?;
+    decode_bytes(path, &name, &bytes, format, limits)
+}
+
+/// [`decode`] of `bytes`, the content of `path` whose format `name`'s ending may tell.
+fn decode_bytes(
+    path: &Path,
+    name: &str,
+    bytes: &[u8],
+    format: Option<&str>,
+    limits: &Limits,
+) -> Result<(bool, Decoded)> {
+    let (reader, forced) = detect(path, name, bytes, format)?;
     let decoded = match reader {
         Reader::Map(fmt) => {
-            let channels = fmt.read_within(&bytes, limits).map_err(|reason| Error::file(path, reason))?;
+            let channels = fmt.read_within(bytes, limits).map_err(|reason| Error::file(path, reason))?;
             if channels.is_empty() {
                 return Err(Error::file(path, "the file holds no data channel"));
             }
@@ -253,12 +300,82 @@ fn decode(path: &Path, format: Option<&str>, limits: &Limits) -> Result<(bool, D
             Decoded::Maps(fmt, channels)
         }
         Reader::Profile(fmt) => {
-            let data = fmt.read(&bytes).map_err(|reason| Error::file(path, reason))?;
+            let data = fmt.read_within(bytes, limits).map_err(|reason| Error::file(path, reason))?;
             limits.check_grid(data.heights.len(), 1).map_err(|reason| Error::file(path, reason))?;
             Decoded::Profile(fmt, data)
         }
     };
     Ok((forced, decoded))
+}
+
+/// One member of a zip container and what it holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Member {
+    /// Its path inside the archive, as `archive.zip#member` names it.
+    pub name: String,
+    /// What it holds, or the reason it is not read as a topography.
+    pub content: std::result::Result<MemberContent, String>,
+}
+
+/// What a container's member holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MemberContent {
+    /// The format that reads it.
+    pub format: &'static str,
+    /// `"map"` or `"profile"`.
+    pub kind: &'static str,
+    /// Its grid (nx, ny) (the first channel's, for a map of several); a profile's points and 1.
+    pub grid: (usize, usize),
+}
+
+/// The members of the zip container at `path`, each read within `limits`; `None` when the
+/// file is not a container (a format reads it, or `path` names a member as `archive#member`).
+pub fn container_members(path: &Path, limits: &Limits) -> Result<Option<Vec<Member>>> {
+    use std::io::Read;
+    if container::split(path).is_some() || !path.metadata().is_ok_and(|m| m.is_file()) {
+        return Ok(None);
+    }
+    // Only a zip, or gzip data, can be a container: other files are read once, by the reader.
+    let mut head = [0u8; 4];
+    let n = std::fs::File::open(path).and_then(|mut f| f.read(&mut head)).map_err(|e| Error::io(path, e))?;
+    if !(container::is_zip(&head[..n]) || gzip::is_gzip(&head[..n])) {
+        return Ok(None);
+    }
+    let (zip, name) = container::load(path, limits)?;
+    if !container::is_zip(&zip) || detect(path, &name, &zip, None).is_ok() {
+        return Ok(None);
+    }
+    let names = container::members(&zip).map_err(|reason| Error::file(path, reason))?;
+    let members = names
+        .into_iter()
+        .map(|name| {
+            let member = PathBuf::from(format!("{}#{name}", path.display()));
+            let content = container::member_bytes(&zip, &name, limits)
+                .and_then(|bytes| gzip::unwrap(bytes, name.clone(), limits))
+                .and_then(|(bytes, inner)| {
+                    let (_, decoded) = decode_bytes(&member, &inner, &bytes, None, limits).map_err(reason)?;
+                    Ok(match decoded {
+                        Decoded::Maps(fmt, channels) => {
+                            let grid = (channels[0].data.ncols(), channels[0].data.nrows());
+                            MemberContent { format: fmt.name(), kind: "map", grid }
+                        }
+                        Decoded::Profile(fmt, data) => {
+                            MemberContent { format: fmt.name(), kind: "profile", grid: (data.heights.len(), 1) }
+                        }
+                    })
+                });
+            Member { name, content }
+        })
+        .collect();
+    Ok(Some(members))
+}
+
+/// The reason of a file's error, without the path a listing already shows.
+fn reason(e: Error) -> String {
+    match e {
+        Error::File { reason, .. } => reason,
+        e => e.to_string(),
+    }
 }
 
 /// Read one channel of the file at `path` as a 2-D map in metres; a line profile is refused

@@ -67,6 +67,12 @@ pub fn read_f64(bytes: &[u8]) -> Result<Array2<f64>, String> {
     Ok(array.expect("the length was checked against the shape"))
 }
 
+/// The number of dimensions a `.npy` file's header declares (an `.npz` keeps only its 2-D
+/// arrays); the reason when the header cannot be read.
+pub(super) fn dimensions(bytes: &[u8]) -> Result<usize, String> {
+    Ok(Header::parse(split(bytes)?.0)?.shape.len())
+}
+
 /// The header text and the data of a `.npy` file.
 fn split(bytes: &[u8]) -> Result<(&[u8], &[u8]), String> {
     if !bytes.starts_with(MAGIC) {
