@@ -262,6 +262,7 @@ mod tests {
         assert!(roughness(22.0, CommandLine).unwrap_err().ends_with("did you mean 22nm?"));
         // Nothing scales a value too small up: no suggestion.
         assert_eq!(pixel(1e-13, CommandLine).unwrap_err(), "0.1 pm is not a pixel size (1 pm to 1 m)");
+        assert!(modulus(130.0, CommandLine).unwrap_err().starts_with("130 Pa is not"));
         assert!(modulus(1e300, CommandLine).unwrap_err().contains("is not a solid's Young's modulus"));
     }
 
@@ -304,7 +305,7 @@ mod tests {
         // 1 N (meant 1 mN) is 7e-3 E*: a warning.
         let w = load(1.0, area, e_star, CommandLine).unwrap().unwrap();
         assert!(
-            w.starts_with("1 N on the 31.13 µm × 31.13 µm window is a mean pressure of 1.032 GPa, 0.00732 times"),
+            w.starts_with("1 N on the 31.13 µm × 31.13 µm window is a mean pressure of 1.03191 GPa, 0.0074 times"),
             "{w}"
         );
         assert!(w.ends_with("did you mean 1mN?"), "{w}");

@@ -263,9 +263,10 @@ pub fn human(x: f64) -> String {
     }
 }
 
-/// `x` [SI] of `dim` as people write it, in the largest of its usual units that keeps the
-/// number at 0.1 or more ([`human`] digits): `0.1 mN` for 1e-4 N, `31.13 µm`, `130 GPa`. The
-/// one way a quantity is printed for people (tables, messages); files keep SI numbers.
+/// `x` [SI] of `dim` as people write it, to 6 significant digits, in the largest of its usual
+/// units that keeps the number at 1 or more: `100 µN` for 9.999999999999999e-5 N, `31.13 µm`,
+/// `130 GPa`. The one way a quantity is printed for people (tables, messages); files keep SI
+/// numbers.
 pub fn show(x: f64, dim: &Dimension) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{} {}", human(x), dim.si);
@@ -273,9 +274,10 @@ pub fn show(x: f64, dim: &Dimension) -> String {
     let &(unit, size) = dim
         .shown
         .iter()
-        .find(|(_, size)| x.abs() >= 0.1 * size * (1.0 - 1e-12))
+        .find(|(_, size)| x.abs() >= size * (1.0 - 1e-9))
         .unwrap_or(dim.shown.last().expect("a dimension shows at least its SI unit"));
-    format!("{} {unit}", human(x / size))
+    let six: f64 = format!("{:.5e}", x / size).parse().expect("a formatted float parses");
+    format!("{} {unit}", human(six))
 }
 
 #[cfg(test)]
@@ -284,12 +286,14 @@ mod tests {
 
     #[test]
     fn quantities_print_in_the_unit_people_use() {
-        assert_eq!(show(1e-4, &FORCE), "0.1 mN");
-        assert_eq!(show(9.999999999999999e-5, &FORCE), "0.1 mN");
-        assert_eq!(show(1e-7, &FORCE), "0.1 µN");
+        assert_eq!(show(1e-4, &FORCE), "100 µN");
+        assert_eq!(show(9.999999999999999e-5, &FORCE), "100 µN");
+        assert_eq!(show(1e-3, &FORCE), "1 mN");
         assert_eq!(show(5e-5, &FORCE), "50 µN");
         assert_eq!(show(1.0, &FORCE), "1 N");
         assert_eq!(show(1e-12, &FORCE), "0.001 nN");
+        assert_eq!(show(4.17295326174e9, &PRESSURE), "4.17295 GPa");
+        assert_eq!(show(130.0, &PRESSURE), "130 Pa");
         assert_eq!(show(31.13e-6, &LENGTH), "31.13 µm");
         assert_eq!(show(130e9, &PRESSURE), "130 GPa");
         assert_eq!(show(2e12, &PRESSURE), "2000 GPa");
