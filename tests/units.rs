@@ -146,7 +146,7 @@ fn study_sections_partially_given_keep_the_defaults_other_keys() {
     let e = StudyConfig::parse("[material]\nyoungs = 130\n", "s.toml").unwrap_err().to_string();
     assert_eq!(e, "s.toml:2:1: material.youngs: 130 Pa is not a solid's Young's modulus (1 MPa to 2000 GPa); did you mean \"130 GPa\"?");
     let e = StudyConfig::parse("[[law]]\nname = \"x\"\nmu_s = 60\nmu_d = 40\n", "s.toml").unwrap_err().to_string();
-    assert!(e.starts_with("s.toml:1:1: law[0]: a friction coefficient of 60 is above 10"), "{e}");
+    assert!(e.starts_with("s.toml:1:1: law[0]: mu_s: a friction coefficient of 60 is above 10"), "{e}");
     // Edge warnings name the remedies left, in the study's words.
     assert!(
         default.edge_remedies("ball-1") == ["boundary = \"free\" in [contact]"],

@@ -47,10 +47,6 @@ impl FrictionLaw {
                 ),
             ));
         }
-        // A coefficient in the wrong unit (a percentage) or past any measured one: refused.
-        for (option, mu) in [("--mu-s", mu_s), ("--mu-d", mu_d)] {
-            crate::plausible::friction_coefficient(mu).map_err(|reason| Error::invalid(option, reason))?;
-        }
         if mu_s < mu_d {
             return Err(Error::invalid(
                 "--mu-s",
@@ -134,7 +130,7 @@ pub enum CurveError {
     Window(String),
 }
 
-/// The largest friction coefficient a curve may hold, as any law (see [`crate::plausible`]).
+/// The largest friction coefficient a curve may hold, as any law given (see [`crate::plausible`]).
 pub const MAX_CURVE_COEFFICIENT: f64 = crate::plausible::MAX_FRICTION_COEFFICIENT;
 
 /// Parse a friction–displacement curve: CSV with the displacement in the first column and

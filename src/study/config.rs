@@ -936,6 +936,11 @@ impl LawSpec {
     }
 
     fn check(&self) -> std::result::Result<(), String> {
+        for (key, mu) in [("mu_s", self.mu_s), ("mu_d", self.mu_d)] {
+            if let Some(mu) = mu {
+                plausible::friction_coefficient(mu).map_err(|r| format!("{key}: {r}"))?;
+            }
+        }
         if let Some(t) = self.hold_time {
             if t.0.is_nan() || t.0 <= 0.0 {
                 return Err(format!("hold_time: {} s is not positive", t.0));
