@@ -12,6 +12,7 @@ pub mod fft;
 pub mod friction;
 pub mod limits;
 pub mod output;
+pub mod plausible;
 pub mod plot;
 pub mod quantity;
 pub mod shs;

@@ -14,28 +14,66 @@ pub struct Dimension {
     /// The units accepted, as a help text lists them.
     pub units: &'static str,
     per_unit: fn(&str) -> Option<f64>,
+    /// The units [`show`] writes a value in, largest first, with their size in SI.
+    shown: &'static [(&'static str, f64)],
 }
 
 /// A length [m].
-pub const LENGTH: Dimension =
-    Dimension { name: "length", si: "m", units: "m, mm, µm (um), nm, Å", per_unit: units::metres_per };
+pub const LENGTH: Dimension = Dimension {
+    name: "length",
+    si: "m",
+    units: "m, mm, µm (um), nm, Å",
+    per_unit: units::metres_per,
+    shown: &[("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12)],
+};
 /// A force [N].
-pub const FORCE: Dimension = Dimension { name: "force", si: "N", units: "N, mN, µN (uN), nN", per_unit: newtons_per };
+pub const FORCE: Dimension = Dimension {
+    name: "force",
+    si: "N",
+    units: "N, mN, µN (uN), nN",
+    per_unit: newtons_per,
+    shown: &[("N", 1.0), ("mN", 1e-3), ("µN", 1e-6), ("nN", 1e-9)],
+};
 /// A pressure, stress or modulus [Pa].
-pub const PRESSURE: Dimension =
-    Dimension { name: "pressure", si: "Pa", units: "Pa, kPa, MPa, GPa", per_unit: pascals_per };
+pub const PRESSURE: Dimension = Dimension {
+    name: "pressure",
+    si: "Pa",
+    units: "Pa, kPa, MPa, GPa",
+    per_unit: pascals_per,
+    shown: &[("GPa", 1e9), ("MPa", 1e6), ("kPa", 1e3), ("Pa", 1.0)],
+};
 /// An area [m²].
-pub const AREA: Dimension =
-    Dimension { name: "area", si: "m²", units: "m², µm² (um^2), nm² (nm2)…", per_unit: square_metres_per };
+pub const AREA: Dimension = Dimension {
+    name: "area",
+    si: "m²",
+    units: "m², µm² (um^2), nm² (nm2)…",
+    per_unit: square_metres_per,
+    shown: &[("m²", 1.0)],
+};
 /// A duration [s].
-pub const TIME: Dimension =
-    Dimension { name: "time", si: "s", units: "s, ms, µs (us), min, h", per_unit: seconds_per };
+pub const TIME: Dimension = Dimension {
+    name: "time",
+    si: "s",
+    units: "s, ms, µs (us), min, h",
+    per_unit: seconds_per,
+    shown: &[("s", 1.0), ("ms", 1e-3), ("µs", 1e-6)],
+};
 /// A speed [m/s].
-pub const SPEED: Dimension =
-    Dimension { name: "speed", si: "m/s", units: "m/s, mm/s, µm/s (um/s), nm/s…", per_unit: metres_per_second_per };
+pub const SPEED: Dimension = Dimension {
+    name: "speed",
+    si: "m/s",
+    units: "m/s, mm/s, µm/s (um/s), nm/s…",
+    per_unit: metres_per_second_per,
+    shown: &[("m/s", 1.0), ("mm/s", 1e-3), ("µm/s", 1e-6), ("nm/s", 1e-9)],
+};
 /// A stiffness [N/m].
-pub const STIFFNESS: Dimension =
-    Dimension { name: "stiffness", si: "N/m", units: "N/m, mN/µm, N/nm…", per_unit: newtons_per_metre_per };
+pub const STIFFNESS: Dimension = Dimension {
+    name: "stiffness",
+    si: "N/m",
+    units: "N/m, mN/µm, N/nm…",
+    per_unit: newtons_per_metre_per,
+    shown: &[("N/m", 1.0)],
+};
 
 /// Every dimension, to name the one a misplaced unit belongs to.
 const DIMENSIONS: [&Dimension; 7] = [&LENGTH, &FORCE, &PRESSURE, &AREA, &TIME, &SPEED, &STIFFNESS];
@@ -225,9 +263,42 @@ pub fn human(x: f64) -> String {
     }
 }
 
+/// `x` [SI] of `dim` as people write it, to 6 significant digits, in the largest of its usual
+/// units that keeps the number at 1 or more: `100 µN` for 9.999999999999999e-5 N, `31.13 µm`,
+/// `130 GPa`. The one way a quantity is printed for people (tables, messages); files keep SI
+/// numbers.
+pub fn show(x: f64, dim: &Dimension) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{} {}", human(x), dim.si);
+    }
+    let &(unit, size) = dim
+        .shown
+        .iter()
+        .find(|(_, size)| x.abs() >= size * (1.0 - 1e-9))
+        .unwrap_or(dim.shown.last().expect("a dimension shows at least its SI unit"));
+    let six: f64 = format!("{:.5e}", x / size).parse().expect("a formatted float parses");
+    format!("{} {unit}", human(six))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quantities_print_in_the_unit_people_use() {
+        assert_eq!(show(1e-4, &FORCE), "100 µN");
+        assert_eq!(show(9.999999999999999e-5, &FORCE), "100 µN");
+        assert_eq!(show(1e-3, &FORCE), "1 mN");
+        assert_eq!(show(5e-5, &FORCE), "50 µN");
+        assert_eq!(show(1.0, &FORCE), "1 N");
+        assert_eq!(show(1e-12, &FORCE), "0.001 nN");
+        assert_eq!(show(4.17295326174e9, &PRESSURE), "4.17295 GPa");
+        assert_eq!(show(130.0, &PRESSURE), "130 Pa");
+        assert_eq!(show(31.13e-6, &LENGTH), "31.13 µm");
+        assert_eq!(show(130e9, &PRESSURE), "130 GPa");
+        assert_eq!(show(2e12, &PRESSURE), "2000 GPa");
+        assert_eq!(show(0.0, &FORCE), "0 N");
+    }
 
     #[test]
     fn numbers_print_as_people_write_them() {

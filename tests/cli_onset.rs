@@ -222,7 +222,11 @@ fn bad_input_is_one_line_and_leaves_no_output() {
         (&["p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--size", "-1"], "error: --size:"),
         (&["p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--snapshots", "0.5,2"], "error: --snapshots:"),
         (&["p.npy", "--mu-s", "0.6", "--mu-d", "0.4", "--shear-stiffness", "0"], "error: --shear-stiffness:"),
-        (&["two", "--mu-s", "0.6", "--mu-d", "0.4"], "error: --load-index: two/contact.json holds 2 loads"),
+        // Every load runs without --load-index; --out writes one.
+        (
+            &["two", "--mu-s", "0.6", "--mu-d", "0.4"],
+            "error: --out: two holds 2 loads: choose the one to write with --load-index",
+        ),
         (&["two", "--mu-s", "0.6", "--mu-d", "0.4", "--load-index", "2"], "error: --load-index: 2 is out of range"),
         (&["empty", "--mu-s", "0.6", "--mu-d", "0.4"], "error: empty: holds no contact.json: give a contact directory"),
     ];

@@ -7,6 +7,9 @@ use serde::Serialize;
 
 use asperity::contact::{self, Boundary, ContactSolver, SolverOptions};
 use asperity::output::{self, StagedDir};
+use asperity::plausible::{self, Spelling};
+use asperity::quantity::{show, FORCE, PRESSURE};
+use asperity::topography::detrend::Detrend;
 use asperity::topography::io::{self, ReadOptions};
 use asperity::topography::prepare::{compound_with, Preparation};
 use asperity::topography::synth::{Cap, CapShape};
@@ -128,6 +131,12 @@ pub fn run(args: ContactArgs) -> Result<()> {
     // Every check before any long work.
     contact::check_loads(&args.load)?;
     let (_, e_star) = args.material.bodies()?;
+    if let Some(p) = args.pixel_size {
+        super::judge("--pixel-size", plausible::pixel(p, Spelling::CommandLine))?;
+    }
+    if let Some(r) = args.cap_radius {
+        super::judge("--cap-radius", plausible::radius(r, Spelling::CommandLine))?;
+    }
     let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     options.check()?;
     let path = &args.read.file;
@@ -140,6 +149,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         if !(h > 0.0 && h.is_finite()) {
             return Err(Error::invalid("--hardness", format!("must be positive and finite, got {h} Pa")));
         }
+        super::judge("--hardness", plausible::hardness(h, Spelling::CommandLine))?;
         let heaviest = args.load.iter().copied().fold(0.0, f64::max);
         if args.plastic && heaviest / (size.0 * size.1) >= h {
             return Err(Error::invalid(
@@ -150,6 +160,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     }
     for &load in &args.load {
         contact::check_load(load, size, e_star)?;
+        super::judge("--load", plausible::load(load, size, e_star, Spelling::CommandLine))?;
     }
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let shape = (surface.ny(), surface.nx());
@@ -168,18 +179,29 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let bar = super::progress_bar(args.load.len() as u64, "solving", true);
     let mut entries: Vec<Option<LoadEntry>> = (0..args.load.len()).map(|_| None).collect();
     let mut warnings = Vec::new();
+    // The ways left to keep a contact inside the window: those not taken already.
+    let remedies: Vec<String> = [
+        (!args.free, "a free boundary (--free)"),
+        (args.prepare.crop.is_none(), "a crop (--crop)"),
+        (args.prepare.detrend == Detrend::None, "a detrend (--detrend)"),
+        (args.cap_radius.is_none(), "a cap (--cap-radius)"),
+    ]
+    .into_iter()
+    .filter_map(|(left, remedy)| left.then(|| remedy.to_string()))
+    .collect();
     for index in order {
         let load = args.load[index];
-        bar.set_message(format!("{load:.3e} N"));
+        let shown = show(load, &FORCE);
+        bar.set_message(shown.clone());
         let report = solver.solve(load, |it, residual| {
             if it % 16 == 0 {
-                bar.set_message(format!("{load:.3e} N, iteration {it}, residual {residual:.1e}"));
+                bar.set_message(format!("{shown}, iteration {it}, residual {residual:.1e}"));
             }
         })?;
         let summary = contact::summarize(solver.pressure(), shape, size, boundary, args.hardness);
-        for w in summary.warnings() {
-            bar.suspend(|| super::message(&format!("warning: at {load:e} N: {w}")));
-            warnings.push(format!("at {load:e} N: {w}"));
+        for w in summary.warnings(&remedies) {
+            bar.suspend(|| super::message(&format!("warning: at {shown}: {w}")));
+            warnings.push(format!("at {shown}: {w}"));
         }
         let to_field = |v: Vec<f64>| ndarray::Array2::from_shape_vec(shape, v).expect("field has the grid's shape");
         let pressure_file = format!("pressure-{index:03}.npy");
@@ -230,8 +252,30 @@ pub fn run(args: ContactArgs) -> Result<()> {
     };
     output::write_json(&out.path("contact.json"), &file)?;
     let dir = out.commit()?;
+    super::print(&load_table(&file.loads))?;
     super::message(&format!("wrote {}", dir.join("contact.json").display()));
     Ok(())
+}
+
+/// One line per load, in the order given: what each solve found.
+fn load_table(loads: &[LoadEntry]) -> String {
+    use std::fmt::Write;
+    let mut s = format!(
+        "{:<12} {:>14} {:>8} {:>13} {:>10}\n",
+        "load", "contact points", "patches", "max pressure", "edge load"
+    );
+    for l in loads {
+        let _ = writeln!(
+            s,
+            "{:<12} {:>14} {:>8} {:>13} {:>8.2} %",
+            show(l.load_n, &FORCE),
+            l.contact_points,
+            l.patches,
+            show(l.max_pressure_pa, &PRESSURE),
+            100.0 * l.edge_load_fraction
+        );
+    }
+    s
 }
 
 /// The surface as the solver takes it: read, prepared ([`Preparation`]) and compounded with

@@ -19,6 +19,7 @@ use clap::Args;
 use asperity::contact::{combined_modulus, Material};
 use asperity::error::{acts_on_terminal, escaped, one_line};
 use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
+use asperity::plausible::{self, Spelling};
 use asperity::quantity;
 use asperity::topography::io::{self, ReadOptions};
 use asperity::{Error, Result};
@@ -263,6 +264,10 @@ pub struct MaterialArgs {
 impl MaterialArgs {
     /// The bodies (one on a rigid counter-body, else two) and their effective modulus E* [Pa].
     pub fn bodies(&self) -> Result<(Vec<Material>, f64)> {
+        judge("--youngs", plausible::modulus(self.youngs, Spelling::CommandLine))?;
+        if let Some(e2) = self.youngs2 {
+            judge("--youngs2", plausible::modulus(e2, Spelling::CommandLine))?;
+        }
         let mut bodies = vec![Material::new(self.youngs, self.poisson, "--youngs/--poisson")?];
         if let (Some(e2), Some(nu2)) = (self.youngs2, self.poisson2) {
             bodies.push(Material::new(e2, nu2, "--youngs2/--poisson2")?);
@@ -314,11 +319,36 @@ fn max_points(s: &str) -> std::result::Result<Limits, String> {
     })
 }
 
-/// `LX` or `LX,LY`: lengths, bare numbers in metres or with a unit ("31.13um").
+/// `--size LX` or `LX,LY`: lengths of a window, bare numbers in metres or with a unit
+/// ("31.13um"); a size no measured window has is refused, an unusual one warned about.
 fn parse_size(s: &str) -> std::result::Result<(f64, f64), String> {
+    let window = |text: &str| -> std::result::Result<f64, String> {
+        let l = length(text)?;
+        match plausible::window(l, Spelling::CommandLine) {
+            Ok(None) => Ok(l),
+            Ok(Some(w)) => {
+                message(&format!("warning: --size: {w}"));
+                Ok(l)
+            }
+            Err(reason) => Err(reason),
+        }
+    };
     match s.split_once(',') {
-        Some((lx, ly)) => Ok((length(lx)?, length(ly)?)),
-        None => length(s).map(|l| (l, l)),
+        Some((lx, ly)) => Ok((window(lx)?, window(ly)?)),
+        None => window(s).map(|l| (l, l)),
+    }
+}
+
+/// `option`'s value as [`plausible`] judges it: refused in one line naming the option, or
+/// warned about on stderr (unusual) and taken.
+pub fn judge(option: &str, verdict: plausible::Verdict) -> Result<()> {
+    match verdict {
+        Ok(None) => Ok(()),
+        Ok(Some(warning)) => {
+            message(&format!("warning: {option}: {warning}"));
+            Ok(())
+        }
+        Err(reason) => Err(Error::invalid(option, reason)),
     }
 }
 
@@ -389,6 +419,8 @@ mod tests {
         assert_eq!(parse_size("1e-6, 2e-6"), Ok((1e-6, 2e-6)));
         assert_eq!(parse_size("31.13um"), Ok((31.13e-6, 31.13e-6)));
         assert!(parse_size("10 mN").unwrap_err().contains("not a length"));
+        assert!(parse_size("31.13").unwrap_err().ends_with("did you mean 31.13um?"));
+        assert!(parse_size("1e-6,31.13").unwrap_err().ends_with("did you mean 31.13um?"));
         assert_eq!(force("1mN"), Ok(1e-3));
         assert_eq!(pressure("130 GPa"), Ok(130e9));
     }

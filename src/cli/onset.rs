@@ -6,7 +6,8 @@ use asperity::error::escaped;
 use asperity::friction::{write_curves_csv, ClassShare, Curve, ElementLoads, FrictionLaw, Loading, Onset};
 use asperity::limits::Limits;
 use asperity::output::{write_json, write_npy, StagedDir};
-use asperity::quantity::human;
+use asperity::plausible::{self, Spelling};
+use asperity::quantity::{human, show, FORCE};
 use asperity::topography::io::ReadOptions;
 use asperity::topography::AnyTopography;
 use asperity::{Error, Result};
@@ -60,8 +61,8 @@ pub struct Args {
     /// to LX), for forces in newtons.
     #[arg(long, value_delimiter = ',', value_name = "LX[,LY]", value_parser = super::length)]
     pub size: Option<Vec<f64>>,
-    /// Which load of a contact directory: 0-based index into contact.json "loads" (needed
-    /// when it holds more than one).
+    /// Which load of a contact directory: 0-based index into contact.json "loads" [default:
+    /// every load, one line each (--json: a list of reports); --out needs one].
     #[arg(long, value_name = "K", value_parser = super::count::<usize>)]
     pub load_index: Option<usize>,
     /// Displacements δ/δ_peak (dimensionless, in (0, 1]) of the stress-ratio snapshots
@@ -148,14 +149,57 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(f) = args.snapshots.iter().find(|f| !(**f > 0.0 && **f <= 1.0)) {
         return Err(Error::invalid("--snapshots", format!("δ/δ_peak must lie in (0, 1], got {f}")));
     }
-    let input = read_input(&args)?;
-    // Without a pixel area the maps and coefficients are the same; only newtons are unknown.
+    let inputs = read_inputs(&args)?;
+    if let (Some(_), [_, _, ..]) = (&args.out, &inputs[..]) {
+        return Err(Error::invalid(
+            "--out",
+            format!("{} holds {} loads: choose the one to write with --load-index", args.input.display(), inputs.len()),
+        ));
+    }
+    let mut reports = Vec::with_capacity(inputs.len());
+    for input in &inputs {
+        // Without a pixel area the maps and coefficients are the same; only newtons are unknown.
+        let area = input.pixel_area.unwrap_or(1.0);
+        let loads = ElementLoads::from_pressure(&input.pressure, area).map_err(|e| match e {
+            Error::Invalid { option, reason } if option == "pressure map" => Error::file(&input.path, reason),
+            e => e,
+        })?;
+        let onset = Onset::new(&loads, &law);
+        let report = report(input, &law, &onset)?;
+        if let Some(dir) = &args.out {
+            let staged = StagedDir::new(dir, "onset", &[&args.input])?;
+            write_json(&staged.path("onset.json"), &report)?;
+            write_npy(&staged.path("classes.npy"), &onset.class_map(&input.pressure, area))?;
+            write_npy(&staged.path("stress_ratio.npy"), &onset.stress_ratio_map(&input.pressure, area, 1.0)?)?;
+            let curves: Vec<Curve> =
+                Loading::ALL.iter().map(|&m| Curve::new(&loads, &law, m, args.curve_rows)).collect();
+            write_curves_csv(
+                &staged.path("curve.csv"),
+                &curves,
+                onset.critical_shear(),
+                input.pixel_area.is_some(),
+                args.shear_stiffness,
+            )?;
+            for &f in &args.snapshots {
+                let map = onset.stress_ratio_map(&input.pressure, area, f)?;
+                write_npy(&staged.path(&format!("stress_ratio_{f}.npy")), &map)?;
+            }
+            staged.commit()?;
+        }
+        reports.push(report);
+    }
+    match (&reports[..], args.json) {
+        ([one], true) => super::print_json(one),
+        ([one], false) => super::print(&summary(one)),
+        (all, true) => super::print_json(&all),
+        (all, false) => super::print(&table(all)),
+    }
+}
+
+/// The report of `onset` on `input`; an error naming the input when a number of it is not
+/// finite (forces past the largest float), rather than printing it.
+fn report<'a>(input: &Input, law: &'a FrictionLaw, onset: &Onset) -> Result<Report<'a>> {
     let area = input.pixel_area.unwrap_or(1.0);
-    let loads = ElementLoads::from_pressure(&input.pressure, area).map_err(|e| match e {
-        Error::Invalid { option, reason } if option == "pressure map" => Error::file(&input.path, reason),
-        e => e,
-    })?;
-    let onset = Onset::new(&loads, &law);
     let newtons = |x: f64| input.pixel_area.map(|_| x);
     let report = Report {
         input: input.path.display().to_string(),
@@ -176,32 +220,21 @@ pub fn run(args: Args) -> Result<()> {
         static_force_n: newtons(onset.static_force),
         critical_shear_n: newtons(onset.critical_shear()),
     };
-
-    if let Some(dir) = &args.out {
-        let staged = StagedDir::new(dir, "onset", &[&args.input])?;
-        write_json(&staged.path("onset.json"), &report)?;
-        write_npy(&staged.path("classes.npy"), &onset.class_map(&input.pressure, area))?;
-        write_npy(&staged.path("stress_ratio.npy"), &onset.stress_ratio_map(&input.pressure, area, 1.0)?)?;
-        let curves: Vec<Curve> = Loading::ALL.iter().map(|&m| Curve::new(&loads, &law, m, args.curve_rows)).collect();
-        write_curves_csv(
-            &staged.path("curve.csv"),
-            &curves,
-            onset.critical_shear(),
-            input.pixel_area.is_some(),
-            args.shear_stiffness,
-        )?;
-        for &f in &args.snapshots {
-            let map = onset.stress_ratio_map(&input.pressure, area, f)?;
-            write_npy(&staged.path(&format!("stress_ratio_{f}.npy")), &map)?;
-        }
-        staged.commit()?;
+    let numbers = [
+        ("the static coefficient", Some(report.static_coefficient)),
+        ("the friction drop", Some(report.friction_drop)),
+        ("the critical pressure [Pa]", Some(report.critical_pressure_pa)),
+        ("the normal load [N]", report.load_n),
+        ("the static friction force [N]", report.static_force_n),
+        ("the critical shear [N]", report.critical_shear_n),
+    ];
+    if let Some((what, Some(v))) = numbers.into_iter().find(|(_, v)| v.is_some_and(|v| !v.is_finite())) {
+        return Err(Error::file(
+            &input.path,
+            format!("{what} comes out as {v}: the forces of this map pass the largest float (check its unit and the pixel size)"),
+        ));
     }
-
-    if args.json {
-        super::print_json(&report)
-    } else {
-        super::print(&summary(&report))
-    }
+    Ok(report)
 }
 
 /// The local law from --mu-s/--mu-d, --curve or a preset --law, labelled by --law.
@@ -224,7 +257,11 @@ pub fn law_from_options(
         Some(w) => return Err(Error::invalid("--window", format!("expected START,END, got {} values", w.len()))),
     };
     let law = match (mu_s, mu_d, curve, name) {
-        (Some(mu_s), Some(mu_d), _, _) => FrictionLaw::new(mu_s, mu_d)?,
+        (Some(mu_s), Some(mu_d), _, _) => {
+            super::judge("--mu-s", plausible::friction_coefficient(mu_s))?;
+            super::judge("--mu-d", plausible::friction_coefficient(mu_d))?;
+            FrictionLaw::new(mu_s, mu_d)?
+        }
         (Some(_), None, _, _) => return Err(Error::invalid("--mu-s", "needs --mu-d too")),
         (None, Some(_), _, _) => return Err(Error::invalid("--mu-d", "needs --mu-s too")),
         (_, _, Some(path), _) => FrictionLaw::from_curve_file(path, window)?,
@@ -242,7 +279,9 @@ pub fn law_from_options(
     })
 }
 
-fn read_input(args: &Args) -> Result<Input> {
+/// The maps to run: a bare map, or the loads of a contact directory (every one, or
+/// --load-index's).
+fn read_inputs(args: &Args) -> Result<Vec<Input>> {
     if args.input.is_dir() {
         if args.size.is_some() || args.pixel_area.is_some() {
             let option = if args.size.is_some() { "--size" } else { "--pixel-area" };
@@ -265,6 +304,9 @@ fn read_input(args: &Args) -> Result<Input> {
             if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0) {
                 return Err(Error::invalid("--size", format!("sizes must be positive and finite, got {lx},{ly} m")));
             }
+            for l in [lx, ly] {
+                super::judge("--size", plausible::window(l, Spelling::CommandLine))?;
+            }
             Some(lx / nx as f64 * (ly / ny as f64))
         }
         (None, Some(a)) => {
@@ -275,7 +317,7 @@ fn read_input(args: &Args) -> Result<Input> {
         }
         (None, None) => None,
     };
-    Ok(Input { pressure, path: args.input.clone(), pixel_area, load: None })
+    Ok(vec![Input { pressure, path: args.input.clone(), pixel_area, load: None }])
 }
 
 pub fn read_pressure(path: &Path, limits: &Limits) -> Result<Array2<f64>> {
@@ -360,7 +402,9 @@ pub fn read_contact_json<T: DeserializeOwned>(dir: &Path, limits: &Limits) -> Re
     Ok((json_path, contact))
 }
 
-fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> Result<Input> {
+/// The loads of a contact directory: `load_index`'s, or every one in the order of its
+/// contact.json.
+fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> Result<Vec<Input>> {
     let (json_path, contact): (_, ContactResult) = read_contact_json(dir, limits)?;
     let [ny, nx] = contact.grid;
     let [lx, ly] = contact.physical_size_m;
@@ -368,37 +412,66 @@ fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> R
         return Err(Error::file(&json_path, format!("grid {ny}×{nx} of size {lx}×{ly} m is not a valid surface")));
     }
     let count = contact.loads.len();
-    let index = match (load_index, count) {
+    let indices = match (load_index, count) {
         (_, 0) => return Err(Error::file(&json_path, "it holds no load")),
-        (None, 1) => 0,
-        (None, _) => {
-            return Err(Error::invalid(
-                "--load-index",
-                format!("{} holds {count} loads: choose one, 0 to {}", json_path.display(), count - 1),
-            ))
-        }
+        (None, _) => 0..count,
         (Some(i), _) if i >= count => {
             return Err(Error::invalid(
                 "--load-index",
                 format!("{i} is out of range: {} holds {count} loads (0 to {})", json_path.display(), count - 1),
             ))
         }
-        (Some(i), _) => i,
+        (Some(i), _) => i..i + 1,
     };
-    let load = &contact.loads[index];
     let area = lx / nx as f64 * (ly / ny as f64);
-    let (path, pressure) = read_load_map(&json_path, &load.pressure_file, load.load_n, (ny, nx), area, limits)?;
-    Ok(Input { pressure, path, pixel_area: Some(area), load: Some((index, load.load_n)) })
+    indices
+        .map(|index| {
+            let load = &contact.loads[index];
+            let (path, pressure) = read_load_map(&json_path, &load.pressure_file, load.load_n, (ny, nx), area, limits)?;
+            Ok(Input { pressure, path, pixel_area: Some(area), load: Some((index, load.load_n)) })
+        })
+        .collect()
+}
+
+/// One line per load of a contact directory: its load, contact points, coefficients and
+/// the shares of N of the element classes.
+fn table(reports: &[Report]) -> String {
+    use std::fmt::Write;
+    let law = &reports[0].law;
+    let mut s = format!("{}  ({})\n", escaped(&reports[0].input), law_line(law));
+    let _ = writeln!(
+        s,
+        "{:<12} {:>8} {:>10} {:>9} {:>12} {:>14} {:>14}",
+        "load", "elements", "static", "drop", "critical N", "pre-sliding N", "subcritical N"
+    );
+    for r in reports {
+        let _ = writeln!(
+            s,
+            "{:<12} {:>8} {:>10.6} {:>9.6} {:>10.2} % {:>12.2} % {:>12.2} %",
+            r.imposed_load_n.map_or("?".into(), |n| show(n, &FORCE)),
+            r.elements,
+            r.static_coefficient,
+            r.friction_drop,
+            100.0 * r.critical.normal_fraction,
+            100.0 * r.pre_sliding.normal_fraction,
+            100.0 * r.subcritical.normal_fraction
+        );
+    }
+    s
+}
+
+/// The law as the readable output names it.
+fn law_line(law: &LawReport) -> String {
+    match law.name {
+        Some(name) => format!("\"{}\": mu_s {}, mu_d {}", escaped(name), human(law.mu_s), human(law.mu_d)),
+        None => format!("mu_s {}, mu_d {}", human(law.mu_s), human(law.mu_d)),
+    }
 }
 
 /// The readable form of the report, one quantity a line.
 fn summary(r: &Report) -> String {
     use std::fmt::Write;
-    let law = match r.law.name {
-        Some(name) => format!("\"{}\": mu_s {}, mu_d {}", escaped(name), human(r.law.mu_s), human(r.law.mu_d)),
-        None => format!("mu_s {}, mu_d {}", human(r.law.mu_s), human(r.law.mu_d)),
-    };
-    let mut s = format!("{}  ({law})\n", escaped(&r.input));
+    let mut s = format!("{}  ({})\n", escaped(&r.input), law_line(&r.law));
     let _ = writeln!(s, "elements            {}", r.elements);
     if let (Some(n), Some(fs)) = (r.load_n, r.static_force_n) {
         let _ = writeln!(s, "normal load         {n:.6e} N");

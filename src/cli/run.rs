@@ -191,6 +191,9 @@ pub fn prepare(path: Option<&Path>, quick: bool, limits: &super::LimitArgs) -> R
         Some(path) => (StudyConfig::from_file(path)?, path.display().to_string()),
         None => (StudyConfig::default_study(), "the default study".to_string()),
     };
+    for w in config.warnings() {
+        super::message(&format!("warning: {origin}: {w}"));
+    }
     let mut config = if quick { config.quick() } else { config };
     if let Some(limits) = limits.given() {
         config.limits.max_points = limits.max_points;

@@ -17,6 +17,8 @@ use asperity::friction::{
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
+use asperity::plausible::{self, Spelling};
+use asperity::quantity::{show, FORCE};
 use asperity::topography::io;
 use asperity::{Error, Result};
 
@@ -424,6 +426,7 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let surface = io::read(path, &args.read.options())?;
     let size = contact::contact_size(&surface)?;
     contact::check_load(load, size, e_star)?;
+    super::judge("--load", plausible::load(load, size, e_star, Spelling::CommandLine))?;
     let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
@@ -435,9 +438,11 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let report = solver.solve(load, |_, _| {})?;
     super::message(&format!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds));
     // As `contact` warns: a contact cut by the window, or pressures beyond belief.
-    for w in contact::summarize(solver.pressure(), shape, size, boundary, None).warnings() {
+    let remedies: Vec<String> = (!args.free).then(|| "a free boundary (--free)".to_string()).into_iter().collect();
+    for w in contact::summarize(solver.pressure(), shape, size, boundary, None).warnings(&remedies) {
         super::message(&format!(
-            "warning: at {load:e} N: {w} (`asperity contact` levels, crops and caps; `slide` takes its folder)"
+            "warning: at {}: {w} (`asperity contact` levels, crops and caps; `slide` takes its folder)",
+            show(load, &FORCE)
         ));
     }
     Ok(Normal { pressure: solver.pressure().to_vec(), shape, size, boundary, load })

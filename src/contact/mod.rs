@@ -176,8 +176,10 @@ pub fn summarize(
 impl ContactSummary {
     /// What a physicist must be told about this solve, one line each: load cut by the window
     /// (more than [`EDGE_LOAD_LIMIT`] of it in the edge band), or carried above the hardness.
-    pub fn warnings(&self) -> Vec<String> {
-        plausibility_warnings(self.edge_load_fraction, self.load_above_hardness_fraction, self.max_pressure)
+    /// `remedies` are the ways left to keep the contact inside the window, as the caller's
+    /// language writes them (`a free boundary (--free)`, `boundary = "free"`).
+    pub fn warnings(&self, remedies: &[String]) -> Vec<String> {
+        plausibility_warnings(self.edge_load_fraction, self.load_above_hardness_fraction, self.max_pressure, remedies)
     }
 }
 
@@ -186,13 +188,18 @@ pub fn plausibility_warnings(
     edge_load_fraction: f64,
     load_above_hardness_fraction: Option<f64>,
     max_pressure: f64,
+    remedies: &[String],
 ) -> Vec<String> {
     let mut warnings = Vec::new();
     if edge_load_fraction > EDGE_LOAD_LIMIT {
+        let remedy = match remedies {
+            [] => String::new(),
+            [one] => format!("; try {one}"),
+            [first @ .., last] => format!("; try {} or {last}", first.join(", ")),
+        };
         warnings.push(format!(
             "{:.1} % of the load sits within 2 % of the window's edges: the contact is cut by the window \
-             (periodic images or a missing part); try a free boundary (--free), a crop, a detrend or a cap \
-             (--cap-radius)",
+             (periodic images or a missing part){remedy}",
             100.0 * edge_load_fraction
         ));
     }
@@ -275,11 +282,16 @@ mod tests {
         assert!((s.edge_load_fraction - 5.0 / 10.0).abs() < 1e-15);
         assert_eq!(s.load_above_hardness_fraction, Some(7.0 / 10.0));
         assert_eq!(s.max_pressure, 4.0);
-        let w = s.warnings();
+        let w = s.warnings(&["a crop".into(), "a cap".into()]);
         assert_eq!(w.len(), 2);
-        assert!(w[0].starts_with("50.0 % of the load sits within 2 %") && w[0].contains("--free"), "{}", w[0]);
+        assert!(
+            w[0].starts_with("50.0 % of the load sits within 2 %") && w[0].ends_with("; try a crop or a cap"),
+            "{}",
+            w[0]
+        );
         assert!(w[1].starts_with("70.00 % of the load is carried at pressures at or above"), "{}", w[1]);
-        assert_eq!(summarize(&p, (ny, nx), (1.0, 0.5), Boundary::Free, None).warnings().len(), 1);
+        let w = summarize(&p, (ny, nx), (1.0, 0.5), Boundary::Free, None).warnings(&[]);
+        assert!(w.len() == 1 && w[0].ends_with("(periodic images or a missing part)"), "{w:?}");
     }
 
     #[test]

@@ -130,9 +130,8 @@ pub enum CurveError {
     Window(String),
 }
 
-/// The largest friction coefficient a curve may hold: no measured one comes near it (clean
-/// metals in vacuum reach a few), so a larger value is a unit or column mistake.
-pub const MAX_CURVE_COEFFICIENT: f64 = 10.0;
+/// The largest friction coefficient a curve may hold, as any law given (see [`crate::plausible`]).
+pub const MAX_CURVE_COEFFICIENT: f64 = crate::plausible::MAX_FRICTION_COEFFICIENT;
 
 /// Parse a friction–displacement curve: CSV with the displacement in the first column and
 /// the friction coefficient (friction force over normal force) in the second; further

@@ -60,11 +60,12 @@ use crate::contact::{Boundary, Material, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
+use crate::plausible::{self, Spelling};
 use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE, TIME};
 use crate::topography::detrend::Detrend;
 use crate::topography::prepare::Preparation;
 use crate::topography::resample::CropWindow;
-use crate::topography::synth::{Cap, SyntheticSurface};
+use crate::topography::synth::{Amplitude, Cap, SyntheticSurface};
 
 /// The default study, as `asperity run --print-default` prints it: three synthetic silicon
 /// balls against synthetic wafers, silicon, 13 loads from 0.1 to 100 mN, two placeholder laws.
@@ -170,8 +171,10 @@ pub struct CropSpec {
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     /// Young's modulus E [Pa].
+    #[serde(default = "defaults::youngs")]
     pub youngs: Stress,
     /// Poisson's ratio ν.
+    #[serde(default = "defaults::poisson")]
     pub poisson: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub counter_youngs: Option<Stress>,
@@ -190,9 +193,11 @@ pub struct MaterialSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    #[serde(with = "boundary")]
+    #[serde(with = "boundary", default = "defaults::boundary")]
     pub boundary: Boundary,
+    #[serde(default = "defaults::tolerance")]
     pub tolerance: f64,
+    #[serde(default = "defaults::max_iterations")]
     pub max_iterations: usize,
     /// Solve every topography on this grid (nx, ny) over the same physical window.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -325,6 +330,7 @@ pub struct OutputSpec {
 #[serde(deny_unknown_fields)]
 pub struct LimitsSpec {
     /// The largest grid read from a file, generated, resampled or solved [points].
+    #[serde(default = "defaults::max_points")]
     pub max_points: usize,
 }
 
@@ -357,9 +363,32 @@ fn default_hold_time_loads() -> Vec<Force> {
     vec![Force(1e-4), Force(1e-3), Force(1e-2)]
 }
 
-/// The sections of the default study, for a study file that leaves some out.
+/// The sections of the default study, and the keys of its sections, for a study file that
+/// leaves some out: a key left out of a section takes the default study's value (keys the
+/// default study leaves unset stay unset).
 mod defaults {
     use super::*;
+
+    // Keys: called only for a key a file leaves out, so the default study itself, which gives
+    // every one, never recurses into them.
+    pub fn youngs() -> Stress {
+        material().youngs
+    }
+    pub fn poisson() -> f64 {
+        material().poisson
+    }
+    pub fn boundary() -> Boundary {
+        contact().boundary
+    }
+    pub fn tolerance() -> f64 {
+        contact().tolerance
+    }
+    pub fn max_iterations() -> usize {
+        contact().max_iterations
+    }
+    pub fn max_points() -> usize {
+        DEFAULT_MAX_POINTS
+    }
 
     fn default_study() -> StudyConfig {
         toml::from_str(DEFAULT_STUDY).expect("the default study parses")
@@ -405,10 +434,19 @@ impl StudyConfig {
             Error::invalid(place, one_line(&reason))
         };
         let tree = DeTable::parse(text).map_err(|e| located(e.span(), "", e.message()))?;
-        let config: StudyConfig = toml::from_str(text).map_err(|e| {
+        let mut config: StudyConfig = toml::from_str(text).map_err(|e| {
             let path = e.span().map(|s| path_at(tree.get_ref(), s.start)).unwrap_or_default();
             located(e.span(), &render(&path), e.message())
         })?;
+        // A sweep keeps the default's bounds and count for those it leaves out; a list of
+        // `values` replaces the sweep.
+        if config.loads.values.is_none() {
+            let default = defaults::loads();
+            let l = &mut config.loads;
+            l.min = l.min.or(default.min);
+            l.max = l.max.or(default.max);
+            l.count = l.count.or(default.count);
+        }
         config.check().map_err(|(path, reason)| located(span_of(tree.get_ref(), &path), &render(&path), &reason))?;
         Ok(config)
     }
@@ -501,6 +539,77 @@ impl StudyConfig {
         }
     }
 
+    /// The values the file gives that are possible but unusual (a 5 MPa modulus, a friction
+    /// coefficient of 5, a load pressing a synthetic window unusually hard), one line each,
+    /// naming the key as the file writes it.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut note = |place: String, verdict: plausible::Verdict| {
+            if let Ok(Some(w)) = verdict {
+                out.push(format!("{place}: {w}"));
+            }
+        };
+        let m = &self.material;
+        note("material.youngs".into(), plausible::modulus(m.youngs.0, Spelling::StudyFile));
+        if let Some(e) = m.counter_youngs {
+            note("material.counter_youngs".into(), plausible::modulus(e.0, Spelling::StudyFile));
+        }
+        if let Some(h) = m.hardness {
+            note("material.hardness".into(), plausible::hardness(h.0, Spelling::StudyFile));
+        }
+        let heaviest = self.load_values().last().copied().unwrap_or(0.0);
+        for (i, t) in self.topographies.iter().enumerate() {
+            let here = format!("topography[{i}]");
+            if let Some(s) = &t.synthetic {
+                for l in [s.size.0, s.size.1] {
+                    note(format!("{here}.synthetic.size_m"), plausible::window(l, Spelling::StudyFile));
+                }
+                if let Some(cap) = &s.cap {
+                    note(format!("{here}.synthetic.cap.radius_m"), plausible::radius(cap.radius, Spelling::StudyFile));
+                }
+                let e_star = self.effective_modulus();
+                note("loads".into(), plausible::load(heaviest, s.size, e_star, Spelling::StudyFile));
+            }
+            if let Some(Size(lx, ly)) = t.size {
+                for l in [lx, ly] {
+                    note(format!("{here}.size"), plausible::window(l.0, Spelling::StudyFile));
+                }
+            }
+            if let Some(p) = t.pixel_size {
+                note(format!("{here}.pixel_size"), plausible::pixel(p.0, Spelling::StudyFile));
+            }
+            if let Some(cap) = &t.cap {
+                note(format!("{here}.cap.radius_m"), plausible::radius(cap.radius, Spelling::StudyFile));
+            }
+        }
+        for (i, law) in self.laws.iter().enumerate() {
+            for mu in [law.mu_s, law.mu_d].into_iter().flatten() {
+                note(format!("law[{i}]"), plausible::friction_coefficient(mu));
+            }
+        }
+        out.dedup();
+        out
+    }
+
+    /// What the study file could still do to keep topography `name`'s contact inside its
+    /// window, in its own words, leaving out what it does already.
+    pub fn edge_remedies(&self, name: &str) -> Vec<String> {
+        let Some(t) = self.topographies.iter().find(|t| t.name.as_deref() == Some(name)) else {
+            return Vec::new();
+        };
+        let file = t.file.is_some();
+        let capped = t.cap.is_some() || t.synthetic.as_ref().is_some_and(|s| s.cap.is_some());
+        [
+            (self.contact.boundary != Boundary::Free, "boundary = \"free\" in [contact]"),
+            (file && t.crop.is_none(), "a `crop`"),
+            (file && t.detrend() == Detrend::None, "detrend = \"plane\""),
+            (!capped, "a cap (cap = { radius_m = … })"),
+        ]
+        .into_iter()
+        .filter_map(|(left, remedy)| left.then(|| remedy.to_string()))
+        .collect()
+    }
+
     /// Everything the file can be wrong about by itself; the error is the key path and reason.
     fn check(&self) -> std::result::Result<(), (Vec<Segment>, String)> {
         let at = |path: &[Segment], reason: String| Err((path.to_vec(), reason));
@@ -530,6 +639,16 @@ impl StudyConfig {
         let m = &self.material;
         let material = key("material");
         Material::new(m.youngs.0, m.poisson, "material").map_err(|e| (vec![material.clone()], reason_of(e)))?;
+        let judged = [
+            ("youngs", Some(m.youngs), plausible::modulus as fn(f64, Spelling) -> plausible::Verdict),
+            ("counter_youngs", m.counter_youngs, plausible::modulus),
+            ("hardness", m.hardness, plausible::hardness),
+        ];
+        for (name, value, judge) in judged {
+            if let Some(v) = value {
+                judge(v.0, Spelling::StudyFile).map(drop).or_else(|r| at(&[material.clone(), key(name)], r))?;
+            }
+        }
         match (m.counter_youngs, m.counter_poisson) {
             (Some(e), Some(nu)) => {
                 Material::new(e.0, nu, "counter-body").map_err(|e| (vec![material.clone()], reason_of(e)))?;
@@ -669,6 +788,22 @@ impl SurfaceSpec {
         };
         match (&self.synthetic, &self.file) {
             (Some(s), None) => {
+                let (lx, ly) = s.size;
+                for l in [lx, ly] {
+                    plausible::window(l, Spelling::StudyFile)
+                        .map(drop)
+                        .or_else(|r| at("synthetic", format!("size_m: {r}")))?;
+                }
+                if let Some(cap) = &s.cap {
+                    plausible::radius(cap.radius, Spelling::StudyFile)
+                        .map(drop)
+                        .or_else(|r| at("synthetic", format!("cap.radius_m: {r}")))?;
+                }
+                if let Some(Amplitude::RmsHeight(h)) = s.roughness.as_ref().map(|r| r.amplitude) {
+                    plausible::roughness(h, Spelling::StudyFile)
+                        .map(drop)
+                        .or_else(|r| at("synthetic", format!("roughness.rms_height_m: {r}")))?;
+                }
                 let file_only = [
                     ("format", self.format.is_some()),
                     ("channel", self.channel.is_some()),
@@ -690,6 +825,9 @@ impl SurfaceSpec {
                     if !(lx.0 > 0.0 && ly.0 > 0.0) {
                         return at("size", format!("must be positive, got {} × {} m", lx.0, ly.0));
                     }
+                    for l in [lx, ly] {
+                        plausible::window(l.0, Spelling::StudyFile).map(drop).or_else(|r| at("size", r))?;
+                    }
                 }
                 if let Some(unit) = &self.height_unit {
                     if crate::topography::units::metres_per(unit).is_none() {
@@ -700,6 +838,7 @@ impl SurfaceSpec {
                     if p.0.is_nan() || p.0 <= 0.0 {
                         return at("pixel_size", format!("must be positive, got {} m", p.0));
                     }
+                    plausible::pixel(p.0, Spelling::StudyFile).map(drop).or_else(|r| at("pixel_size", r))?;
                 }
                 if let Some(c) = &self.crop {
                     c.check().or_else(|r| at("crop", r))?;
@@ -708,6 +847,9 @@ impl SurfaceSpec {
                     if !(cap.radius > 0.0 && cap.radius.is_finite()) {
                         return at("cap", format!("radius_m must be positive, got {} m", cap.radius));
                     }
+                    plausible::radius(cap.radius, Spelling::StudyFile)
+                        .map(drop)
+                        .or_else(|r| at("cap", format!("radius_m: {r}")))?;
                 }
                 Ok(())
             }
@@ -794,6 +936,11 @@ impl LawSpec {
     }
 
     fn check(&self) -> std::result::Result<(), String> {
+        for (key, mu) in [("mu_s", self.mu_s), ("mu_d", self.mu_d)] {
+            if let Some(mu) = mu {
+                plausible::friction_coefficient(mu).map_err(|r| format!("{key}: {r}"))?;
+            }
+        }
         if let Some(t) = self.hold_time {
             if t.0.is_nan() || t.0 <= 0.0 {
                 return Err(format!("hold_time: {} s is not positive", t.0));

@@ -205,7 +205,18 @@ impl Row {
 
 /// The plausibility warnings of a study's solves, one line each, naming the topography and the
 /// load ([`crate::contact::plausibility_warnings`]).
+/// Without the remedies (the report's list; see [`study_warnings`]).
 pub fn warnings(rows: &[Row]) -> Vec<String> {
+    warnings_with(rows, |_| Vec::new())
+}
+
+/// [`warnings`] with the remedies the study file can still take, in its own words, leaving out
+/// what `config` already does ([`config::StudyConfig::edge_remedies`]).
+pub fn study_warnings(rows: &[Row], config: &config::StudyConfig) -> Vec<String> {
+    warnings_with(rows, |topography| config.edge_remedies(topography))
+}
+
+fn warnings_with(rows: &[Row], remedies: impl Fn(&str) -> Vec<String>) -> Vec<String> {
     let mut seen = std::collections::HashSet::new();
     let mut out = Vec::new();
     // Every law of a solve repeats its contact figures: one warning per solve.
@@ -214,8 +225,10 @@ pub fn warnings(rows: &[Row]) -> Vec<String> {
             r.edge_load_fraction,
             r.load_above_hardness_fraction,
             r.max_pressure_pa,
+            &remedies(&r.topography),
         );
-        out.extend(found.into_iter().map(|w| format!("topography \"{}\" at {:e} N: {w}", r.topography, r.load_n)));
+        let load = crate::quantity::show(r.load_n, &crate::quantity::FORCE);
+        out.extend(found.into_iter().map(|w| format!("topography \"{}\" at {load}: {w}", r.topography)));
     }
     out
 }

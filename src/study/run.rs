@@ -497,7 +497,7 @@ impl Study {
             parameters: &parameters,
         };
         let figures = crate::plot::study::render(dir, &input)?;
-        let warnings = super::warnings(&rows);
+        let warnings = super::study_warnings(&rows, &self.config);
         Ok(Outcome { rows, share, solved, resumed, onsets, onsets_resumed, figures, warnings, left })
     }
 
