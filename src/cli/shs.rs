@@ -12,8 +12,13 @@ use asperity::{plot, Error};
 /// the hold time, the static peak F_S, the dynamic friction F_D (mean over a window after the
 /// peak), the normal force N, mu_s = F_S/N, mu_d = F_D/N and the friction drop F_S/F_D, then
 /// the restarts grouped by hold time (mean ± sample standard deviation). The initial slide
-/// before the first hold is not a restart. Without a displacement column, displacement is
-/// derived from time and --speed, and holds are seen in the friction signal alone.
+/// before the first hold is not a restart. With a displacement column, a hold is the stage at
+/// rest (below 0.1 × its sliding speed) for at least --min-duration, whether the force is released
+/// or stays loaded, and its duration runs from the stage stopping to its moving again. Without
+/// one, displacement is derived from time and --speed, and holds are seen in the friction signal
+/// alone: the force must fall near zero, and a hold lasts while it stays there. Each hold found
+/// and not measured (too short, no complete restart after it) is named with the reason on
+/// stderr. A coefficient that is not finite or above 10 is refused, naming the trace's row.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Trace CSV with a header row: time_s [s], friction_n [N], normal_n [N] and optionally
@@ -42,14 +47,16 @@ pub struct Args {
     /// with a unit: 2um]
     #[arg(long, value_name = "M", default_value = "2e-6", value_parser = super::length)]
     peak_within: f64,
-    /// Shortest hold, and shortest slide, that count [s, or with a unit: 500ms]; briefer dips
-    /// or bursts are noise
+    /// Shortest hold, and shortest slide, that count [s, or with a unit: 500ms]; briefer stops,
+    /// dips or bursts are noise, and each hold so dropped is reported
     #[arg(long, value_name = "S", default_value = "1", value_parser = super::time)]
     min_duration: f64,
-    /// Friction below this fraction of the sliding level counts as a hold [dimensionless]
+    /// Friction below this fraction of the sliding level counts as a hold, when the trace has no
+    /// displacement column [dimensionless]
     #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
     hold_fraction: f64,
-    /// Friction above this fraction of the sliding level counts as sliding again [dimensionless]
+    /// Friction above this fraction of the sliding level counts as sliding again, when the trace
+    /// has no displacement column [dimensionless]
     #[arg(long, value_name = "FRACTION", default_value_t = 0.5)]
     slide_fraction: f64,
     /// Hold times within this relative spread of a group's shortest are grouped [dimensionless]
@@ -148,8 +155,12 @@ pub fn run(args: Args) -> asperity::Result<()> {
 fn table(name: &str, a: &Analysis, window: f64) -> String {
     let biggest = a.cycles.iter().map(|c| c.normal_force_n.max(c.static_force_n)).fold(0.0, f64::max);
     let (k, unit) = plot::prefixed(biggest, "N");
+    let found_on = if a.holds_from == "displacement" { "the stage's displacement" } else { "the friction" };
     let mut s = format!(
-        "{name}: {} restarts after holds, {} hold-time groups; F_D and N over {} µm after each peak\n\n",
+        "{name}: {} holds found on {found_on}, {} skipped; {} restarts after holds, {} hold-time groups; F_D and \
+         N over {} µm after each peak\n\n",
+        a.holds_found,
+        a.skipped.len(),
         a.cycles.len(),
         a.groups.len(),
         asperity::quantity::human(window * 1e6)

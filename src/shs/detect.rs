@@ -1,26 +1,34 @@
 //! Finding holds and restarts in a trace, and measuring each restart.
 //!
-//! The friction signal splits the trace into holds and slides; a measured displacement then
-//! confirms that nothing moved during each hold. Levels are relative to the trace's own sliding
-//! friction, so the same defaults work from micronewtons to newtons:
+//! A hold is a stretch of at least `min_duration` during which the interface does not slide,
+//! after a slide. When the trace records displacement, holds are found on it — the stage stopped
+//! — whatever the friction does (released to zero, or held loaded and relaxing); without it,
+//! on the friction signal, which then must fall near zero during each hold.
 //!
-//! 1. The sliding level is the median of the upper class of a two-class (Ridler–Calvard) split
-//!    of the friction values; the sensor noise is estimated from sample-to-sample differences
-//!    (robust to the level changes between holds and slides).
-//! 2. On a 5-sample running median of the friction, with hysteresis, a hold begins when the
-//!    friction falls below `hold_fraction` × the sliding level and ends when it rises above
-//!    `slide_fraction` × the sliding level. Holds or slides shorter than `min_duration` are
-//!    noise (a dip, a burst) and are merged into their neighbours, shortest first.
-//! 3. Each hold's edges are then placed on the raw signal: the hold lasts from the first sample
-//!    at which friction has settled at the hold level (within 4 robust standard deviations of
-//!    its median over the hold, or 2 % of the sliding level) to the last sample at that level
-//!    before the restart's rise, plus half a sample interval at each end. The hold time is the
-//!    time spent at zero shear.
-//! 4. After the restart, F_S is the largest friction sample within `peak_within` of sliding
+//! 1. Both signals are split the same way. On a 5-sample running median of the signal (the
+//!    stage's speed between samples, or the friction), the sliding level is the median of the
+//!    upper class of a two-class (Ridler–Calvard) split of its values, and the noise is
+//!    estimated from sample-to-sample differences of the raw signal (robust to the level changes
+//!    between holds and slides). With hysteresis, a hold begins when the signal falls below a
+//!    fraction of the sliding level and ends when it rises above another: for the stage,
+//!    `STAGE_STOPPED` (0.1) and `STAGE_MOVING` (0.5) × the sliding speed; for the friction,
+//!    `hold_fraction` and `slide_fraction`. Holds or slides shorter than `min_duration` are
+//!    merged into their neighbours, shortest first; each hold so dropped is reported.
+//! 2. Each hold's edges are then placed on the raw signal. From the stage: the hold lasts from
+//!    the instant the stage stopped to the instant it moved again, each located between samples
+//!    by the sliding speed (the line through the last moving sample at that speed meets the rest
+//!    position). From the friction: from the first sample at which friction has settled at the
+//!    hold level (within 4 robust standard deviations of its median over the hold, or 2 % of the
+//!    sliding level) to the last sample at that level before the restart's rise, plus half a
+//!    sample interval at each end — the time spent at zero shear, which is shorter than the
+//!    stage's hold by the time the friction takes to relax.
+//! 3. After the restart, F_S is the largest friction sample within `peak_within` of sliding
 //!    displacement. F_D and N are their means over `window` of displacement from the peak,
 //!    located between samples by a parabola through the peak sample and its neighbours, with
 //!    the signals interpolated linearly between samples; the window must end before sliding
 //!    stops.
+//! 4. A coefficient F_S/N or F_D/N that is not finite, or above `MAX_COEFFICIENT`, is no
+//!    friction coefficient (a unit or column mistake): the trace is refused, naming the row.
 
 use super::{Analysis, Cycle, ShsOptions, Trace};
 use crate::error::{Error, Result};
@@ -29,8 +37,13 @@ use crate::error::{Error, Result};
 const SMOOTH_HALF: usize = 2;
 /// Standard deviation of a normal distribution per median absolute deviation.
 const MAD_TO_SIGMA: f64 = 1.4826;
-/// A hold may creep forward by at most this fraction of the sliding speed.
-const HOLD_CREEP: f64 = 0.1;
+/// The stage is stopped below this fraction of its sliding speed …
+const STAGE_STOPPED: f64 = 0.1;
+/// … and moving again above this one.
+const STAGE_MOVING: f64 = 0.5;
+/// The largest friction coefficient a trace may yield: beyond it a force column is in the wrong
+/// unit or the wrong column.
+pub const MAX_COEFFICIENT: f64 = 10.0;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum State {
@@ -46,127 +59,216 @@ struct Run {
     end: usize,
 }
 
+/// Where a hold lies and where the slide after it goes.
+struct Hold {
+    /// When the hold began and ended [s].
+    start_s: f64,
+    end_s: f64,
+    /// The last sample at rest before the restart.
+    restart: usize,
+    /// The last sample of the slide after it.
+    stroke_end: usize,
+    /// Displacement [m] at rest before the restart, from which `peak_within` and the window are
+    /// measured (with a displacement column; without, displacement is counted in time from
+    /// `restart` at the sliding speed).
+    origin: f64,
+}
+
+/// A signal split into holds and slides.
+struct Split {
+    runs: Vec<Run>,
+    /// The running median the split was made on.
+    smooth: Vec<f64>,
+    /// Its sliding level (a speed [m/s] or a force [N]).
+    sliding: f64,
+    /// Signal level above which it slides.
+    slide_above: f64,
+}
+
 pub(super) fn analyse(trace: &Trace, options: &ShsOptions) -> Result<Analysis> {
     options.validate()?;
-    let (t, f) = (trace.time(), trace.friction());
+    let t = trace.time();
     let fail = |reason: String| Error::file(trace.source(), reason);
-
-    let smooth = running_median(f, SMOOTH_HALF);
-    let split = two_class_threshold(&smooth);
-    let sliding = median(&mut smooth.iter().copied().filter(|&v| v >= split).collect::<Vec<_>>());
-    let diffs: Vec<f64> = f.windows(2).map(|w| w[1] - w[0]).collect();
-    let noise = mad_sigma(&diffs) / std::f64::consts::SQRT_2;
-    if sliding.is_nan() || sliding <= 10.0 * noise {
-        return Err(fail(format!(
-            "friction never rises clearly above its noise (sliding level {sliding:.3e} N, noise {noise:.3e} N)"
-        )));
-    }
-    let hold_below = options.hold_fraction * sliding;
-    let slide_above = options.slide_fraction * sliding;
-
-    let runs = merge_short_runs(classify(&smooth, hold_below, slide_above), t, options.min_duration);
-    let slide_speed = match trace.displacement() {
-        Some(x) => {
-            let v = median(
-                &mut runs
-                    .iter()
-                    .filter(|r| r.state == State::Slide)
-                    .flat_map(|r| r.start..r.end)
-                    .map(|i| (x[i + 1] - x[i]) / (t[i + 1] - t[i]))
-                    .collect::<Vec<_>>(),
-            );
-            if v.is_nan() || v <= 0.0 {
-                return Err(fail(format!("displacement does not increase while sliding (median speed {v:.3e} m/s)")));
-            }
-            v
-        }
-        None => options.speed,
+    let stage = trace.displacement().map(|x| stage_speed(t, x));
+    let (signal, stopped, moving) = match &stage {
+        Some(speed) => (&speed[..], STAGE_STOPPED, STAGE_MOVING),
+        None => (trace.friction(), options.hold_fraction, options.slide_fraction),
     };
+    let (split, dropped) = split(signal, t, stopped, moving, options.min_duration).map_err(|(level, noise)| {
+        fail(match stage {
+            Some(_) => format!(
+                "displacement never advances clearly above its noise (sliding speed {level:.3e} m/s, noise \
+                 {noise:.3e} m/s)"
+            ),
+            None => {
+                format!(
+                    "friction never rises clearly above its noise (sliding level {level:.3e} N, noise {noise:.3e} N)"
+                )
+            }
+        })
+    })?;
 
-    let mut analysis = Analysis { cycles: Vec::new(), groups: Vec::new(), skipped: Vec::new() };
-    let mut holds = 0;
+    let mut analysis = Analysis {
+        holds_from: if stage.is_some() { "displacement" } else { "friction" },
+        holds_found: dropped.len(),
+        cycles: Vec::new(),
+        groups: Vec::new(),
+        skipped: Vec::new(),
+    };
+    // Reasons in time order: the holds too short to count, then each hold that gave no restart.
+    let mut skipped: Vec<(f64, String)> = dropped
+        .iter()
+        .map(|&(start, length)| {
+            let reason = format!(
+                "hold from {start:.2} s: {length:.2} s at rest, shorter than the minimum duration {} s",
+                options.min_duration
+            );
+            (start, reason)
+        })
+        .collect();
+    let runs = &split.runs;
     // The first run, hold or slide, is the trace's start: a hold needs a slide before it.
     for k in 1..runs.len() {
         if runs[k].state != State::Hold {
             continue;
         }
-        holds += 1;
-        match runs.get(k + 1) {
-            None => analysis
-                .skipped
-                .push(format!("hold from {:.2} s: the trace ends before sliding restarts", t[runs[k].start])),
-            Some(slide) => match measure(trace, &smooth, runs[k], *slide, slide_above, sliding, slide_speed, options) {
-                Ok(cycle) => analysis.cycles.push(cycle),
-                Err(reason) => analysis.skipped.push(reason),
-            },
+        analysis.holds_found += 1;
+        let Some(&slide) = runs.get(k + 1) else {
+            let start = t[runs[k].start];
+            skipped.push((start, format!("hold from {start:.2} s: the trace ends before sliding restarts")));
+            continue;
+        };
+        let hold = match trace.displacement() {
+            Some(x) => Ok(stage_hold(t, x, runs[k - 1], runs[k], slide, split.sliding)),
+            None => friction_hold(trace, &split, runs[k], slide),
+        };
+        match hold.and_then(|hold| measure(trace, &hold, options)) {
+            Ok(cycle) => analysis.cycles.push(cycle),
+            Err(reason) => skipped.push((t[runs[k].start], reason)),
         }
     }
+    skipped.sort_by(|a, b| a.0.total_cmp(&b.0));
+    analysis.skipped = skipped.into_iter().map(|(_, reason)| reason).collect();
     if analysis.cycles.is_empty() {
-        return Err(fail(if holds == 0 {
-            format!(
-                "no hold found: friction never stays below {hold_below:.3e} N ({} × the sliding level \
-                 {sliding:.3e} N) for {} s after sliding",
-                options.hold_fraction, options.min_duration
-            )
+        return Err(fail(if analysis.holds_found == 0 {
+            match stage {
+                Some(_) => format!(
+                    "no hold found: the stage (displacement) never stays below {STAGE_STOPPED} × its sliding speed \
+                     {:.3e} m/s for {} s after sliding",
+                    split.sliding, options.min_duration
+                ),
+                None => format!(
+                    "no hold found: friction never stays below {:.3e} N ({} × the sliding level {:.3e} N) for {} s \
+                     after sliding; if the force stays loaded during holds, give the stage's displacement column \
+                     (displacement_m, or --displacement-column)",
+                    options.hold_fraction * split.sliding,
+                    options.hold_fraction,
+                    split.sliding,
+                    options.min_duration
+                ),
+            }
         } else {
-            format!("no complete restart after {holds} hold(s): {}", analysis.skipped.join("; "))
+            format!("no complete restart after {} hold(s): {}", analysis.holds_found, analysis.skipped.join("; "))
         }));
+    }
+    for c in &analysis.cycles {
+        check_coefficients(trace, c)?;
     }
     analysis.groups = super::group_by_hold(&analysis.cycles, options.group_tolerance);
     Ok(analysis)
 }
 
-/// Measure the restart after `hold`, sliding on through `slide`; `Err` says why it cannot be.
-#[allow(clippy::too_many_arguments)]
-fn measure(
-    trace: &Trace,
-    smooth: &[f64],
-    hold: Run,
-    slide: Run,
-    slide_above: f64,
-    sliding: f64,
-    slide_speed: f64,
-    options: &ShsOptions,
-) -> std::result::Result<Cycle, String> {
-    let (t, f, normal) = (trace.time(), trace.friction(), trace.normal());
+/// The stage's speed [m/s] at each sample, over the `SMOOTH_HALF` intervals on each side (fewer
+/// at the ends): an encoder's noise matters less over several intervals than over one.
+fn stage_speed(t: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = t.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(SMOOTH_HALF), (i + SMOOTH_HALF).min(n - 1));
+            (x[b] - x[a]) / (t[b] - t[a])
+        })
+        .collect()
+}
+
+/// Split `signal` into holds (below `stopped` × its sliding level) and slides (above `moving` ×
+/// it), with runs shorter than `min_duration` merged away; also the holds so dropped (start
+/// [s], duration [s]). `Err((sliding level, noise))` when the signal never rises clearly above
+/// its noise.
+#[allow(clippy::type_complexity)]
+fn split(
+    signal: &[f64],
+    t: &[f64],
+    stopped: f64,
+    moving: f64,
+    min_duration: f64,
+) -> std::result::Result<(Split, Vec<(f64, f64)>), (f64, f64)> {
+    let smooth = running_median(signal, SMOOTH_HALF);
+    let threshold = two_class_threshold(&smooth);
+    let sliding = median(&mut smooth.iter().copied().filter(|&v| v >= threshold).collect::<Vec<_>>());
+    let diffs: Vec<f64> = signal.windows(2).map(|w| w[1] - w[0]).collect();
+    let noise = mad_sigma(&diffs) / std::f64::consts::SQRT_2;
+    if sliding.is_nan() || sliding <= 10.0 * noise {
+        return Err((sliding, noise));
+    }
+    let slide_above = moving * sliding;
+    let (runs, dropped) = merge_short_runs(classify(&smooth, stopped * sliding, slide_above), t, min_duration);
+    Ok((Split { runs, smooth, sliding, slide_above }, dropped))
+}
+
+/// The hold `hold` between the slides `before` and `after`, from the stage's displacement `x`
+/// moving at `speed` [m/s] while it slides. The hysteresis places the run `hold` inside the
+/// stage's rest; its edges are found on the raw displacement around it.
+fn stage_hold(t: &[f64], x: &[f64], before: Run, hold: Run, after: Run, speed: f64) -> Hold {
+    // The rest positions at the two ends of the hold (a stage may settle, or creep slowly).
+    let edge = 5.min(hold.end - hold.start + 1);
+    let rest_start = median(&mut x[hold.start..hold.start + edge].to_vec());
+    let rest_end = median(&mut x[hold.end + 1 - edge..=hold.end].to_vec());
+    // A sample more than a quarter of a sample's sliding advance from the rest position moves.
+    let step = median(&mut t.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>());
+    let tolerance = 0.25 * speed * step;
+    let last_moving = (before.start..hold.start).rev().find(|&i| x[i] < rest_start - tolerance);
+    let first_moving = (hold.end + 1..=after.end).find(|&i| x[i] > rest_end + tolerance);
+    // The stage moved at `speed` up to the instant it stopped, and from the instant it restarted.
+    let start_s = last_moving.map_or(t[hold.start], |p| (t[p] + (rest_start - x[p]) / speed).min(t[hold.start]));
+    let end_s = first_moving.map_or(t[hold.end], |q| (t[q] - (x[q] - rest_end) / speed).max(t[hold.end]));
+    let restart = first_moving.map_or(hold.end, |q| q - 1);
+    Hold { start_s, end_s, restart, stroke_end: after.end, origin: rest_end }
+}
+
+/// The hold `hold` before the slide `slide`, from the friction signal alone; `Err` says why it
+/// cannot be placed.
+fn friction_hold(trace: &Trace, split: &Split, hold: Run, slide: Run) -> std::result::Result<Hold, String> {
+    let (t, f) = (trace.time(), trace.friction());
     let core = &f[hold.start..=hold.end];
     let level = median(&mut core.to_vec());
-    let band = level + (4.0 * mad_sigma(core)).max(0.02 * sliding);
+    let band = level + (4.0 * mad_sigma(core)).max(0.02 * split.sliding);
     let first = (hold.start.saturating_sub(SMOOTH_HALF)..=hold.end).find(|&i| f[i] <= band);
     let last = (hold.start..=(hold.end + SMOOTH_HALF).min(slide.end)).rev().find(|&i| f[i] <= band);
-    let (Some(hold_start), Some(restart)) = (first, last) else {
+    let (Some(first), Some(restart)) = (first, last) else {
         return Err(format!("hold from {:.2} s: friction never settles at its hold level", t[hold.start]));
     };
     // The hold began within the sample interval before its first sample and ended within the
     // one after its last: count half of each.
-    let hold_s = t[restart] - t[hold_start]
-        + 0.5 * (t[hold_start] - t[hold_start.saturating_sub(1)])
-        + 0.5 * (t[(restart + 1).min(t.len() - 1)] - t[restart]);
+    let start_s = t[first] - 0.5 * (t[first] - t[first.saturating_sub(1)]);
+    let end_s = t[restart] + 0.5 * (t[(restart + 1).min(t.len() - 1)] - t[restart]);
+    // Sliding stops where the smoothed friction last stands at the sliding level.
+    let stroke_end =
+        (slide.start..=slide.end).rev().find(|&i| split.smooth[i] >= split.slide_above).unwrap_or(slide.end);
+    Ok(Hold { start_s, end_s, restart, stroke_end, origin: 0.0 })
+}
 
+/// Measure the restart after `hold`; `Err` says why it cannot be.
+fn measure(trace: &Trace, hold: &Hold, options: &ShsOptions) -> std::result::Result<Cycle, String> {
+    let (t, f, normal) = (trace.time(), trace.friction(), trace.normal());
+    let (restart, stroke_end) = (hold.restart, hold.stroke_end);
     let displacement = |i: usize| match trace.displacement() {
-        Some(x) => x[i] - x[restart],
+        Some(x) => x[i] - hold.origin,
         None => options.speed * (t[i] - t[restart]),
     };
-    if let Some(x) = trace.displacement() {
-        let edge = 5.min(restart - hold_start + 1);
-        let x0 = median(&mut x[hold_start..hold_start + edge].to_vec());
-        let x1 = median(&mut x[restart + 1 - edge..=restart].to_vec());
-        let creep = (x1 - x0) / hold_s;
-        if creep > HOLD_CREEP * slide_speed {
-            return Err(format!(
-                "{:.2}–{:.2} s: friction near zero but displacement kept progressing ({:.3e} m/s while sliding \
-                 at {slide_speed:.3e} m/s): not a hold",
-                t[hold_start], t[restart], creep
-            ));
-        }
-    }
-
-    // Sliding stops where the smoothed friction last stands at the sliding level.
-    let stroke_end = (slide.start..=slide.end).rev().find(|&i| smooth[i] >= slide_above).unwrap_or(slide.end);
     let peak = (restart + 1..=stroke_end)
         .take_while(|&i| displacement(i) <= options.peak_within)
         .max_by(|&a, &b| f[a].total_cmp(&f[b]))
-        .ok_or_else(|| format!("restart at {:.2} s: no sliding follows the hold", t[restart]))?;
+        .ok_or_else(|| format!("restart at {:.2} s: no sliding follows the hold", hold.end_s))?;
     // The window starts at the peak located between samples (at 20 Hz a sample is 1.5 % of a
     // 1 µm window, and the samples next to the peak are nearly as high as it).
     let start = peak_position(&displacement, f, peak, restart + 1, stroke_end);
@@ -175,7 +277,7 @@ fn measure(
         let reach = (peak + 1..=stroke_end).map(|i| displacement(i) - start).fold(0.0, f64::max);
         return Err(format!(
             "restart at {:.2} s: sliding stops {:.3e} m after the peak, before the {:.3e} m window ends",
-            t[restart], reach, options.window
+            hold.end_s, reach, options.window
         ));
     };
     let first = peak.saturating_sub(1).max(restart);
@@ -185,22 +287,52 @@ fn measure(
         return Err(format!(
             "restart at {:.2} s: mean normal force {normal_force:.3e} N and dynamic friction {dynamic_force:.3e} N \
              must be positive",
-            t[restart]
+            hold.end_s
         ));
     }
     Ok(Cycle {
-        hold_s,
+        hold_s: hold.end_s - hold.start_s,
         static_force_n: static_force,
         dynamic_force_n: dynamic_force,
         normal_force_n: normal_force,
         static_coefficient: static_force / normal_force,
         dynamic_coefficient: dynamic_force / normal_force,
         friction_drop: static_force / dynamic_force,
-        hold_start_s: t[hold_start],
-        restart_s: t[restart],
+        hold_start_s: hold.start_s,
+        restart_s: hold.end_s,
         peak_s: t[peak],
         window_end_s: t[window_end],
     })
+}
+
+/// Refuse a restart whose coefficients are no friction coefficients, naming the data row (the
+/// first row after the header is row 1) of its peak or window.
+fn check_coefficients(trace: &Trace, c: &Cycle) -> Result<()> {
+    let t = trace.time();
+    let row = |time: f64| t.partition_point(|&x| x < time) + 1;
+    let checks = [
+        ("mu_s = F_S/N", c.static_coefficient, "F_S", c.static_force_n, format!("row {}", row(c.peak_s))),
+        (
+            "mu_d = F_D/N",
+            c.dynamic_coefficient,
+            "F_D",
+            c.dynamic_force_n,
+            format!("rows {}–{}", row(c.peak_s), row(c.window_end_s)),
+        ),
+    ];
+    for (what, mu, force, value, rows) in checks {
+        if !(mu.is_finite() && mu <= MAX_COEFFICIENT) {
+            return Err(Error::file(
+                trace.source(),
+                format!(
+                    "{rows} (restart at {:.2} s): {what} = {mu:.3e} ({force} {value:.3e} N, N {:.3e} N) is not a \
+                     friction coefficient (at most {MAX_COEFFICIENT}): check the force columns and their units",
+                    c.restart_s, c.normal_force_n
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Displacement of the peak between samples: the vertex of the parabola through the peak
@@ -268,12 +400,14 @@ fn classify(smooth: &[f64], hold_below: f64, slide_above: f64) -> Vec<Run> {
 }
 
 /// Merge runs shorter than `min_duration` [s] into their neighbours, shortest first, so that a
-/// brief dip never makes a hold and a brief burst never makes a restart.
-fn merge_short_runs(mut runs: Vec<Run>, t: &[f64], min_duration: f64) -> Vec<Run> {
+/// brief dip never makes a hold and a brief burst never makes a restart; also the holds after a
+/// slide so dropped (start [s], duration [s]), in time order.
+fn merge_short_runs(mut runs: Vec<Run>, t: &[f64], min_duration: f64) -> (Vec<Run>, Vec<(f64, f64)>) {
     let n = t.len();
     // A run lasts until the next run's first sample; the last one, one interval past its end.
     let next = |i: usize| if i + 1 < n { t[i + 1] } else { 2.0 * t[n - 1] - t[n - 2] };
     let duration = |r: &Run| next(r.end) - t[r.start];
+    let mut dropped = Vec::new();
     while runs.len() > 1 {
         let Some((k, _)) = runs
             .iter()
@@ -283,13 +417,17 @@ fn merge_short_runs(mut runs: Vec<Run>, t: &[f64], min_duration: f64) -> Vec<Run
         else {
             break;
         };
+        if k > 0 && runs[k].state == State::Hold {
+            dropped.push((t[runs[k].start], duration(&runs[k])));
+        }
         let (lo, hi) = (k.saturating_sub(1), (k + 1).min(runs.len() - 1));
         // The short run takes its neighbours' state and joins them.
         let state = if k == 0 { runs[1].state } else { runs[k - 1].state };
         let merged = Run { state, start: runs[lo].start, end: runs[hi].end };
         runs.splice(lo..=hi, [merged]);
     }
-    runs
+    dropped.sort_by(|a, b| a.0.total_cmp(&b.0));
+    (runs, dropped)
 }
 
 /// Running median over `2·half + 1` samples (fewer at the ends).
@@ -373,7 +511,10 @@ mod tests {
             (Hold, 73, 84),
             (Slide, 85, 99),
         ]);
-        let merged = merge_short_runs(runs, &t, 1.0);
+        let (merged, dropped) = merge_short_runs(runs, &t, 1.0);
+        // The 0.2 s dip was a hold after a slide, dropped; the burst was no hold.
+        assert_eq!(dropped.len(), 1);
+        assert!((dropped[0].0 - 2.0).abs() < 1e-12 && (dropped[0].1 - 0.2).abs() < 1e-12, "{dropped:?}");
         let got: Vec<_> = merged.iter().map(|r| (r.state, r.start, r.end)).collect();
         assert_eq!(got, vec![(Slide, 0, 39), (Hold, 40, 84), (Slide, 85, 99)]);
     }

@@ -2,18 +2,20 @@
 //! friction after each hold, as the paper measures them on its rheometer.
 //!
 //! In an SHS trace the interface slides at a constant speed (0.3 µm/s in the paper), is held
-//! at zero shear for a hold time, and slides again. After each restart the static friction
-//! force F_S is the peak, and the dynamic friction force F_D the mean over a window of steady
-//! sliding after the peak (≈ 1 µm); the normal force N is averaged over the same window. The
-//! initial slide before the first hold is not a restart, nor is the first slide of a trace that
-//! starts at rest. How holds and restarts are found is described in the `detect` module: on
-//! the friction signal relative to its own sliding level, with hysteresis and minimum
-//! durations, and — when the trace records displacement — with a check that nothing slid
-//! during the hold.
+//! for a hold time, and slides again. Rheometers hold in one of two ways: the shear force is
+//! released (it falls to about zero), or the stage stops with the force still loaded (it relaxes
+//! by a few per cent). After each restart the static friction force F_S is the peak, and the
+//! dynamic friction force F_D the mean over a window of steady sliding after the peak (≈ 1 µm);
+//! the normal force N is averaged over the same window. The initial slide before the first hold
+//! is not a restart, nor is the first slide of a trace that starts at rest.
 //!
-//! When the trace has no displacement column, displacement is derived from time and the
-//! sliding speed, counted from each restart: a hold is then seen in the friction signal only,
-//! and the windows are `window / speed` long in time.
+//! When the trace records the stage's displacement, holds are found on it (the stage stopped
+//! for at least the minimum duration), whatever the force does, and each hold lasts from the
+//! stage stopping to its restarting. Without it, displacement is derived from time and the
+//! sliding speed, counted from each restart; holds are then seen in the friction signal only,
+//! so the force must be released during them, and a hold is the time the friction spends near
+//! zero (shorter than the stage's hold by the time the force takes to relax). The `detect`
+//! module describes both.
 
 mod detect;
 mod figure;
@@ -21,6 +23,7 @@ mod points;
 mod trace;
 
 pub use crate::quantity::seconds_per;
+pub use detect::MAX_COEFFICIENT;
 pub use figure::trace_figure;
 pub use points::{read_points, write_points, ShsPoint};
 pub use trace::{read_trace, Trace, TraceFormat, DISPLACEMENT_COLUMN};
@@ -38,11 +41,14 @@ pub struct ShsOptions {
     pub window: f64,
     /// Sliding displacement after the restart within which the peak F_S is sought [m].
     pub peak_within: f64,
-    /// Shortest hold and shortest slide [s]: briefer dips or bursts of friction are noise.
+    /// Shortest hold and shortest slide [s]: briefer stops, dips or bursts are noise; each hold
+    /// so dropped is reported among the skipped.
     pub min_duration: f64,
-    /// Friction below this fraction of the sliding level is near zero: a hold.
+    /// Friction below this fraction of the sliding level is near zero: a hold (without a
+    /// displacement column).
     pub hold_fraction: f64,
-    /// Friction above this fraction of the sliding level is sliding: a restart.
+    /// Friction above this fraction of the sliding level is sliding: a restart (without a
+    /// displacement column).
     pub slide_fraction: f64,
     /// Hold times within this relative spread of a group's shortest join that group.
     pub group_tolerance: f64,
@@ -92,7 +98,8 @@ impl ShsOptions {
 /// One restart after a hold. Forces in newtons, times in seconds from the trace's clock.
 #[derive(Clone, Debug, Serialize)]
 pub struct Cycle {
-    /// Time spent at zero shear before the restart [s].
+    /// The hold before the restart [s]: from the stage stopping to its moving again when the
+    /// trace records displacement, else the time the friction spends near zero.
     pub hold_s: f64,
     /// F_S: the friction peak after the restart [N].
     pub static_force_n: f64,
@@ -106,9 +113,11 @@ pub struct Cycle {
     pub dynamic_coefficient: f64,
     /// F_S / F_D (= mu_s / mu_d).
     pub friction_drop: f64,
-    /// When the friction had settled at the hold level [s].
+    /// When the hold began [s]: the stage stopped (between samples), or the friction had
+    /// settled near zero.
     pub hold_start_s: f64,
-    /// The last sample of the hold, just before the friction rises [s].
+    /// When the hold ended [s]: the stage moved again (between samples), or half a sample after
+    /// the last sample at the hold's friction level.
     pub restart_s: f64,
     /// The sample of the peak F_S [s].
     pub peak_s: f64,
@@ -146,10 +155,15 @@ pub struct Group {
     pub friction_drop: Stat,
 }
 
-/// What a trace yields: its restarts in time order, their groups by hold time (shortest
-/// first), and the holds that gave no measurement, each with the reason.
+/// What a trace yields: how many holds it has and what they were found on, its restarts in
+/// time order, their groups by hold time (shortest first), and the holds that gave no
+/// measurement, each with the reason (in time order).
 #[derive(Clone, Debug, Serialize)]
 pub struct Analysis {
+    /// `"displacement"` (the stage stopped) or `"friction"` (the force near zero).
+    pub holds_from: &'static str,
+    /// Holds after a slide, those skipped included (one shorter than the minimum duration too).
+    pub holds_found: usize,
     pub cycles: Vec<Cycle>,
     pub groups: Vec<Group>,
     pub skipped: Vec<String>,
