@@ -483,6 +483,8 @@ pub struct FigureInput<'a> {
     pub log_density: bool,
     /// The hardness [Pa] marked on p(σ), when the study sets one.
     pub hardness_pa: Option<f64>,
+    /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
+    pub grid: Option<(usize, usize)>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].
     pub maps: &'a [MapSnapshot],
     /// Measured points to overlay on the friction-drop figure (may be empty).

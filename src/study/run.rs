@@ -484,6 +484,7 @@ impl Study {
             hold_time_loads: &hold_time_loads,
             log_density: self.config.output.log_density,
             hardness_pa: self.config.hardness(),
+            grid: self.config.contact.grid,
             maps: &maps,
             experiments: &self.experiments,
             figures: &self.config.output.figures,
