@@ -14,6 +14,7 @@ pub mod limits;
 pub mod output;
 pub mod plot;
 pub mod quantity;
+pub mod report;
 pub mod shs;
 pub mod study;
 pub mod topography;

@@ -5,10 +5,10 @@
 //! and against the AFM hold time (aging).
 
 use super::maps::load_label;
-use super::study::{by_load, spread, LOAD_COLOURS};
+use super::shared::{by_load, spread, FigureInput, LOAD_COLOURS};
 use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::shs::ShsPoint;
-use crate::study::{law_name, FigureInput, ResolutionRow, Row, COARSENING};
+use crate::study::{law_name, ResolutionRow, Row, COARSENING};
 
 /// A measured point belongs to the law of its hold time when the two agree within this factor.
 const HOLD_MATCH: f64 = 1.25;

@@ -831,6 +831,31 @@ pub(super) fn ratio_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, law: 
 mod tests {
     use super::*;
 
+    /// An inset hides no contact where some place can: contact in all four corners of the
+    /// frame (the 4f inset covered a patch in a user's study) leaves it to an edge or a smaller
+    /// size.
+    #[test]
+    fn insets_are_placed_off_the_contact() {
+        let frame = (0, 0, 600, 600);
+        let mut drawn = Vec::new();
+        for (x, y) in [(40, 40), (560, 40), (40, 560), (560, 560), (300, 300)] {
+            for d in 0..20 {
+                drawn.extend([(x + d - 10, y), (x, y + d - 10)]);
+            }
+        }
+        let ((l, t), side) = place_inset(frame, &drawn, (300, 300));
+        assert!(side >= 100 && l >= 0 && t >= 0 && l + side <= 600 && t + side <= 600, "{l} {t} {side}");
+        assert_eq!(covered(&drawn, (l - 12, t - 12, side + 24, side + 24), 0), 0, "{l} {t} {side}");
+        // A free corner is taken first, at the largest size.
+        let ((l, t), side) = place_inset(frame, &drawn[..drawn.len() - 160], (300, 300));
+        assert_eq!(side, 252);
+        assert!(covered(&drawn, (l, t, side, side), 0) == 0);
+        // The scale bar goes to a corner of the inset its box leaves clear.
+        let inset_pixels = [(20, 230), (230, 230)];
+        let (bx, by) = scale_bar_corner((252, 252), (80, 44), &inset_pixels, 10.0);
+        assert_eq!(covered(&inset_pixels, (bx, by, 80, 44), 10), 0, "{bx} {by}");
+    }
+
     #[test]
     fn percentages_keep_two_digits() {
         assert_eq!(percent(0.842), "84.2 %");

@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::maps::load_label;
-use super::study::{by_load, spread, stem, Drawn};
+use super::shared::{by_load, spread, stem, Drawn, FigureInput};
 use crate::error::Result;
 use crate::friction::{FrictionLaw, PRESETS};
-use crate::study::{law_name, FigureInput, FigureKind, Row};
+use crate::study::{law_name, FigureKind, Row};
 
 /// What each figure is, and which figure of the paper it corresponds to.
 fn heading(kind: FigureKind) -> (&'static str, &'static str) {

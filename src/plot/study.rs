@@ -13,36 +13,15 @@ use rayon::prelude::*;
 
 use super::maps::{load_label, ClassMap, ContactMaps, RatioSnapshots};
 use super::movie::{scaled_curve, write_movie};
+use super::shared::{by_load, spread, stem, Drawn, FigureInput, Image, LOAD_COLOURS};
 use super::{coefficients, histograms};
 use super::{style, tick_label, write_figure, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Loading, Onset};
-use crate::study::{law_name, FigureInput, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
+use crate::study::{law_name, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
 
 /// A snapshot stands for a figure load when it lies within half a decade of it.
 const NEAR_DECADES: f64 = 0.5;
-
-/// Colours of the figure loads 0.1, 1, 10, 100 mN: the p(σ) curves and their lines on the
-/// friction-drop figure (dark to light, as the paper's black to yellow).
-pub(super) const LOAD_COLOURS: [RGBColor; 4] =
-    [RGBColor(25, 25, 25), RGBColor(120, 50, 160), RGBColor(215, 120, 20), RGBColor(40, 140, 190)];
-
-/// What became of one requested figure.
-pub(super) struct Drawn {
-    pub kind: FigureKind,
-    /// Files written, relative to the study directory, with what each shows.
-    pub images: Vec<Image>,
-    /// What could not be drawn, and why.
-    pub notes: Vec<String>,
-}
-
-/// One image of the report: a figure (`.png` + `.svg`) or a movie (`.gif`).
-pub(super) struct Image {
-    /// Path relative to the study directory, e.g. `figures/friction-drop.png`.
-    pub file: String,
-    pub svg: Option<String>,
-    pub caption: String,
-}
 
 /// Draw the figures of `input.figures` into `dir/figures/` (`<name>.png` + `.svg`, movies as
 /// `.gif`) and write `dir/index.html` showing them with the study's parameters and results.
@@ -62,25 +41,6 @@ pub fn render(dir: &Path, input: &FigureInput) -> Result<Vec<PathBuf>> {
     super::report::write(&page, input, &drawn)?;
     files.push(page);
     Ok(files)
-}
-
-/// The file stem of a figure.
-pub(super) fn stem(kind: FigureKind) -> &'static str {
-    match kind {
-        FigureKind::FrictionDrop => "friction-drop",
-        FigureKind::FrictionDropSharing => "friction-drop-sharing",
-        FigureKind::StaticDynamicCoefficients => "static-dynamic-coefficients",
-        FigureKind::Resolution => "resolution",
-        FigureKind::HoldTime => "hold-time",
-        FigureKind::StressRatioHistograms => "stress-ratio-histograms",
-        FigureKind::PressureDistribution => "pressure-distribution",
-        FigureKind::ContactMaps => "contact-maps",
-        FigureKind::ClassMap => "class-map",
-        FigureKind::ClassFractions => "class-fractions",
-        FigureKind::FrictionCurve => "friction-curve",
-        FigureKind::StressRatioSnapshots => "stress-ratio-snapshots",
-        FigureKind::Movies => "movies",
-    }
 }
 
 /// The snapshot nearest `target` [N] in log scale, if within [`NEAR_DECADES`].
@@ -262,29 +222,6 @@ fn note_missing(drawn: &mut Drawn, panels: &[(f64, Option<&MapSnapshot>)]) {
             drawn.notes.push(format!("no pressure map near {}: no panel", load_label(*target)));
         }
     }
-}
-
-/// The rows of one law grouped by load, in increasing load.
-pub(super) fn by_load<'a>(rows: &'a [Row], law: &str) -> Vec<(f64, Vec<&'a Row>)> {
-    let mut mine: Vec<&Row> = rows.iter().filter(|r| r.law == law).collect();
-    mine.sort_by(|a, b| a.load_n.total_cmp(&b.load_n));
-    let mut groups: Vec<(f64, Vec<&Row>)> = Vec::new();
-    for r in mine {
-        match groups.last_mut() {
-            Some((load, group)) if (r.load_n / *load - 1.0).abs() < 1e-9 => group.push(r),
-            _ => groups.push((r.load_n, vec![r])),
-        }
-    }
-    groups
-}
-
-/// (min, mean, max) of `values`.
-pub(super) fn spread(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
-    let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
-    for v in values {
-        (lo, hi, sum, n) = (lo.min(v), hi.max(v), sum + v, n + 1);
-    }
-    (lo, sum / n as f64, hi)
 }
 
 /// p(σ) of the local normal stress at the loads nearest 0.1, 1 and 10 mN (Fig. 3).
