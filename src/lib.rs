@@ -15,6 +15,7 @@ pub mod output;
 pub mod plausible;
 pub mod plot;
 pub mod quantity;
+pub mod report;
 pub mod shs;
 pub mod study;
 pub mod topography;

@@ -12,8 +12,9 @@ use asperity::contact::{
 };
 use asperity::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use asperity::plot::study::render;
+use asperity::plot::FigureInput;
 use asperity::shs::ShsPoint;
-use asperity::study::{FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, FIGURE_LOADS_N};
+use asperity::study::{FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, FIGURE_LOADS_N};
 use asperity::topography::resample::resample;
 use asperity::topography::synth::SyntheticSurface;
 use ndarray::Array2;
@@ -148,6 +149,7 @@ fn input<'a>(
         hold_time_loads: &[1e-4, 1e-3, 1e-2],
         log_density: false,
         hardness_pa: None,
+        grid: None,
         maps,
         experiments,
         figures,
@@ -351,6 +353,7 @@ fn nothing_to_draw_is_no_failure() {
         hold_time_loads: &[],
         log_density: false,
         hardness_pa: None,
+        grid: None,
         maps: &[],
         experiments: &[],
         figures: &FigureKind::ALL,
@@ -375,4 +378,43 @@ fn bad_snapshot_fractions_are_left_out_with_a_note() {
     assert_eq!(h, 60 + 60 + 2 * 400 + 150, "two rows");
     let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(html.contains("outside (0, 1] left out: [0.0, 1.5]"), "{html}");
+}
+
+/// What a referee reads in each figure (issue 37): labels that say what is drawn, a key for
+/// every colour, no literal markup, no figure-load markers among the friction drop's entries.
+#[test]
+fn figures_say_what_they_show() {
+    let s = study();
+    let dir = tempfile::tempdir().unwrap();
+    let input = input(s, &s.maps, &[], &FigureKind::ALL, &[0.5, 1.0]);
+    render(dir.path(), &input).unwrap();
+    let svg = |name: &str| std::fs::read_to_string(dir.path().join(format!("figures/{name}.svg"))).unwrap();
+
+    let drop = svg("friction-drop");
+    assert!(drop.contains("mean over the topographies") && drop.contains("range over 2 topographies"));
+    assert!(!drop.contains("p(σ) at"), "the p(σ) loads are named in the caption, not in the legend");
+    assert!(!drop.contains("μ_S/μ_D") && !drop.contains(">μ<"), "one notation for the drop");
+
+    // Both preset laws have μ^D = 0.4: one dynamic line, said to be every law's.
+    let coefficients = svg("static-dynamic-coefficients");
+    assert_eq!(coefficients.matches("every law: dynamic").count(), 1);
+    assert!(!coefficients.contains("hold 100 s: dynamic"));
+
+    let histograms = svg("stress-ratio-histograms");
+    for key in ["critical: stuck at μ", "pre-sliding: slipped, at μ", "subcritical: stuck below μ"] {
+        assert!(histograms.contains(key), "the colour key names {key:?}");
+    }
+    assert!(histograms.contains("fraction of the elements") && !histograms.contains(">tot<"));
+    assert!(histograms.contains("critical element"), "the few critical elements' bar is marked");
+
+    assert!(!svg("stress-ratio-snapshots").contains("μ^S"), "the colour bar's μ^S is typeset");
+    assert!(svg("pressure-distribution").contains("ball 0"), "p(σ) names its topography");
+    let fractions = svg("class-fractions");
+    assert!(fractions.contains("mean over 2 topographies") && fractions.contains("normal force N"));
+    assert!(svg("class-map").contains("the stress ratio of a stuck element"), "μ^0 is defined");
+
+    let report = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(report.contains("every topography solved on its own grid"));
+    assert!(report.contains("lifts this"), "the limits say what elastic sharing lifts");
+    assert!(report.contains("The lowest load with more than one element on some topography, per pixel size"));
 }

@@ -74,6 +74,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     super::stop_resumes();
     let start = Instant::now();
     let study = prepare(args.study.as_deref(), args.quick, &args.limits)?.waiting(args.wait).sharded(args.shard);
+    let experiments = asperity::report::experiments(&study)?;
 
     let bar = super::progress_bar(0, "solving", true);
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
@@ -125,6 +126,7 @@ pub fn run(args: RunArgs) -> Result<()> {
             }
         }
     })?;
+    let figures = asperity::report::write(&args.out, &outcome, &experiments)?;
     bar.finish_and_clear();
     if !outcome.left.is_empty() {
         let names: Vec<String> = outcome.left.iter().map(|p| format!("{:?}", p.display().to_string())).collect();
@@ -178,8 +180,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         "wrote {dir}/results.csv, {dir}/results.json ({} rows) and {dir}/study.toml",
         outcome.rows.len()
     ));
-    if !outcome.figures.is_empty() {
-        super::message(&format!("wrote {} figures and {dir}/index.html", outcome.figures.len()));
+    if !figures.is_empty() {
+        super::message(&format!("wrote {} figures and {dir}/index.html", figures.len()));
     }
     Ok(())
 }

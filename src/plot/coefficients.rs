@@ -5,10 +5,10 @@
 //! and against the AFM hold time (aging).
 
 use super::maps::load_label;
-use super::study::{by_load, spread, LOAD_COLOURS};
+use super::shared::{by_load, spread, FigureInput, LOAD_COLOURS};
 use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::shs::ShsPoint;
-use crate::study::{law_name, FigureInput, ResolutionRow, Row, COARSENING};
+use crate::study::{law_name, ResolutionRow, Row, COARSENING};
 
 /// A measured point belongs to the law of its hold time when the two agree within this factor.
 const HOLD_MATCH: f64 = 1.25;
@@ -121,8 +121,10 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
             x.iter().zip(&groups).map(|(&x, g)| (x, spread(g.1.iter().map(|r| r.friction_drop)).1)).collect();
         let band = if topographies > 1 { format!("{topographies} topographies") } else { "1 topography".into() };
         let modulus = if input.modulus_ratios.is_empty() { String::new() } else { ", E ± ΔE".to_string() };
-        series.push(Series::band(x.clone(), lower, upper, colour).label(format!("{name}: model, {band}{modulus}")));
-        series.push(Series::line(mean, colour));
+        series.push(
+            Series::band(x.clone(), lower, upper, colour).label(format!("{name}: model, range over {band}{modulus}")),
+        );
+        series.push(Series::line(mean, colour).label(format!("{name}: model, mean over the topographies")));
         let limit = law.drop();
         levels.push(limit);
         series.push(single_element_line(input.rows, &name, limit, (x0, x1), colour));
@@ -154,20 +156,19 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
         );
     }
     let (y0, y1) = fit(&levels);
-    // The loads of the p(σ) figure: short dashed ticks along the top, not lines like axes.
+    // The loads of the p(σ) figure: short ticks along the top, not lines like axes; named in
+    // the caption, not in the legend of the friction drop.
     let top = y1 - (y1 - y0) * 0.08;
+    let mut marked = Vec::new();
     for (k, &target) in crate::study::FIGURE_LOADS_N[..3].iter().enumerate() {
         if let Some(load) = nearest_load(input.rows, target) {
-            series.push(
-                Series::line(vec![(load * 1e3, top), (load * 1e3, y1)], LOAD_COLOURS[k])
-                    .width(4)
-                    .label(format!("p(σ) at {}", load_label(load))),
-            );
+            series.push(Series::line(vec![(load * 1e3, top), (load * 1e3, y1)], LOAD_COLOURS[k]).width(4));
+            marked.push(load_label(load));
         }
     }
     let mut panel = Panel::new(
         Axis::new("normal load N", "mN").log().range(x0, x1),
-        Axis::dimensionless("friction drop μ_S/μ_D = F_S/(μ^D N)").range(y0, y1),
+        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
     )
     .title("Friction drop vs normal load")
     // Beside the axes: the bands span the height at low loads and the ticks line the top.
@@ -191,8 +192,10 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
         "The friction drop F_S/(μ_d N) as a function of normal load (the paper's Fig. 2): per friction law, the \
          shaded band spans the values over the {topographies} topograph{}{modulus}, the line is the mean over the \
          topographies, and the dotted line is the single-element value μ_s/μ_d, drawn below the lowest load carried \
-         by more than one element.{experiments} Short ticks along the top mark the loads of the p(σ) figure.",
-        if topographies == 1 { "y" } else { "ies" }
+         by more than one element.{experiments} Short ticks along the top mark the loads of the p(σ) figure \
+         ({}), coloured as its curves.",
+        if topographies == 1 { "y" } else { "ies" },
+        marked.join(", ")
     );
     Some((Figure::new(panel).with_size(1800, 850), caption))
 }
@@ -262,7 +265,7 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
     let (y0, y1) = fit(&levels);
     let mut panel = Panel::new(
         Axis::new("normal load N", "mN").log().range(x0, x1),
-        Axis::dimensionless("friction drop μ_S/μ_D = F_S/(μ^D N)").range(y0, y1),
+        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
     )
     .title("Friction drop vs normal load: equal and elastic sharing")
     .legend_beside(480);
@@ -294,6 +297,9 @@ pub(super) fn static_dynamic(input: &FigureInput) -> Option<(Figure, String)> {
     let (x0, x1) = load_range(input);
     let mut series = Vec::new();
     let mut levels = Vec::new();
+    // Laws of one μ^D share one dynamic line: drawn per law, each would hide the others.
+    let shared_mu_d = input.laws.len() > 1 && input.laws.iter().all(|l| l.mu_d == input.laws[0].mu_d);
+    let (mut d0, mut d1) = (f64::INFINITY, 0.0f64);
     for (i, law) in input.laws.iter().enumerate() {
         let name = law_name(law);
         let groups = by_load(input.rows, &name);
@@ -311,11 +317,16 @@ pub(super) fn static_dynamic(input: &FigureInput) -> Option<(Figure, String)> {
                 .label(format!("{name}: static μ_S = F_S/N (model)")),
         );
         series.push(Series::line(x.iter().copied().zip(stats.iter().map(|s| s.1)).collect(), colour));
-        series.push(
-            Series::line(vec![(x0, law.mu_d), (x1, law.mu_d)], colour)
-                .dashed()
-                .label(format!("{name}: dynamic μ_D = μ^D = {}", tick_label(&law.mu_d))),
-        );
+        // The dynamic line spans the loads solved, not the whole axis.
+        let (first, last) = (x[0], x[x.len() - 1]);
+        (d0, d1) = (d0.min(first), d1.max(last));
+        if !shared_mu_d {
+            series.push(
+                Series::line(vec![(first, law.mu_d), (last, law.mu_d)], colour)
+                    .dashed()
+                    .label(format!("{name}: dynamic μ_D = μ^D = {}", tick_label(&law.mu_d))),
+            );
+        }
         let mine: Vec<&ShsPoint> = input.experiments.iter().filter(|p| law_of(input, p) == Some(i)).collect();
         let pick = |f: fn(&ShsPoint) -> (Option<f64>, Option<f64>)| -> (Vec<(f64, f64)>, Vec<f64>) {
             mine.iter()
@@ -339,6 +350,14 @@ pub(super) fn static_dynamic(input: &FigureInput) -> Option<(Figure, String)> {
     if series.is_empty() {
         return None;
     }
+    if shared_mu_d {
+        let mu_d = input.laws[0].mu_d;
+        series.push(
+            Series::line(vec![(d0, mu_d), (d1, mu_d)], style::GREY)
+                .dashed()
+                .label(format!("every law: dynamic μ_D = μ^D = {}", tick_label(&mu_d))),
+        );
+    }
     let (y0, y1) = fit(&levels);
     let mut panel = Panel::new(
         Axis::new("normal load N", "mN").log().range(x0, x1),
@@ -347,11 +366,13 @@ pub(super) fn static_dynamic(input: &FigureInput) -> Option<(Figure, String)> {
     .title("Static and dynamic friction coefficients vs normal load")
     .legend(LegendPosition::UpperRight);
     panel.series = series;
-    let caption = "The static friction coefficient μ_S = F_S/N (band over the topographies, line their mean) and the \
-                   dynamic one μ_D (dashed: the model's is the local μ_d at every load) against the normal load (the \
-                   paper's Fig. S1); filled circles and open squares: measured μ_S and μ_D of the law's hold time, \
-                   where the study gives measured points."
-        .to_string();
+    let shared = if shared_mu_d { " (one grey line: every law has the same μ_d)" } else { "" };
+    let caption = format!(
+        "The static friction coefficient μ_S = F_S/N (band over the topographies, line their mean) and the dynamic \
+         one μ_D (dashed{shared}: the model's is the local μ_d at every load) against the normal load (the paper's \
+         Fig. S1); filled circles and open squares: measured μ_S and μ_D of the law's hold time, where the study \
+         gives measured points."
+    );
     Some((Figure::new(panel).with_size(1400, 850), caption))
 }
 
@@ -366,6 +387,9 @@ pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
     let mut series = Vec::new();
     let mut levels = vec![law.drop()];
     let mut pixels = Vec::new();
+    // Per pixel size: its name and the lowest load with more than one element on some
+    // topography, which the caption states as the data have it.
+    let mut first_multi = Vec::new();
     for (k, factor) in std::iter::once(1).chain(COARSENING).enumerate() {
         let rows: Vec<&ResolutionRow> =
             input.resolution.iter().filter(|r| r.coarsening == factor && r.law == name).collect();
@@ -381,6 +405,17 @@ pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
         let x: Vec<f64> = loads.iter().map(|l| l * 1e3).collect();
         let pixel = rows[0].pixel_size_m;
         pixels.push(format!("{} nm", tick_label(&(pixel * 1e9))));
+        let multi = rows.iter().filter(|r| r.contact_points > 1).min_by(|a, b| a.load_n.total_cmp(&b.load_n));
+        first_multi.push(match multi {
+            Some(r) => format!(
+                "{} nm: {} ({} elements on {})",
+                tick_label(&(pixel * 1e9)),
+                load_label(r.load_n),
+                r.contact_points,
+                r.topography
+            ),
+            None => format!("{} nm: none", tick_label(&(pixel * 1e9))),
+        });
         let what = if factor == 1 { "the study's".to_string() } else { format!("{factor}× coarser") };
         let colour = RESOLUTION_COLOURS[k];
         series.push(
@@ -403,16 +438,18 @@ pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
         Axis::new("normal load N", "mN").log().range(x0, x1),
         Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
     )
-    .title(format!("Friction drop vs load at three pixel sizes ({name})"))
+    .title(format!("Friction drop vs load at {} pixel sizes ({name})", pixels.len()))
     .legend(LegendPosition::LowerLeft);
     panel.series = series;
     let caption = format!(
         "The friction drop against the normal load for the law \"{name}\" with the same topographies resampled to \
          pixels of {} (band over the topographies, line their mean). The pixel is the model's element: a coarser \
-         pixel carries more load per element, so the interface stays single-element to higher loads and the drop \
-         at a given load is higher. Results of the model hold for one pixel size; a study on another grid (such as \
-         `asperity run --quick`) gives other numbers.",
-        pixels.join(", ")
+         pixel carries more load per element, so on the whole the drop at a given load is higher; but resampling \
+         also splits and merges contact spots, so a coarser grid need not stay single-element longer. The lowest \
+         load with more than one element on some topography, per pixel size: {}. Results of the model hold for one \
+         pixel size; a study on another grid (such as `asperity run --quick`) gives other numbers.",
+        pixels.join(", "),
+        first_multi.join("; ")
     );
     Some((Figure::new(panel).with_size(1400, 850), caption))
 }

@@ -294,7 +294,27 @@ impl Panel {
         self.series.push(series);
     }
 
-    fn draw_on<DB, X, Y>(&self, area: &DrawingArea<DB, Shift>, x: X, y: Y, y_range: (f64, f64)) -> DrawResult<DB>
+    /// The width [px] kept right of the axes for a legend beside them: the width asked for, or
+    /// more where the widest entry needs it, so that no entry is cut at the figure's edge.
+    fn beside_width<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB, u32> {
+        if self.legend_beside == 0 {
+            return Ok(0);
+        }
+        let mut widest = 0;
+        for label in self.series.iter().filter_map(|s| s.label.as_ref()) {
+            widest = widest.max(typeset_width(area, label, style::LEGEND_SIZE)?);
+        }
+        // The entry's text starts 62 px right of the axes (see `draw_on`).
+        Ok(self.legend_beside.max((62 + widest + style::MARGIN as i32) as u32))
+    }
+
+    fn draw_on<DB, X, Y>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        (x, y): (X, Y),
+        y_range: (f64, f64),
+        powers: (bool, bool),
+    ) -> DrawResult<DB>
     where
         DB: DrawingBackend,
         X: AsRangedCoord<Value = f64>,
@@ -303,7 +323,7 @@ impl Panel {
         Y::CoordDescType: ValueFormatter<f64>,
     {
         let mut builder = ChartBuilder::on(area);
-        builder.margin(style::MARGIN).margin_right(style::MARGIN + self.legend_beside);
+        builder.margin(style::MARGIN).margin_right(style::MARGIN + self.beside_width(area)?);
         builder.x_label_area_size(70).y_label_area_size(105);
         if let Some(title) = &self.title {
             builder.caption(title, (style::FONT, style::TITLE_SIZE));
@@ -312,8 +332,8 @@ impl Panel {
         chart
             .configure_mesh()
             .label_style((style::FONT, style::TICK_LABEL_SIZE))
-            .x_label_formatter(&tick_label)
-            .y_label_formatter(&tick_label)
+            .x_label_formatter(&|v| if powers.0 { power_label(v) } else { tick_label(v) })
+            .y_label_formatter(&|v| if powers.1 { power_label(v) } else { tick_label(v) })
             .bold_line_style(RGBColor(220, 220, 220))
             .light_line_style(RGBColor(242, 242, 242))
             .axis_style(BLACK.stroke_width(style::LINE_WIDTH))
@@ -624,11 +644,15 @@ impl Draw for Panel {
         let (xr, yr) = (x0..x1, y0..y1);
         let log_x = || xr.clone().log_scale().with_key_points(log_ticks(x0, x1));
         let log_y = || yr.clone().log_scale().with_key_points(log_ticks(y0, y1));
+        // A log axis whose plain labels would mix notations is written in powers of ten.
+        let powers =
+            (self.x.log && mixed_notation(&log_ticks(x0, x1)), self.y.log && mixed_notation(&log_ticks(y0, y1)));
+        let r = (y0, y1);
         match (self.x.log, self.y.log) {
-            (false, false) => self.draw_on(area, xr.clone(), yr.clone(), (y0, y1)),
-            (true, false) => self.draw_on(area, log_x(), yr.clone(), (y0, y1)),
-            (false, true) => self.draw_on(area, xr.clone(), log_y(), (y0, y1)),
-            (true, true) => self.draw_on(area, log_x(), log_y(), (y0, y1)),
+            (false, false) => self.draw_on(area, (xr.clone(), yr.clone()), r, powers),
+            (true, false) => self.draw_on(area, (log_x(), yr.clone()), r, powers),
+            (false, true) => self.draw_on(area, (xr.clone(), log_y()), r, powers),
+            (true, true) => self.draw_on(area, (log_x(), log_y()), r, powers),
         }
     }
 }
@@ -850,9 +874,71 @@ pub fn tick_label(v: &f64) -> String {
     }
 }
 
+/// Whether the plain labels of `ticks` mix notations ("1e-4" beside "0.001").
+fn mixed_notation(ticks: &[f64]) -> bool {
+    let scientific = ticks.iter().filter(|t| tick_label(t).contains('e')).count();
+    scientific > 0 && scientific < ticks.len()
+}
+
+/// A tick label as a power of ten with a superscript exponent: "10⁻⁴", "2×10⁻³", "10²".
+fn power_label(v: &f64) -> String {
+    let v = *v;
+    if v == 0.0 || !v.is_finite() {
+        return tick_label(&v);
+    }
+    let mut e = v.abs().log10().floor() as i32;
+    let mut m = ((v / 10f64.powi(e)) * 1e3).round() / 1e3;
+    if m.abs() >= 10.0 {
+        (e, m) = (e + 1, m / 10.0);
+    }
+    const DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let exponent: String = e.to_string().chars().map(|c| c.to_digit(10).map_or('⁻', |d| DIGITS[d as usize])).collect();
+    if m == 1.0 {
+        format!("10{exponent}")
+    } else {
+        format!("{}×10{exponent}", tick_label(&m))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Fig. 2's loads read "1e-4, 0.001, 0.01 … 100": one axis in two notations.
+    #[test]
+    fn log_ticks_are_written_one_way() {
+        let loads = log_ticks(6e-5, 150.0);
+        assert!(mixed_notation(&loads), "{loads:?}");
+        let labels: Vec<String> = loads.iter().map(power_label).collect();
+        assert_eq!(labels, ["10⁻⁴", "10⁻³", "10⁻²", "10⁻¹", "10⁰", "10¹", "10²"]);
+        assert_eq!(power_label(&2e-3), "2×10⁻³");
+        assert_eq!(power_label(&-5e4), "-5×10⁴");
+        // Hold times of 1 s to 10⁴ s read plainly: no change there.
+        assert!(!mixed_notation(&log_ticks(0.8, 1.2e4)));
+    }
+
+    /// A legend beside the axes widens its column to its longest entry: a study's long law
+    /// names were cut at the figure's right edge.
+    #[test]
+    fn a_legend_beside_the_axes_is_not_cut() {
+        let long = "a law with a long name measured after a hold of 100 s: model, 3 topographies";
+        let mut panel = Panel::new(Axis::new("load", "mN").log(), Axis::dimensionless("drop")).legend_beside(200);
+        panel.push(Series::line(vec![(1e-3, 1.0), (1e2, 1.5)], BLACK).label(long));
+        let figure = Figure::new(panel).with_size(1200, 600);
+        let mut svg = String::new();
+        let width = {
+            let root = SVGBackend::with_string(&mut svg, (1200, 600)).into_drawing_area();
+            style::register_fonts();
+            figure.draw(&root).unwrap();
+            let width = typeset_width(&root, long, style::LEGEND_SIZE).unwrap();
+            root.present().unwrap();
+            width
+        };
+        let at = svg.find(long).expect("the entry is drawn");
+        let tag = &svg[svg[..at].rfind("<text").unwrap()..at];
+        let x: i32 = tag.split("x=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
+        assert!(x + width <= 1200, "the entry ends at {} px on a 1200 px figure", x + width);
+    }
 
     #[test]
     fn a_legend_box_hides_what_lies_under_it() {

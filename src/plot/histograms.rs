@@ -3,7 +3,7 @@
 //! the load nearest 10 mN.
 
 use super::maps::load_label;
-use super::{style, tick_label, Axis, Grid, Panel, Series};
+use super::{style, tick_label, Axis, Grid, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::error::Result;
 use crate::friction::{ElementClass, ElementLoads, FrictionLaw, Onset};
 use crate::study::MapSnapshot;
@@ -11,20 +11,13 @@ use crate::study::MapSnapshot;
 /// Bins of the subcritical ratios of a many-element interface between 0 and mu_s.
 const BINS: usize = 40;
 
-/// The fraction n^μ/n^tot of the elements at each local stress ratio μ at the critical state,
-/// by class: (class, μ, fraction); subcritical ratios binned (bin centre) when `binned`.
+/// The fraction of the elements at each local stress ratio μ at the critical state, by class:
+/// (class, μ, fraction); subcritical ratios binned (bin centre) when `binned`; subcritical
+/// first, so that the few critical elements are drawn over their neighbours.
 fn ratios(loads: &ElementLoads, onset: &Onset, binned: bool) -> Vec<(ElementClass, f64, f64)> {
     let law = &onset.law;
     let m = loads.len() as f64;
     let mut out = Vec::new();
-    for (class, mu, count) in [
-        (ElementClass::PreSliding, law.mu_d, onset.pre_sliding.count),
-        (ElementClass::Critical, law.mu_s, onset.critical.count),
-    ] {
-        if count > 0 {
-            out.push((class, mu, count as f64 / m));
-        }
-    }
     let sub: Vec<f64> = loads
         .sorted()
         .iter()
@@ -47,7 +40,24 @@ fn ratios(loads: &ElementLoads, onset: &Onset, binned: bool) -> Vec<(ElementClas
     } else {
         out.extend(sub.iter().map(|mu| (ElementClass::Subcritical, *mu, 1.0 / m)));
     }
+    for (class, mu, count) in [
+        (ElementClass::PreSliding, law.mu_d, onset.pre_sliding.count),
+        (ElementClass::Critical, law.mu_s, onset.critical.count),
+    ] {
+        if count > 0 {
+            out.push((class, mu, count as f64 / m));
+        }
+    }
     out
+}
+
+/// The colour and legend name of a class.
+fn key(class: ElementClass) -> (RGBColor, &'static str) {
+    match class {
+        ElementClass::Critical => (style::CRITICAL, "critical: stuck at μ^S"),
+        ElementClass::PreSliding => (style::PRE_SLIDING, "pre-sliding: slipped, at μ^D"),
+        _ => (style::SUBCRITICAL, "subcritical: stuck below μ^S"),
+    }
 }
 
 /// One panel of bars at the stress ratios of `loads` at its critical state.
@@ -57,25 +67,38 @@ fn panel(title: String, loads: &ElementLoads, law: &FrictionLaw, binned: bool) -
     let bars = ratios(loads, &onset, binned);
     // On the logarithmic axis of a many-element interface, bars rise from below the rarest.
     let least = bars.iter().map(|b| b.2).fold(1.0, f64::min);
-    let (lo, hi) = if binned { (least / 3.0, 2.0) } else { (0.0, 1.1) };
-    let y = Axis::dimensionless("n^μ/n^{tot}").range(lo, hi);
+    let (lo, hi) = if binned { (least / 3.0, 4.0) } else { (0.0, 1.25) };
+    let y = Axis::dimensionless("fraction of the elements").range(lo, hi);
     let mut panel = Panel::new(
         Axis::dimensionless("local stress ratio μ").range(0.0, law.mu_s * 1.12),
         if binned { y.log() } else { y },
     )
-    .title(title);
-    for (mu, name) in [(law.mu_d, "μ^D"), (law.mu_s, "μ^S")] {
-        panel.push(Series::line(vec![(mu, lo), (mu, hi)], style::GREY).dotted().width(1).label(name));
+    .title(title)
+    .legend(LegendPosition::UpperLeft);
+    for mu in [law.mu_d, law.mu_s] {
+        panel.push(Series::line(vec![(mu, lo), (mu, hi)], style::GREY).dotted().width(1));
     }
+    // The colour key: each class present named once, in the legend.
+    let mut named = Vec::new();
     for (class, mu, fraction) in bars {
-        let colour = match class {
-            ElementClass::Critical => style::CRITICAL,
-            ElementClass::PreSliding => style::PRE_SLIDING,
-            _ => style::SUBCRITICAL,
-        };
-        panel.push(
-            Series::band(vec![mu - width / 2.0, mu + width / 2.0], vec![lo; 2], vec![fraction; 2], colour).opacity(1.0),
-        );
+        let (colour, name) = key(class);
+        let bar =
+            Series::band(vec![mu - width / 2.0, mu + width / 2.0], vec![lo; 2], vec![fraction; 2], colour).opacity(1.0);
+        panel.push(if named.contains(&class) { bar } else { bar.label(name) });
+        named.push(class);
+    }
+    // A handful of critical elements among hundreds is a bar too thin to see beside the
+    // subcritical ones: a marker above it says where it is.
+    if binned && onset.critical.count > 0 {
+        let fraction = onset.critical.count as f64 / loads.len() as f64;
+        let count = onset.critical.count;
+        panel.push(Series::scatter(vec![(law.mu_s, fraction * 2.5)], Marker::Triangle, style::CRITICAL).label(
+            format!(
+                "{count} critical element{}: fraction {}",
+                if count == 1 { "" } else { "s" },
+                tick_label(&fraction)
+            ),
+        ));
     }
     panel
 }
@@ -95,12 +118,13 @@ pub(super) fn stress_ratio_histograms(snap: Option<&MapSnapshot>, law: &Friction
     }
     let caption = format!(
         "The distribution of the local stress ratio μ = τ/σ over the contact elements at the critical state (the \
-         paper's Fig. 4b–e, law μ_s = {}, μ_d = {}): n^μ/n^tot is the fraction of elements at ratio μ. (b) A single \
+         paper's Fig. 4b–e, law μ_s = {}, μ_d = {}): the bars give the fraction of the elements at ratio μ (the \
+         paper's n^μ/n^tot), coloured by class; the dotted lines mark μ_d and μ_s. (b) A single \
          element is critical at μ_s. (c) Two elements of very different normal force: the weaker has slipped \
          (pre-sliding, amber, at μ_d) when the stronger reaches μ_s (critical, brown). (d) Two elements of similar \
          force: the weaker is critical and its slip sets off the stronger, still below μ_s (subcritical, green, at \
          μ_0 = μ_s n₁/n₂). (e) The interface at the load nearest 10 mN{}, subcritical ratios in {BINS} bins, on a \
-         logarithmic axis.",
+         logarithmic axis; a triangle marks the critical elements' bar.",
         tick_label(&law.mu_s),
         tick_label(&law.mu_d),
         if snap.is_none() { " (no map near 10 mN in this study: left out)" } else { "" }

@@ -389,11 +389,12 @@ pub(super) fn colour_bar<DB: DrawingBackend>(
         .disable_mesh()
         .disable_y_axis()
         .x_labels(6)
-        .x_desc(label)
         .x_label_formatter(&|v| tick_label(v))
         .label_style((style::FONT, TICK))
-        .axis_desc_style((style::FONT, LABEL))
         .draw()?;
+    // The name typeset below the ticks: "μ^S" as a superscript, not as written.
+    let (w, h) = area.dim_in_pixel();
+    text(area, label, (w as i32 / 2, h as i32 - 18), LABEL, (HPos::Center, VPos::Center))?;
     let step = (hi - lo) / LEVELS as f64;
     chart.draw_series((0..LEVELS).map(|k| {
         let t = (k as f64 + 0.5) / LEVELS as f64;
@@ -502,7 +503,8 @@ impl Draw for ContactMaps<'_> {
             // Zoom into a contact that is small beside the window; when the contact is spread
             // but sparse, into its most loaded patch.
             let small = |v: &View| v.width().max(v.height()) < 0.15 * window.width().min(window.height());
-            let sparse = (points as f64) < 0.002 * (snap.grid.0 * snap.grid.1) as f64;
+            // Under 1 % of the window in contact (the paper's insets at 0.1, 1 and 10 mN).
+            let sparse = (points as f64) < 0.01 * (snap.grid.0 * snap.grid.1) as f64;
             let zoom = Some(View::contact(snap))
                 .filter(small)
                 .or_else(|| Some(View::main_patch(snap)).filter(|v| sparse && small(v)));
@@ -536,10 +538,8 @@ fn inset<DB: DrawingBackend>(
         (p.0 - base.0, p.1 - base.1)
     };
     let ((fx0, fy0), (fx1, fy1)) = (at(frame.x.0, frame.y.1), at(frame.x.1, frame.y.0));
-    let side = (((fx1 - fx0).min(fy1 - fy0)) as f64 * 0.42) as i32;
-    let pad = 8;
     let centre = at(0.5 * (zoom.x.0 + zoom.x.1), 0.5 * (zoom.y.0 + zoom.y.1));
-    // Drawn pixels (screen) of the layer, to count what each corner would hide.
+    // Drawn pixels (screen) of the layer, to count what each place would hide.
     let (dx, dy) = layer.pixel;
     let drawn: Vec<(i32, i32)> = layer
         .values
@@ -547,20 +547,7 @@ fn inset<DB: DrawingBackend>(
         .filter(|(_, v)| !v.is_nan())
         .map(|((r, c), _)| at((layer.origin.1 + c) as f64 * dx + 0.5 * dx, (layer.origin.0 + r) as f64 * dy + 0.5 * dy))
         .collect();
-    let corners = [
-        (fx0 + pad, fy0 + pad),
-        (fx1 - side - pad, fy0 + pad),
-        (fx0 + pad, fy1 - side - pad),
-        (fx1 - side - pad, fy1 - side - pad),
-    ];
-    let hidden = |(l, t): (i32, i32)| {
-        drawn.iter().filter(|(x, y)| (l - 12..l + side + 12).contains(x) && (t - 12..t + side + 12).contains(y)).count()
-    };
-    let far = |(l, t): (i32, i32)| -(((l + side / 2 - centre.0) as f64).hypot((t + side / 2 - centre.1) as f64));
-    let (left, top) = corners
-        .into_iter()
-        .min_by(|a, b| hidden(*a).cmp(&hidden(*b)).then(far(*a).total_cmp(&far(*b))))
-        .expect("four corners");
+    let ((left, top), side) = place_inset((fx0, fy0, fx1, fy1), &drawn, centre);
     let screen = plotting.strip_coord_spec();
 
     // The zoomed region on the main map, at least 14 px wide so that it is seen.
@@ -586,9 +573,82 @@ fn inset<DB: DrawingBackend>(
     let length = scale_bar_length(zoom.width());
     let (ls, lu) = prefixed(length, "m");
     let bar_px = (length / zoom.width() * side as f64).round() as i32;
-    area.draw(&Rectangle::new([(6, side - 52), (bar_px.max(60) + 20, side - 8)], WHITE.mix(0.85).filled()))?;
-    area.draw(&Rectangle::new([(12, side - 22), (12 + bar_px, side - 16)], BLACK.filled()))?;
-    text(&area, &format!("{} {lu}", tick_label(&(length * ls))), (12, side - 28), TICK, (HPos::Left, VPos::Bottom))
+    // The scale bar in the inset's corner that hides the fewest zoomed pixels.
+    let zbase = area.get_base_pixel();
+    let zoomed: Vec<(i32, i32)> = layer
+        .values
+        .indexed_iter()
+        .filter(|(_, v)| !v.is_nan())
+        .map(|((r, c), _)| {
+            let p = zchart.backend_coord(&(
+                (layer.origin.1 + c) as f64 * dx + 0.5 * dx,
+                (layer.origin.0 + r) as f64 * dy + 0.5 * dy,
+            ));
+            (p.0 - zbase.0, p.1 - zbase.1)
+        })
+        .collect();
+    let (bw, bh) = (bar_px.max(60) + 14, 44);
+    let (bx, by) = scale_bar_corner((side, side), (bw, bh), &zoomed, dx / zoom.width() * side as f64);
+    area.draw(&Rectangle::new([(bx, by), (bx + bw, by + bh)], WHITE.mix(0.85).filled()))?;
+    area.draw(&Rectangle::new([(bx + 6, by + bh - 14), (bx + 6 + bar_px, by + bh - 8)], BLACK.filled()))?;
+    let label = format!("{} {lu}", tick_label(&(length * ls)));
+    text(&area, &label, (bx + 6, by + bh - 20), TICK, (HPos::Left, VPos::Bottom))
+}
+
+/// How many of the pixels centred at `drawn` [px], each `pixel` px wide, a box (left, top,
+/// width, height) [px] would touch.
+fn covered(drawn: &[(i32, i32)], (l, t, w, h): (i32, i32, i32, i32), pixel: i32) -> usize {
+    let half = pixel / 2 + 1;
+    drawn.iter().filter(|(x, y)| *x + half > l && *x - half < l + w && *y + half > t && *y - half < t + h).count()
+}
+
+/// The corner (left, top) [px] of a `size` inset for the scale bar box `(w, h)` that touches the
+/// fewest of the inset's `drawn` pixels (`pixel` px wide): bottom left first.
+fn scale_bar_corner((iw, ih): (i32, i32), (w, h): (i32, i32), drawn: &[(i32, i32)], pixel: f64) -> (i32, i32) {
+    let corners = [(4, ih - h - 4), (iw - w - 4, ih - h - 4), (4, 4), (iw - w - 4, 4)];
+    let pixel = pixel.ceil() as i32;
+    corners.into_iter().min_by_key(|&(l, t)| covered(drawn, (l, t, w, h), pixel)).expect("four corners")
+}
+
+/// Where an inset goes inside the frame (x0, y0, x1, y1) [px] of a map whose drawn pixels are
+/// at `drawn` [px]: ((left, top), side) of the largest square, from 42 % of the frame's
+/// smaller side down to 24 %, with a place that hides none of them (12 px kept clear) — a
+/// corner first, then along the edges and inside, the farthest from `centre` (the zoomed
+/// region) among equals; where every place hides some, the one hiding the fewest.
+fn place_inset((x0, y0, x1, y1): (i32, i32, i32, i32), drawn: &[(i32, i32)], centre: (i32, i32)) -> ((i32, i32), i32) {
+    const PAD: i32 = 8;
+    const CLEAR: i32 = 12;
+    const STEPS: i32 = 6;
+    let mut best: Option<(usize, (i32, i32), i32)> = None;
+    for share in [0.42, 0.36, 0.30, 0.24] {
+        let side = ((x1 - x0).min(y1 - y0) as f64 * share) as i32;
+        let (free_x, free_y) = ((x1 - x0 - side - 2 * PAD).max(0), (y1 - y0 - side - 2 * PAD).max(0));
+        let mut places: Vec<(i32, i32)> = Vec::new();
+        for i in 0..=STEPS {
+            for j in 0..=STEPS {
+                places.push((x0 + PAD + free_x * i / STEPS, y0 + PAD + free_y * j / STEPS));
+            }
+        }
+        let corner = |&(l, t): &(i32, i32)| {
+            let edge = |v: i32, lo: i32, free: i32| v == lo + PAD || v == lo + PAD + free;
+            edge(l, x0, free_x) && edge(t, y0, free_y)
+        };
+        let far = |(l, t): (i32, i32)| -(((l + side / 2 - centre.0) as f64).hypot((t + side / 2 - centre.1) as f64));
+        let hides = |(l, t): (i32, i32)| covered(drawn, (l - CLEAR, t - CLEAR, side + 2 * CLEAR, side + 2 * CLEAR), 0);
+        let place = places
+            .into_iter()
+            .min_by(|a, b| hides(*a).cmp(&hides(*b)).then(corner(b).cmp(&corner(a))).then(far(*a).total_cmp(&far(*b))))
+            .expect("places on the grid");
+        let h = hides(place);
+        if h == 0 {
+            return (place, side);
+        }
+        if best.is_none_or(|b| h < b.0) {
+            best = Some((h, place, side));
+        }
+    }
+    let (_, place, side) = best.expect("four sizes tried");
+    (place, side)
 }
 
 /// Element classes at the critical state (Fig. 4f): critical, pre-sliding and subcritical
@@ -669,6 +729,7 @@ impl Draw for ClassMap<'_> {
         let notes = [
             format!("{} elements, F_S/N = {:.4}", onset.elements, onset.static_coefficient()),
             format!("friction drop F_S/(μ^D N) = {:.4}", onset.friction_drop()),
+            "μ^0: the stress ratio of a stuck element".to_string(),
             if onset.critical.count <= 50 { "critical elements ringed".to_string() } else { String::new() },
         ];
         for (k, note) in notes.iter().enumerate() {
@@ -769,6 +830,34 @@ pub(super) fn ratio_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, law: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An inset hides no contact where some place can: contact in all four corners of the
+    /// frame (the 4f inset covered a patch in a user's study) leaves it to an edge or a smaller
+    /// size.
+    #[test]
+    fn insets_are_placed_off_the_contact() {
+        let frame = (0, 0, 600, 600);
+        let mut drawn = Vec::new();
+        for (x, y) in [(40, 40), (560, 40), (40, 560), (560, 560), (300, 300)] {
+            for d in 0..20 {
+                drawn.extend([(x + d - 10, y), (x, y + d - 10)]);
+            }
+        }
+        let ((l, t), side) = place_inset(frame, &drawn, (300, 300));
+        assert!(side >= 100 && l >= 0 && t >= 0 && l + side <= 600 && t + side <= 600, "{l} {t} {side}");
+        assert_eq!(covered(&drawn, (l - 12, t - 12, side + 24, side + 24), 0), 0, "{l} {t} {side}");
+        // A free corner is taken first, at the largest size.
+        // (the top left corner's contact only).
+        let few = &drawn[..40];
+        let ((l, t), side) = place_inset(frame, few, (300, 300));
+        assert_eq!(side, 252);
+        assert_eq!(covered(few, (l - 12, t - 12, side + 24, side + 24), 0), 0, "{l} {t}");
+        assert!(l == 340 || t == 340, "a corner away from the contact: {l} {t}");
+        // The scale bar goes to a corner of the inset its box leaves clear.
+        let inset_pixels = [(20, 230), (230, 230)];
+        let (bx, by) = scale_bar_corner((252, 252), (80, 44), &inset_pixels, 10.0);
+        assert_eq!(covered(&inset_pixels, (bx, by, 80, 44), 10), 0, "{bx} {by}");
+    }
 
     #[test]
     fn percentages_keep_two_digits() {

@@ -12,6 +12,7 @@ mod histograms;
 mod maps;
 mod movie;
 mod report;
+mod shared;
 pub mod study;
 pub mod style;
 
@@ -22,6 +23,7 @@ use plotters::prelude::*;
 pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Grid, Marker, Panel, Series, Shape};
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;
+pub use shared::FigureInput;
 
 use crate::error::{Error, Result};
 

@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::maps::load_label;
-use super::study::{by_load, spread, stem, Drawn};
+use super::shared::{by_load, spread, stem, Drawn, FigureInput};
 use crate::error::Result;
 use crate::friction::{FrictionLaw, PRESETS};
-use crate::study::{law_name, FigureInput, FigureKind, Row};
+use crate::study::{law_name, FigureKind, Row};
 
 /// What each figure is, and which figure of the paper it corresponds to.
 fn heading(kind: FigureKind) -> (&'static str, &'static str) {
@@ -122,9 +122,18 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
     results(w, input);
     laws(w, input);
     limits(w);
+    // A topography's own `grid` is its size before resampling; say what the solves ran on.
+    let solved = match input.grid {
+        Some((nx, ny)) => format!(
+            "every topography resampled to the contact grid {nx} × {ny} (<code>[contact] grid</code>) and solved \
+             there; a topography's own <code>grid</code> below is its size before resampling"
+        ),
+        None => "every topography solved on its own grid".to_string(),
+    };
     let _ = writeln!(
         w,
-        "<h2 id=\"parameters\">Parameters</h2>\n<p>The study as run (<code>study.toml</code>):</p>\n<pre>{}</pre>",
+        "<h2 id=\"parameters\">Parameters</h2>\n<p>The study as run (<code>study.toml</code>): {solved}.</p>\n\
+         <pre>{}</pre>",
         escape(input.parameters)
     );
 
@@ -221,7 +230,10 @@ fn limits(w: &mut String) {
         "<h2 id=\"limits\">Limits of the model</h2>\n<ul>\n\
          <li>No elastic interaction between contact points: the tangential force is shared equally by the \
          stuck elements (a fibre bundle with equal load sharing), as the paper argues for patches far apart \
-         beside their deformation; it may fail at high loads where patches come close.</li>\n\
+         beside their deformation; it may fail at high loads where patches come close. A study listing \
+         <code>sharing = [\"elastic\"]</code> under <code>[model]</code> lifts this: the tangential force is then \
+         shared through the elastic half-space (the body displaced rigidly along x); it keeps the other limits \
+         below (the same pressure maps and contact area, no partial slip inside an element).</li>\n\
          <li>No Mindlin tangential compliance: an element is stuck or slipping, with no partial slip inside a \
          patch.</li>\n\
          <li>The contact area and the normal pressure stay fixed during sliding.</li>\n\

@@ -13,36 +13,15 @@ use rayon::prelude::*;
 
 use super::maps::{load_label, ClassMap, ContactMaps, RatioSnapshots};
 use super::movie::{scaled_curve, write_movie};
+use super::shared::{by_load, spread, stem, Drawn, FigureInput, Image, LOAD_COLOURS};
 use super::{coefficients, histograms};
 use super::{style, tick_label, write_figure, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::error::{Error, Result};
 use crate::friction::{ElementLoads, FrictionLaw, Loading, Onset};
-use crate::study::{law_name, FigureInput, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
+use crate::study::{law_name, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
 
 /// A snapshot stands for a figure load when it lies within half a decade of it.
 const NEAR_DECADES: f64 = 0.5;
-
-/// Colours of the figure loads 0.1, 1, 10, 100 mN: the p(σ) curves and their lines on the
-/// friction-drop figure (dark to light, as the paper's black to yellow).
-pub(super) const LOAD_COLOURS: [RGBColor; 4] =
-    [RGBColor(25, 25, 25), RGBColor(120, 50, 160), RGBColor(215, 120, 20), RGBColor(40, 140, 190)];
-
-/// What became of one requested figure.
-pub(super) struct Drawn {
-    pub kind: FigureKind,
-    /// Files written, relative to the study directory, with what each shows.
-    pub images: Vec<Image>,
-    /// What could not be drawn, and why.
-    pub notes: Vec<String>,
-}
-
-/// One image of the report: a figure (`.png` + `.svg`) or a movie (`.gif`).
-pub(super) struct Image {
-    /// Path relative to the study directory, e.g. `figures/friction-drop.png`.
-    pub file: String,
-    pub svg: Option<String>,
-    pub caption: String,
-}
 
 /// Draw the figures of `input.figures` into `dir/figures/` (`<name>.png` + `.svg`, movies as
 /// `.gif`) and write `dir/index.html` showing them with the study's parameters and results.
@@ -62,25 +41,6 @@ pub fn render(dir: &Path, input: &FigureInput) -> Result<Vec<PathBuf>> {
     super::report::write(&page, input, &drawn)?;
     files.push(page);
     Ok(files)
-}
-
-/// The file stem of a figure.
-pub(super) fn stem(kind: FigureKind) -> &'static str {
-    match kind {
-        FigureKind::FrictionDrop => "friction-drop",
-        FigureKind::FrictionDropSharing => "friction-drop-sharing",
-        FigureKind::StaticDynamicCoefficients => "static-dynamic-coefficients",
-        FigureKind::Resolution => "resolution",
-        FigureKind::HoldTime => "hold-time",
-        FigureKind::StressRatioHistograms => "stress-ratio-histograms",
-        FigureKind::PressureDistribution => "pressure-distribution",
-        FigureKind::ContactMaps => "contact-maps",
-        FigureKind::ClassMap => "class-map",
-        FigureKind::ClassFractions => "class-fractions",
-        FigureKind::FrictionCurve => "friction-curve",
-        FigureKind::StressRatioSnapshots => "stress-ratio-snapshots",
-        FigureKind::Movies => "movies",
-    }
 }
 
 /// The snapshot nearest `target` [N] in log scale, if within [`NEAR_DECADES`].
@@ -161,8 +121,9 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                 let caption = format!(
                     "The state of every contact element at the critical state (the peak of the friction force) \
                      at N = {}, for the law \"{}\" (the paper's Fig. 4f): critical elements stuck at μ_s (brown), \
-                     pre-sliding elements already slipped, at μ_d (amber), subcritical elements stuck below μ_s \
-                     (green); zoomed to the contact region.",
+                     pre-sliding elements already slipped, at μ_d (amber), subcritical elements stuck below μ_s, \
+                     at μ_0 = μ_s n_c/n for an element of normal force n when the critical ones carry n_c (green); \
+                     zoomed to the contact region, the inset placed where it hides no contact if it can.",
                     load_label(snap.load_n),
                     law_name(law)
                 );
@@ -263,29 +224,6 @@ fn note_missing(drawn: &mut Drawn, panels: &[(f64, Option<&MapSnapshot>)]) {
     }
 }
 
-/// The rows of one law grouped by load, in increasing load.
-pub(super) fn by_load<'a>(rows: &'a [Row], law: &str) -> Vec<(f64, Vec<&'a Row>)> {
-    let mut mine: Vec<&Row> = rows.iter().filter(|r| r.law == law).collect();
-    mine.sort_by(|a, b| a.load_n.total_cmp(&b.load_n));
-    let mut groups: Vec<(f64, Vec<&Row>)> = Vec::new();
-    for r in mine {
-        match groups.last_mut() {
-            Some((load, group)) if (r.load_n / *load - 1.0).abs() < 1e-9 => group.push(r),
-            _ => groups.push((r.load_n, vec![r])),
-        }
-    }
-    groups
-}
-
-/// (min, mean, max) of `values`.
-pub(super) fn spread(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
-    let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
-    for v in values {
-        (lo, hi, sum, n) = (lo.min(v), hi.max(v), sum + v, n + 1);
-    }
-    (lo, sum / n as f64, hi)
-}
-
 /// p(σ) of the local normal stress at the loads nearest 0.1, 1 and 10 mN (Fig. 3).
 fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
     let maps: Vec<(usize, &MapSnapshot)> =
@@ -302,13 +240,14 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
         Axis::new("local normal stress σ", &unit).range(0.0, reach * scale * 1.04),
         if input.log_density { density_axis.log() } else { density_axis },
     )
-    .title("Distribution of the local normal stress")
+    .title(format!("Distribution of the local normal stress on {}", maps[0].1.topography))
     .legend(LegendPosition::UpperRight);
     // One set of bins for every load, so that the curves compare bin by bin.
     let smallest = maps.iter().map(|(_, m)| m.pressure.iter().filter(|p| **p > 0.0).count()).min().unwrap_or(0);
     let bins = ((smallest as f64).sqrt().round() as usize).clamp(12, 40);
     let width = max / bins as f64;
     let mut top = 0.0f64;
+    let topography = maps[0].1.topography.clone();
     for (k, snap) in maps {
         let contact: Vec<f64> = snap.pressure.iter().copied().filter(|p| *p > 0.0).collect();
         let mut counts = vec![0usize; bins];
@@ -339,10 +278,12 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
                 .label(format!("hardness H = {} {unit}", crate::quantity::human(h * scale))),
         );
     }
-    let caption = "The probability density p(σ) of the local normal stress σ over the contact elements at the loads \
-                   nearest 0.1, 1 and 10 mN (the paper's Fig. 3), as histograms on common bins: discrete at low \
-                   load (a few elements), continuous at high load."
-        .to_string();
+    let caption = format!(
+        "The probability density p(σ) of the local normal stress σ over the contact elements of the topography \
+         \"{}\" (the study's first) at the loads nearest 0.1, 1 and 10 mN (the paper's Fig. 3), as histograms on \
+         common bins: discrete at low load (a few elements), continuous at high load.",
+        topography
+    );
     Some((Figure::new(panel).with_size(1200, 800), caption))
 }
 
@@ -356,7 +297,11 @@ fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
     }
     let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
     let mut panel = Panel::new(Axis::new("normal load N", "mN").log(), Axis::dimensionless("fraction").range(0.0, 1.0))
-        .title(format!("Force carried per element class at the critical state ({name})"))
+        .title(format!(
+            "Force carried per element class at the critical state ({name}; mean over {} topograph{})",
+            input.topographies.len(),
+            if input.topographies.len() == 1 { "y" } else { "ies" }
+        ))
         .legend_beside(330);
     type Pick = fn(&Row) -> f64;
     let classes: [(&str, RGBColor, Pick, Pick); 3] = [
@@ -370,14 +315,17 @@ fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
         };
         let n = mean(normal);
         panel.push(Series::scatter(n.clone(), Marker::Circle, colour));
-        panel.push(Series::line(n, colour).width(3).label(format!("{class}: N^μ/N")));
-        panel.push(Series::line(mean(friction), colour).width(3).dashed().label(format!("{class}: F_f^μ/F_f")));
+        panel.push(Series::line(n, colour).width(3).label(format!("{class}: normal force N^μ/N")));
+        panel.push(
+            Series::line(mean(friction), colour).width(3).dashed().label(format!("{class}: friction force F_S^μ/F_S")),
+        );
     }
     let topographies = input.topographies.len();
     let caption = format!(
         "The fraction of the normal load N (solid) and of the static friction force F_S (dashed) carried by \
          critical (brown), pre-sliding (amber) and subcritical (green) elements at the critical state, against the \
-         normal load, for the law \"{name}\" (the paper's Fig. 4g); mean over the {topographies} topograph{}.",
+         normal load, for the law \"{name}\" (the paper's Fig. 4g): N^μ and F_S^μ are the normal and the friction \
+         force carried by the elements of class μ (the paper's F_f^μ); mean over the {topographies} topograph{}.",
         if topographies == 1 { "y" } else { "ies" }
     );
     Some((Figure::new(panel).with_size(1450, 800), caption))
@@ -399,8 +347,9 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
     )
     .title(format!("Friction vs displacement at N = {} ({} elements)", load_label(snap.load_n), onset.elements))
     .legend(LegendPosition::UpperRight);
-    panel.push(Series::line(vec![(0.0, law.mu_s), (end, law.mu_s)], style::GREY).dotted().label("local μ^S"));
-    panel.push(Series::line(vec![(0.0, law.mu_d), (end, law.mu_d)], style::GREY).dotted().label("local μ^D"));
+    // The local coefficients in the colours of the classes that sit at them.
+    panel.push(Series::line(vec![(0.0, law.mu_s), (end, law.mu_s)], style::CRITICAL).dotted().label("local μ^S"));
+    panel.push(Series::line(vec![(0.0, law.mu_d), (end, law.mu_d)], style::PRE_SLIDING).dashed().label("local μ^D"));
     panel.push(Series::line(rigid, style::PALETTE[2]).width(2).dashed().label("rigid displacement control"));
     panel.push(Series::line(els, style::PALETTE[0]).width(3).label("equal load sharing (the model)"));
     panel.push(
@@ -412,7 +361,9 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
         "The macroscopic friction coefficient F/N against the imposed displacement δ (in units of δ_peak, the \
          displacement at the peak) at N = {} for the law \"{}\" (the paper's Fig. 4a): the model's equal load \
          sharing (solid), the peak circled (the critical state, F_S/N = {:.4}), and rigid displacement control \
-         without redistribution (dashed), which peaks at the same F_S; dotted: the local μ_s and μ_d.",
+         without redistribution (dashed, blue), which peaks at the same F_S; the local μ_s (brown, dotted) and μ_d \
+         (amber, dashed). The study gives the elements no tangential stiffness k_t, so δ has no length here and \
+         is drawn in units of δ_peak (`asperity onset --shear-stiffness` gives δ = s/k_t in metres).",
         load_label(snap.load_n),
         law_name(law),
         peak

@@ -41,9 +41,9 @@ const MAD_TO_SIGMA: f64 = 1.4826;
 const STAGE_STOPPED: f64 = 0.1;
 /// … and moving again above this one.
 const STAGE_MOVING: f64 = 0.5;
-/// The largest friction coefficient a trace may yield: beyond it a force column is in the wrong
-/// unit or the wrong column.
-pub const MAX_COEFFICIENT: f64 = 10.0;
+/// The largest friction coefficient a trace may yield (the one bound of every coefficient):
+/// beyond it a force column is in the wrong unit or the wrong column.
+const MAX_COEFFICIENT: f64 = crate::plausible::MAX_FRICTION_COEFFICIENT;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum State {

@@ -32,7 +32,13 @@ pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) ->
         Axis::new("friction force", &f_unit).range(-0.05 * top, top),
     )
     .legend(LegendPosition::UpperRight);
-    let mut normal = Panel::new(Axis::new("time", "s"), Axis::new("normal force", &n_unit));
+    // From zero: a nearly constant normal force on an axis fitted to it read "1, 1, 1, 1, 1".
+    let (n_lo, n_hi) = trace.normal().iter().fold((0.0f64, 0.0f64), |(a, b), &n| (a.min(n), b.max(n)));
+    let mut normal_axis = Axis::new("normal force", &n_unit);
+    if n_hi > n_lo {
+        normal_axis = normal_axis.range(1.15 * n_lo * n_scale, 1.15 * n_hi * n_scale);
+    }
+    let mut normal = Panel::new(Axis::new("time", "s"), normal_axis);
 
     let label_once = |s: Series, first: bool, label: String| if first { s.label(label) } else { s };
     let mut labelled = vec![false; analysis.groups.len().max(1)];

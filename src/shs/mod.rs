@@ -23,7 +23,6 @@ mod points;
 mod trace;
 
 pub use crate::quantity::seconds_per;
-pub use detect::MAX_COEFFICIENT;
 pub use figure::trace_figure;
 pub use points::{read_points, write_points, ShsPoint};
 pub use trace::{read_trace, Trace, TraceFormat, DISPLACEMENT_COLUMN};

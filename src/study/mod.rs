@@ -19,7 +19,6 @@ use serde::{Deserialize, Serialize};
 use crate::contact::{ContactSummary, SolveReport};
 use crate::error::{Error, Result};
 use crate::friction::{ClassShare, ElasticOnset, FrictionLaw, Onset};
-use crate::shs::ShsPoint;
 
 /// How the tangential force is shared among the contact elements at the onset of sliding.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -472,41 +471,41 @@ impl ResolutionRow {
 /// a [`MapSnapshot`] of its first topography at the swept load nearest to each (in log scale).
 pub const FIGURE_LOADS_N: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
-/// Everything the study's figures and report are drawn from.
-pub struct FigureInput<'a> {
+/// What a study records for its figures and report: its rows, maps and parameters as run. The
+/// study writes them and stops; the layer above it draws from them (see [`crate::report`]).
+#[derive(Debug)]
+pub struct Records {
     /// The result rows under equal sharing (the paper's model), which every figure but the
     /// sharing comparison draws.
-    pub rows: &'a [Row],
+    pub rows: Vec<Row>,
     /// The result rows under elastic sharing (empty unless the study asks for them).
-    pub elastic_rows: &'a [Row],
+    pub elastic_rows: Vec<Row>,
     /// Topography names, in the study's order.
-    pub topographies: &'a [String],
+    pub topographies: Vec<String>,
     /// Friction laws, in the study's order; maps, curves and movies use the first.
-    pub laws: &'a [FrictionLaw],
+    pub laws: Vec<FrictionLaw>,
     /// The hold time [s] of each law, where known (matches measured points to laws).
-    pub hold_times: &'a [Option<f64>],
-    /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only):
-    /// by linear elasticity drop(N; E*) = drop(N·E*₀/E*; E*₀).
-    pub modulus_ratios: &'a [f64],
+    pub hold_times: Vec<Option<f64>>,
+    /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only).
+    pub modulus_ratios: Vec<f64>,
     /// The resolution study's rows (empty when it was not asked for).
-    pub resolution: &'a [ResolutionRow],
+    pub resolution: Vec<ResolutionRow>,
     /// Loads [N] of the hold-time figure.
-    pub hold_time_loads: &'a [f64],
+    pub hold_time_loads: Vec<f64>,
     /// p(σ) on a logarithmic density axis.
     pub log_density: bool,
     /// The hardness [Pa] marked on p(σ), when the study sets one.
     pub hardness_pa: Option<f64>,
+    /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
+    pub grid: Option<(usize, usize)>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].
-    pub maps: &'a [MapSnapshot],
-    /// Measured points to overlay on the friction-drop figure (may be empty).
-    pub experiments: &'a [ShsPoint],
+    pub maps: Vec<MapSnapshot>,
     /// Which figures to draw.
-    pub figures: &'a [FigureKind],
+    pub figures: Vec<FigureKind>,
     /// δ/δ_peak of the stress-ratio snapshots.
-    pub snapshot_fractions: &'a [f64],
-    /// The study's parameters as run (the study file written beside the results), shown in
-    /// the report.
-    pub parameters: &'a str,
+    pub snapshot_fractions: Vec<f64>,
+    /// The study's parameters as run (the study file written beside the results).
+    pub parameters: String,
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! The study runner: every topography at every load (elastic contact), every friction law on
-//! every solve (the stick-slip model), the results table, the maps behind the figures, and the
-//! figures.
+//! every solve (the stick-slip model), the results table and the maps behind the figures; the
+//! figures and the report are drawn from its [`Records`] by the layer above (`crate::report`).
 //!
 //! [`Study::prepare`] reads every file and builds every topography and law before anything is
 //! solved, so a bad input fails at once. [`Study::run`] then solves the topographies in
@@ -17,7 +17,8 @@
 //!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order);
 //! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for (a plastic
 //!   sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
-//! - `figures/`, `index.html`: the figures and their report;
+//! - `figures/`, `index.html`: the figures and their report, written by `crate::report` while
+//!   the run's results lock is held (see [`Outcome::records`]);
 //! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, the ledger
 //!   `written.jsonl` of every file the runs wrote in DIR ([`output::Ledger`]; `fresh` removes
 //!   those and nothing else), and below
@@ -64,9 +65,7 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::shard::{self, Piece, Shard};
-use super::{
-    FigureInput, FigureKind, MapSnapshot, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N,
-};
+use super::{FigureKind, MapSnapshot, Records, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N};
 use crate::contact::{
     self, ContactSolver, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
@@ -74,7 +73,6 @@ use crate::error::{Error, Result};
 use crate::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use crate::limits::Limits;
 use crate::output::{self, Access, Ledger, Lock};
-use crate::shs::{read_points, ShsPoint};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
 use crate::topography::resample::resample;
@@ -110,7 +108,6 @@ pub struct Study {
     hold_times: Vec<Option<f64>>,
     /// Loads [N], ascending.
     loads: Vec<f64>,
-    experiments: Vec<ShsPoint>,
     /// Wait for work another process holds, instead of refusing it.
     wait: bool,
     /// Solve only this shard's share, and write no table or figures.
@@ -156,13 +153,16 @@ pub struct Outcome {
     /// finished (and recorded) before it stopped.
     pub onsets: usize,
     pub onsets_resumed: usize,
-    /// Figures and report written.
-    pub figures: Vec<PathBuf>,
+    /// What the figures and the report are drawn from; none for a shard.
+    pub records: Option<Records>,
     /// Plausibility warnings ([`super::warnings`]), also in the report.
     pub warnings: Vec<String>,
     /// With `fresh`: the files DIR held that no run wrote (put there by hand), kept; relative
     /// to DIR.
     pub left: Vec<PathBuf>,
+    /// The results lock, held until the outcome is dropped: the figures drawn from `records`
+    /// are written under it, as the table is.
+    _results: Option<Lock>,
 }
 
 /// What the workers of a run count.
@@ -269,10 +269,6 @@ impl Study {
                 }
             }
         }
-        let experiments = match &config.output.experiments {
-            Some(path) => read_points(path).map_err(|e| at("output.experiments", e))?,
-            None => Vec::new(),
-        };
         let loads = config.load_values();
         for (name, topo) in &topographies {
             let size = topo.physical_size.expect("a built topography has a size");
@@ -292,7 +288,6 @@ impl Study {
             laws,
             hold_times,
             loads,
-            experiments,
             wait: false,
             shard: None,
         })
@@ -318,6 +313,11 @@ impl Study {
     }
 
     /// The study as it runs: paths absolute, loads explicit.
+    /// Names the study in errors: its file, or "default study".
+    pub fn origin(&self) -> &str {
+        &self.origin
+    }
+
     pub fn config(&self) -> &StudyConfig {
         &self.config
     }
@@ -435,13 +435,14 @@ impl Study {
                 resumed,
                 onsets,
                 onsets_resumed,
-                figures: Vec::new(),
+                records: None,
                 warnings: Vec::new(),
                 left,
+                _results: None,
             });
         }
 
-        let _results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
+        let results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
         output::remove_stale_temporaries(dir)?;
         output::remove_stale_temporaries(&dir.join("figures"))?;
         let rows = self.rows(dir, 0..self.topographies.len())?;
@@ -479,26 +480,36 @@ impl Study {
         let shown = |sharing: Sharing| -> Vec<Row> {
             rows.iter().filter(|r| r.plastic == first && r.sharing == sharing).cloned().collect()
         };
-        let input = FigureInput {
-            rows: &shown(Sharing::Equal),
-            elastic_rows: &shown(Sharing::Elastic),
-            topographies: &names,
-            laws: &self.laws,
-            hold_times: &self.hold_times,
-            modulus_ratios: &self.modulus_ratios(),
-            resolution: &resolution,
-            hold_time_loads: &hold_time_loads,
+        let records = Records {
+            rows: shown(Sharing::Equal),
+            elastic_rows: shown(Sharing::Elastic),
+            topographies: names,
+            laws: self.laws.clone(),
+            hold_times: self.hold_times.clone(),
+            modulus_ratios: self.modulus_ratios(),
+            resolution,
+            hold_time_loads,
             log_density: self.config.output.log_density,
             hardness_pa: self.config.hardness(),
-            maps: &maps,
-            experiments: &self.experiments,
-            figures: &self.config.output.figures,
-            snapshot_fractions: &self.config.output.snapshot_fractions,
-            parameters: &parameters,
+            grid: self.config.contact.grid,
+            maps,
+            figures: self.config.output.figures.clone(),
+            snapshot_fractions: self.config.output.snapshot_fractions.clone(),
+            parameters,
         };
-        let figures = crate::plot::study::render(dir, &input)?;
         let warnings = super::study_warnings(&rows, &self.config);
-        Ok(Outcome { rows, share, solved, resumed, onsets, onsets_resumed, figures, warnings, left })
+        Ok(Outcome {
+            rows,
+            share,
+            solved,
+            resumed,
+            onsets,
+            onsets_resumed,
+            records: Some(records),
+            warnings,
+            left,
+            _results: results,
+        })
     }
 
     /// The study as run, as a study file.
