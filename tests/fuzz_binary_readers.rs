@@ -358,6 +358,9 @@ fn plu_survives_mutation() {
     // Pixel sizes, the measurement type, layer and image counts, the layer's ny and nx.
     let fields = vec![404, 408, 428, 488, 492, 500, 504];
     fuzz("plu-1.plu", "plu", Header::Binary(508, fields, |_| {}));
+}
+
+#[test]
 fn frt_survives_mutation() {
     // The block count, the grid block (its size, nx, ny, bits), the physical size, the height
     // scale and the size of the topography block, which starts at byte 140.

@@ -918,6 +918,8 @@ fn _run_study(
         .map_err(error)?;
     let config = if quick { config.quick() } else { config };
     let study = py.detach(|| Study::prepare(config, &origin)).map_err(error)?;
+    // Read before any solve, as the command line does: a bad experiments file costs nothing.
+    let experiments = asperity::report::experiments(&study).map_err(error)?;
 
     // The study runs on its own thread; this one (Python's, where signal handlers run) reports
     // its progress and looks for Ctrl-C, which stops the run after the solves under way.
@@ -1003,6 +1005,7 @@ fn _run_study(
         }
     })?;
     let outcome = outcome.map_err(error)?;
+    py.detach(|| asperity::report::write(&out, &outcome, &experiments)).map_err(error)?;
     serde_json::to_string(&outcome.rows).map_err(|e| invalid("study", e.to_string()))
 }
 
