@@ -308,18 +308,28 @@ pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     if !(load > 0.0 && load.is_finite()) {
         return Err(Error::invalid("--load", format!("must be positive and finite, got {} N", human(load))));
     }
-    let p_mean = load / (size.0 * size.1);
-    let strain = p_mean / e_star;
-    if !(strain > STRAIN_RANGE.0 && strain < STRAIN_RANGE.1) {
+    // In logarithms, so that what overflows (or underflows) a float is still told as a number.
+    let log_p = load.log10() - size.0.log10() - size.1.log10();
+    let log_strain = log_p - e_star.log10();
+    if !(log_strain > STRAIN_RANGE.0.log10() && log_strain < STRAIN_RANGE.1.log10()) {
+        let power = |log: f64| {
+            let v = 10f64.powf(log);
+            if v.is_normal() {
+                format!("{v:.3e}")
+            } else {
+                format!("1e{:.0}", log.round())
+            }
+        };
         return Err(Error::invalid(
             "--load",
             format!(
-                "{} N on {} × {} m is a mean pressure of {p_mean:.3e} Pa, {strain:.1e} times the effective \
-                 modulus E* = {e_star:.3e} Pa: not representable (the mean pressure must lie between {:e} E* \
-                 and {:e} E*)",
+                "{} N on {} × {} m is a mean pressure of {} Pa, {} times the effective modulus E* = \
+                 {e_star:.3e} Pa: not representable (the mean pressure must lie between {:e} E* and {:e} E*)",
                 human(load),
                 human(size.0),
                 human(size.1),
+                power(log_p),
+                power(log_strain),
                 STRAIN_RANGE.0,
                 STRAIN_RANGE.1
             ),
@@ -1293,4 +1303,16 @@ fn sum_rows<const K: usize>(rows: &[[f64; K]]) -> [f64; K] {
         a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
         a
     })
+}
+
+#[cfg(test)]
+mod tests {
+    /// A load beyond what a float holds as a pressure is told in numbers, never as `inf`.
+    #[test]
+    fn a_load_out_of_range_is_told_in_numbers() {
+        let e = super::check_load(1e300, (1e-5, 1e-5), 1.394e11).unwrap_err().to_string();
+        assert!(e.contains("a mean pressure of 1e310 Pa, 7e298 times") && !e.contains("inf"), "{e}");
+        let e = super::check_load(1e-200, (1.0, 1.0), 1.394e11).unwrap_err().to_string();
+        assert!(e.contains("a mean pressure of 1.000e-200 Pa, 7.174e-212 times"), "{e}");
+    }
 }
