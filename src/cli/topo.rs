@@ -395,13 +395,17 @@ fn profile_summary(info: &ProfileInfo) -> String {
     s
 }
 
-/// A length with an SI prefix and four significant digits: `-18.79 nm`, `10.00 µm`.
+/// A length with an SI prefix and four significant digits: `-18.79 nm`, `10.00 µm`; beyond
+/// the prefixes (below 1 fm, from 1000 km) in metres with an exponent, `2.000e-16 m`.
 fn metres(x: &f64) -> String {
     let x = *x;
     const PREFIXES: [(&str, f64); 7] =
         [("km", 1e3), ("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12), ("fm", 1e-15)];
     if x == 0.0 || !x.is_finite() {
         return format!("{x} m");
+    }
+    if !(1e-15..1e6).contains(&x.abs()) {
+        return format!("{x:.3e} m");
     }
     let (unit, scale) = PREFIXES.iter().copied().find(|&(_, s)| x.abs() >= s).unwrap_or(PREFIXES[6]);
     let v = x / scale;
@@ -428,6 +432,9 @@ mod tests {
         assert_eq!(metres(&10e-6), "10.00 µm");
         assert_eq!(metres(&-1.8790862671584778e-08), "-18.79 nm");
         assert_eq!(metres(&1.5), "1.500 m");
-        assert_eq!(metres(&2e-16), "0.200 fm");
+        assert_eq!(metres(&2e-15), "2.000 fm");
+        // Not "0.000 fm", nor thirty digits of km.
+        assert_eq!(metres(&2e-16), "2.000e-16 m");
+        assert_eq!(metres(&-1.8e40), "-1.800e40 m");
     }
 }
