@@ -216,16 +216,16 @@ fn refuses_an_edited_contact_folder_full_contact_and_a_foreign_out_first() {
     std::fs::create_dir(&study).unwrap();
     std::fs::write(study.join("results.csv"), "topography\n").unwrap();
     refused(&study, &["--load", "2mN"], "holds no contact.json (it is a study's output): give a contact directory");
-    // 1 kN presses the whole periodic window into contact.
-    refused(&s, &[&size[..], &["--load", "1kN"]].concat(), "full contact");
+    // 6 N (0.9 E* over the window) presses the whole periodic window into contact.
+    refused(&s, &[&size[..], &["--load", "6N"]].concat(), "full contact");
     // …known from the heights before the normal solve, whose line is never printed.
-    let o = asperity(&[&["slide", s.to_str().unwrap()][..], &size, &["--load", "1kN"], &law].concat());
+    let o = asperity(&[&["slide", s.to_str().unwrap()][..], &size, &["--load", "6N"], &law].concat());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && !err.contains("normal solve") && err.contains("full contact"), "{err}");
     // The same load from a contact folder's pressures.
     let full = dir.path().join("full");
     let o = asperity(
-        &[&["contact", s.to_str().unwrap()][..], &size, &["--load", "1kN", "--out", full.to_str().unwrap()]].concat(),
+        &[&["contact", s.to_str().unwrap()][..], &size, &["--load", "6N", "--out", full.to_str().unwrap()]].concat(),
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     refused(&full, &[], "full contact");

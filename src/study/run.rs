@@ -116,6 +116,7 @@ pub struct Study {
 
 /// The locks a run holds while it works in DIR, and its ledger (none in a DIR an asperity
 /// without ledgers started).
+#[derive(Debug)]
 struct Claim {
     _study: Lock,
     _units: Vec<Lock>,
@@ -163,6 +164,10 @@ pub struct Outcome {
     /// The results lock, held until the outcome is dropped: the figures drawn from `records`
     /// are written under it, as the table is.
     _results: Option<Lock>,
+    /// The run's locks and its ledger, held until the outcome is dropped: the figures and the
+    /// report written from `records` are recorded for `--fresh`, and never written through a
+    /// link in DIR, as the table is not.
+    _claim: Claim,
 }
 
 /// What the workers of a run count.
@@ -439,6 +444,7 @@ impl Study {
                 warnings: Vec::new(),
                 left,
                 _results: None,
+                _claim: claim,
             });
         }
 
@@ -509,6 +515,7 @@ impl Study {
             warnings,
             left,
             _results: results,
+            _claim: claim,
         })
     }
 
