@@ -21,7 +21,8 @@ fn stderr(o: &Output) -> String {
 
 /// The one line of a refusal (exit 1, no panic).
 fn refusal(o: &Output) -> String {
-    let e = stderr(o);
+    // A study's warnings (a load unusually high for its small window) come before its error.
+    let e: String = stderr(o).lines().filter(|l| !l.starts_with("warning: ")).map(|l| format!("{l}\n")).collect();
     assert_eq!(o.status.code(), Some(1), "expected a refusal, got {o:?}");
     assert_eq!(e.lines().count(), 1, "{e}");
     assert!(!e.contains("panicked"), "{e}");
