@@ -30,7 +30,7 @@ fn main() {
     let (ny, nx) = surface.dim();
     let heights = surface.as_slice().expect("standard layout");
     let e_star = Material::SILICON.plane_strain_modulus();
-    let options = SolverOptions { tolerance, max_iterations: 100_000 };
+    let options = SolverOptions { tolerance, max_iterations: 100_000, ..Default::default() };
     let solver = || ContactSolver::new(heights, (ny, nx), (size, size), e_star, Boundary::Periodic, options).unwrap();
 
     // The FFT pair of the grid: forward and inverse of one field, median of 21.

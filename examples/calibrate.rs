@@ -40,7 +40,7 @@ fn main() -> asperity::Result<()> {
         let shape = topo.heights.dim();
         let h = topo.heights.as_standard_layout();
         let e_star = 130e9 / (1.0 - 0.26 * 0.26);
-        let opts = SolverOptions { tolerance: 1e-8, max_iterations: 20000 };
+        let opts = SolverOptions { tolerance: 1e-8, max_iterations: 20000, ..Default::default() };
         let mut solver = ContactSolver::new(h.as_slice().unwrap(), shape, size, e_star, Boundary::Periodic, opts)?;
         let dx = size.0 / shape.1 as f64;
         for &load in &loads {

@@ -276,7 +276,7 @@ pub fn reserve<T>(v: &mut Vec<T>, n: usize, what: &str) -> std::result::Result<(
 }
 
 /// `bytes` in GiB, or MiB below one GiB.
-fn gib(bytes: u64) -> String {
+pub(crate) fn gib(bytes: u64) -> String {
     match bytes as f64 / (1u64 << 30) as f64 {
         g if g >= 1.0 => format!("{g:.1} GiB"),
         g => format!("{:.0} MiB", (g * 1024.0).ceil()),

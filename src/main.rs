@@ -9,8 +9,14 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 /// Static friction of rough interfaces from their measured topography: elastic contact by the
 /// boundary integral method, then the stick-slip transition model of Peng, Roch, Bonn & Weber
 /// (PRL 134, 176202, 2025). Units are SI throughout: metres, pascals, newtons.
+/// The version, and whether this build has the GPU backend (`--device gpu`).
+#[cfg(feature = "gpu")]
+const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (GPU backend: built; --device gpu needs an NVIDIA driver)");
+#[cfg(not(feature = "gpu"))]
+const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (GPU backend: not built; build with --features gpu)");
+
 #[derive(Parser)]
-#[command(name = "asperity", version, about, long_about = None)]
+#[command(name = "asperity", version = VERSION, about, long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

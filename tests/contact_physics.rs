@@ -175,7 +175,7 @@ fn warm_start_gives_the_cold_answer() {
 #[test]
 fn non_convergence_is_an_error() {
     let h = sinusoid(64, 20e-9);
-    let options = SolverOptions { tolerance: 1e-12, max_iterations: 2 };
+    let options = SolverOptions { tolerance: 1e-12, max_iterations: 2, ..Default::default() };
     let mut s = ContactSolver::new(&h, (2, 64), (10e-6, 0.3e-6), E_STAR, Boundary::Periodic, options).unwrap();
     let err = s.solve(1e-9, |_, _| {}).unwrap_err().to_string();
     assert!(err.contains("did not converge") && err.contains("2 iterations"), "{err}");

@@ -8,7 +8,7 @@ use asperity::topography::synth::SyntheticSurface;
 use ndarray::Array2;
 
 fn solve(heights: &[f64], size: (f64, f64), e_star: f64, load: f64) -> Array2<f64> {
-    let options = SolverOptions { tolerance: 1e-12, max_iterations: 20_000 };
+    let options = SolverOptions { tolerance: 1e-12, max_iterations: 20_000, ..Default::default() };
     let mut solver = ContactSolver::new(heights, (128, 128), size, e_star, Boundary::Periodic, options).unwrap();
     solver.solve(load, |_, _| ()).unwrap();
     Array2::from_shape_vec((128, 128), solver.pressure().to_vec()).unwrap()

@@ -69,7 +69,7 @@ fn direct_rows() -> Vec<Row> {
     let ball_2 = surface(2, 22e-9, cap).generate().unwrap();
     let laws = [FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::new(0.9, 0.3).unwrap().named("strong")];
     let e_star = Material::SILICON.plane_strain_modulus();
-    let options = SolverOptions { tolerance: 1e-8, max_iterations: 20_000 };
+    let options = SolverOptions { tolerance: 1e-8, max_iterations: 20_000, ..Default::default() };
     let mut rows = Vec::new();
     for (name, topo) in [("ball-1", ball_1), ("ball-2", ball_2)] {
         let size = topo.physical_size.unwrap();

@@ -547,7 +547,7 @@ fn contact(
         core_contact::check_load(load, size, e_star).map_err(error)?;
     }
     let shape = surface.heights.dim();
-    let options = SolverOptions { tolerance, max_iterations: max_iter };
+    let options = SolverOptions { tolerance, max_iterations: max_iter, ..Default::default() };
     let mut signals = Signals::new(py)?;
     let solved = py.detach(|| -> asperity::Result<Vec<Solved>> {
         let heights = surface.heights.as_standard_layout();

@@ -242,7 +242,7 @@ def test_every_bad_input_raises_asperity_error(tmp_path):
     raises(lambda: ap.analyse_shs([0, 1, 1], [0, 0, 0], [1, 1, 1]), "time")
     raises(lambda: ap.analyse_shs(np.arange(100.0), np.ones(100), np.ones(100)), "trace")
     raises(lambda: ap.analyse_shs([0, 1], [0, 0], [1, 1], speed=-1), "--speed")
-    raises(lambda: ap.run_study({"loads": {"min": "1 mN"}}, out=tmp_path / "s"), "study dict")
+    raises(lambda: ap.run_study({"loads": {"min": "1 GPa"}}, out=tmp_path / "s"), "study dict", "loads.min")
     raises(lambda: ap.run_study(tmp_path / "none.toml", out=tmp_path / "s"), "none.toml")
     (tmp_path / "full").mkdir()
     (tmp_path / "full" / "mine.txt").write_text("a user's file")

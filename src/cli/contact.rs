@@ -72,6 +72,8 @@ pub struct ContactArgs {
     /// Iteration limit per load; a solve that has not converged by then is an error.
     #[arg(long, value_name = "K", default_value_t = SolverOptions::default().max_iterations, value_parser = super::count::<usize>)]
     max_iter: usize,
+    #[command(flatten)]
+    device: super::DeviceArgs,
     /// Also write gap-NNN.npy and displacement-NNN.npy [m] for each load.
     #[arg(long)]
     fields: bool,
@@ -137,7 +139,8 @@ pub fn run(args: ContactArgs) -> Result<()> {
     if let Some(r) = args.cap_radius {
         super::judge("--cap-radius", plausible::radius(r, Spelling::CommandLine))?;
     }
-    let options = SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
+    let options =
+        SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter, device: args.device.device };
     options.check()?;
     let path = &args.read.file;
     let mut surface = prepare(&args)?;

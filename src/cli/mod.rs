@@ -16,7 +16,7 @@ use std::process::ExitCode;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 
-use asperity::contact::{combined_modulus, Material};
+use asperity::contact::{combined_modulus, Device, Material};
 use asperity::error::{acts_on_terminal, escaped, one_line};
 use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::plausible::{self, Spelling};
@@ -278,6 +278,25 @@ impl MaterialArgs {
             _ => unreachable!("one or two bodies"),
         };
         Ok((bodies, e_star))
+    }
+}
+
+/// Where the normal contact solves of a command run.
+#[derive(Args)]
+pub struct DeviceArgs {
+    /// Where the normal contact solves run: "cpu" (every core), or "gpu" (the first NVIDIA GPU,
+    /// through the CUDA driver, cuFFT and NVRTC found at run time; a build with `--features
+    /// gpu`, see `asperity --version`).
+    #[arg(long, value_name = "DEVICE", default_value = "cpu", value_parser = device)]
+    pub device: Device,
+}
+
+fn device(s: &str) -> std::result::Result<Device, String> {
+    match s {
+        "cpu" => Ok(Device::Cpu),
+        "gpu" if Device::GPU_BUILT => Ok(Device::Gpu),
+        "gpu" => Err(Device::UNAVAILABLE.to_string()),
+        _ => Err(format!("{s:?} is not a device: give cpu or gpu")),
     }
 }
 

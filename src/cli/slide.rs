@@ -92,6 +92,8 @@ pub struct SlideArgs {
     /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
     #[arg(long)]
     free: bool,
+    #[command(flatten)]
+    device: super::DeviceArgs,
     /// Tolerance of the tangential solve (relative norm of its projected gradient, below 1e-2); the path
     /// from δ = 0 to the step holding F_S solves to 100 times it, at most 1e-4.
     #[arg(long, value_name = "T", default_value_t = TangentialOptions::default().tolerance)]
@@ -434,7 +436,8 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     if boundary == Boundary::Periodic && load >= contact::full_contact_load(heights, shape, size, e_star) {
         return Err(full_contact(load));
     }
-    let mut solver = ContactSolver::new(heights, shape, size, e_star, boundary, SolverOptions::default())?;
+    let options = SolverOptions { device: args.device.device, ..SolverOptions::default() };
+    let mut solver = ContactSolver::new(heights, shape, size, e_star, boundary, options)?;
     let report = solver.solve(load, |_, _| {})?;
     super::message(&format!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds));
     // As `contact` warns: a contact cut by the window, or pressures beyond belief.

@@ -10,6 +10,7 @@
 //!   (2ny, 2nx) grid and convolved with the exact displacement of uniformly loaded rectangular
 //!   pixels (Love 1929; Johnson, *Contact Mechanics*, §3.9), so there are no periodic images.
 
+use rayon::prelude::*;
 use rustfft::num_complex::{Complex, Complex64};
 use rustfft::FftNum;
 
@@ -69,19 +70,9 @@ impl Influence {
 
     /// The free-boundary operator: exact influence of uniformly loaded rectangular pixels,
     /// convolved on a zero-padded (2ny, 2nx) grid.
-    pub fn free(ny: usize, nx: usize, (lx, ly): (f64, f64), e_star: f64) -> Self {
+    pub fn free(ny: usize, nx: usize, size: (f64, f64), e_star: f64) -> Self {
         let (py, px) = (2 * ny, 2 * nx);
-        let (dx, dy) = (lx / nx as f64, ly / ny as f64);
-        // Influence coefficients for every offset, wrapped onto the padded grid. They are even
-        // in both offsets, so the kernel's spectrum is real.
-        let mut coefficients = vec![0.0; py * px];
-        for (i, row) in coefficients.chunks_exact_mut(px).enumerate() {
-            let oy = if i <= ny { i as f64 } else { i as f64 - py as f64 };
-            for (j, c) in row.iter_mut().enumerate() {
-                let ox = if j <= nx { j as f64 } else { j as f64 - px as f64 };
-                *c = love_rectangle(ox * dx, oy * dy, dx / 2.0, dy / 2.0) / (std::f64::consts::PI * e_star);
-            }
-        }
+        let coefficients = free_coefficients(ny, nx, size, e_star);
         let fft = Fft2::new(py, px);
         let mut spectrum = fft.make_spectrum();
         let mut work = fft.make_work();
@@ -509,6 +500,23 @@ fn cerruti_yy(x: f64, y: f64) -> f64 {
 /// A primitive of XY/r³ in X and Y: −r.
 fn cerruti_xy(x: f64, y: f64) -> f64 {
     -x.hypot(y)
+}
+
+/// The free boundary's influence coefficients [m/Pa]: the displacement at every offset of
+/// the padded (2ny, 2nx) grid, wrapped, under a unit pressure on one pixel of an (ny, nx)
+/// window of size (lx, ly) [m]. They are even in both offsets, so their spectrum is real.
+pub(crate) fn free_coefficients(ny: usize, nx: usize, (lx, ly): (f64, f64), e_star: f64) -> Vec<f64> {
+    let (py, px) = (2 * ny, 2 * nx);
+    let (dx, dy) = (lx / nx as f64, ly / ny as f64);
+    let mut coefficients = large_buffer(py * px, 0.0);
+    coefficients.par_chunks_exact_mut(px).enumerate().for_each(|(i, row)| {
+        let oy = if i <= ny { i as f64 } else { i as f64 - py as f64 };
+        for (j, c) in row.iter_mut().enumerate() {
+            let ox = if j <= nx { j as f64 } else { j as f64 - px as f64 };
+            *c = love_rectangle(ox * dx, oy * dy, dx / 2.0, dy / 2.0) / (std::f64::consts::PI * e_star);
+        }
+    });
+    coefficients
 }
 
 /// ∫∫ dx' dy' / r over the rectangle [−a, a] × [−b, b], seen from the point (x, y) [m²/m = m].

@@ -2,19 +2,22 @@
 //! integral method on an FFT grid (the pipeline's second stage).
 //!
 //! - [`influence`]: the half-space operators u = K p (periodic, free boundary);
-//! - [`solver`]: the Polonsky–Keer constrained conjugate gradient at imposed load;
+//! - [`solver`]: the Polonsky–Keer constrained conjugate gradient at imposed load, on the CPU
+//!   or (`gpu` feature) on an NVIDIA GPU (`gpu`);
 //! - [`patches`]: contact patches (4-connected clusters);
 //! - [`tangential`]: shear tractions on a fixed contact set under a tangential displacement,
 //!   with Coulomb bounds (the sliding onset's elastic solve);
 //! - here: materials, the contact state and the distribution of local pressure.
 
+#[cfg(feature = "gpu")]
+mod gpu;
 pub mod influence;
 pub mod patches;
 pub mod solver;
 pub mod tangential;
 
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
-pub use solver::{check_load, check_solve_memory, ContactSolver, Proceed, SolveReport, SolverOptions};
+pub use solver::{check_load, check_solve_memory, ContactSolver, Device, Proceed, SolveReport, SolverOptions};
 pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 
 use crate::error::{Error, Result};

@@ -42,7 +42,7 @@ use crate::limits::{check_memory, grid_memory, CONTACT_BYTES_PER_POINT};
 mod saturated;
 
 /// Iterations without a new best residual after which the conjugate gradient restarts.
-const STALL: usize = 50;
+pub(crate) const STALL: usize = 50;
 
 /// Partial sums kept per grid row.
 const SUMS: usize = 10;
@@ -158,11 +158,47 @@ pub struct SolverOptions {
     pub tolerance: f64,
     /// Iterations after which a solve that has not converged is an error.
     pub max_iterations: usize,
+    /// Where the normal solves run.
+    #[serde(default, skip_serializing_if = "Device::is_cpu")]
+    pub device: Device,
 }
 
 impl Default for SolverOptions {
     fn default() -> Self {
-        SolverOptions { tolerance: 1e-10, max_iterations: 20_000 }
+        SolverOptions { tolerance: 1e-10, max_iterations: 20_000, device: Device::Cpu }
+    }
+}
+
+/// Where a normal contact solve runs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Device {
+    /// The processor's cores (rayon).
+    #[default]
+    Cpu,
+    /// The first NVIDIA GPU, through CUDA (a build with the `gpu` feature): the same
+    /// Polonsky–Keer iteration as the capped CPU solve, every field on the GPU.
+    Gpu,
+}
+
+impl Device {
+    /// Whether this build has the GPU backend.
+    pub const GPU_BUILT: bool = cfg!(feature = "gpu");
+
+    /// Why `Gpu` is refused in a build without the backend.
+    pub const UNAVAILABLE: &'static str =
+        "this asperity was built without the GPU backend: build it with `cargo build --release --features gpu`";
+
+    fn is_cpu(&self) -> bool {
+        *self == Device::Cpu
+    }
+
+    /// Name as written in options and outputs: `"cpu"` or `"gpu"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Device::Cpu => "cpu",
+            Device::Gpu => "gpu",
+        }
     }
 }
 
@@ -347,9 +383,8 @@ pub fn check_solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> std::
     check_memory(bytes, &format!("a contact solve on {nx} × {ny} points"))
 }
 
-/// A contact problem on one surface, solved for one load after another. The pressure of the
-/// last solve is the starting point of the next (warm start).
-pub struct ContactSolver {
+/// The CPU engine of [`ContactSolver`].
+struct CpuSolver {
     ny: usize,
     nx: usize,
     size: (f64, f64),
@@ -394,9 +429,33 @@ pub struct ContactSolver {
     hardness: Option<f64>,
 }
 
+/// A contact problem on one surface, solved for one load after another. The pressure of the
+/// last solve is the starting point of the next (warm start). It runs on the CPU, or on an
+/// NVIDIA GPU ([`Device::Gpu`], in a build with the `gpu` feature).
+pub struct ContactSolver {
+    engine: Engine,
+}
+
+enum Engine {
+    Cpu(Box<CpuSolver>),
+    #[cfg(feature = "gpu")]
+    Gpu(Box<super::gpu::GpuSolver>),
+}
+
+/// Calls the same method on whichever engine the solver has.
+macro_rules! on_engine {
+    ($self:expr, $s:ident => $call:expr) => {
+        match $self {
+            Engine::Cpu($s) => $call,
+            #[cfg(feature = "gpu")]
+            Engine::Gpu($s) => $call,
+        }
+    };
+}
+
 impl ContactSolver {
     /// Set up the problem for `heights` [m] (row-major, ny × nx) on a window of physical size
-    /// (lx, ly) [m], effective modulus E* [Pa] and the given boundary.
+    /// (lx, ly) [m], effective modulus E* [Pa] and the given boundary, on `options.device`.
     pub fn new(
         heights: &[f64],
         (ny, nx): (usize, usize),
@@ -434,10 +493,147 @@ impl ContactSolver {
             return Err(Error::invalid("effective modulus", format!("must be positive and finite, got {e_star} Pa")));
         }
         options.check()?;
-        check_solve_memory((ny, nx), boundary).map_err(|r| Error::invalid("surface", r))?;
         let n = ny * nx;
         let mean = heights.iter().sum::<f64>() / n as f64;
         let h_rms = (heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n as f64).sqrt();
+        let engine = match options.device {
+            Device::Cpu => {
+                check_solve_memory((ny, nx), boundary).map_err(|r| Error::invalid("surface", r))?;
+                Engine::Cpu(Box::new(CpuSolver::new(heights, (ny, nx), (lx, ly), e_star, boundary, options, h_rms)?))
+            }
+            #[cfg(feature = "gpu")]
+            Device::Gpu => Engine::Gpu(Box::new(super::gpu::GpuSolver::new(
+                heights,
+                (ny, nx),
+                (lx, ly),
+                e_star,
+                boundary,
+                options,
+                h_rms,
+            )?)),
+            #[cfg(not(feature = "gpu"))]
+            Device::Gpu => return Err(Error::invalid("--device", Device::UNAVAILABLE)),
+        };
+        Ok(ContactSolver { engine })
+    }
+
+    /// Grid shape (ny, nx).
+    pub fn shape(&self) -> (usize, usize) {
+        on_engine!(&self.engine, s => s.shape())
+    }
+
+    /// Physical size (lx, ly) [m].
+    pub fn size(&self) -> (f64, f64) {
+        on_engine!(&self.engine, s => s.size())
+    }
+
+    /// The boundary condition.
+    pub fn boundary(&self) -> Boundary {
+        on_engine!(&self.engine, s => s.boundary())
+    }
+
+    /// The heights h [m].
+    pub fn heights(&self) -> &[f64] {
+        on_engine!(&self.engine, s => s.heights())
+    }
+
+    /// Pressure of the last solve [Pa], row-major (ny, nx); zero after a failed solve.
+    pub fn pressure(&self) -> &[f64] {
+        on_engine!(&self.engine, s => s.pressure())
+    }
+
+    /// Gap of the last solve [m]: zero where 0 < p < H (the hardness, if set), positive where
+    /// p = 0, and where p = H the penetration of the rigid surface as a negative gap (the
+    /// plastic indentation).
+    pub fn gap(&self) -> Vec<f64> {
+        let (p, u, h) = (self.pressure(), on_engine!(&self.engine, s => s.displacement()), self.heights());
+        gap_of(p, u, h, on_engine!(&self.engine, s => s.hardness()))
+    }
+
+    /// Surface displacement u = K p of the last solve [m]. In the periodic model its mean is
+    /// zero: the rigid-body approach is not defined there.
+    pub fn displacement(&self) -> Vec<f64> {
+        on_engine!(&self.engine, s => s.displacement().to_vec())
+    }
+
+    /// Start the next solve from scratch rather than from the last pressure.
+    pub fn reset(&mut self) {
+        on_engine!(&mut self.engine, s => s.reset())
+    }
+
+    /// Start the next solve from `pressure` [Pa] (row-major (ny, nx), each ≥ 0) as if it were
+    /// the last solve's: a load sweep resumed from a saved pressure map continues exactly as
+    /// the uninterrupted sweep (a solve depends only on the pressure it starts from).
+    pub fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
+        let (ny, nx) = self.shape();
+        if pressure.len() != ny * nx {
+            return Err(Error::invalid("warm start", format!("{} pressures for a {ny}×{nx} grid", pressure.len())));
+        }
+        if let Some(i) = pressure.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
+            return Err(Error::invalid("warm start", format!("pressure {} Pa at point {i}", pressure[i])));
+        }
+        on_engine!(&mut self.engine, s => s.warm_start(pressure))
+    }
+
+    /// Cap the pressure at the hardness H [Pa] in the solves that follow (elastic–perfectly-
+    /// plastic contact, 0 ≤ p ≤ H; two FFT pairs per iteration), or lift the cap with `None`.
+    pub fn set_hardness(&mut self, hardness: Option<f64>) -> Result<()> {
+        if let Some(h) = hardness {
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(Error::invalid("--hardness", format!("must be positive and finite, got {h} Pa")));
+            }
+        }
+        on_engine!(&mut self.engine, s => s.set_hardness(hardness));
+        Ok(())
+    }
+
+    /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
+    /// the iteration count and the current residual; it answers `()`, or a [`ControlFlow`]
+    /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
+    /// cold).
+    pub fn solve<R: Proceed>(&mut self, load: f64, mut progress: impl FnMut(usize, f64) -> R) -> Result<SolveReport> {
+        check_load(load, self.size(), on_engine!(&self.engine, s => s.e_star()))?;
+        let mut proceed = |it: usize, residual: f64| progress(it, residual).proceed();
+        on_engine!(&mut self.engine, s => s.solve(load, &mut proceed))
+    }
+}
+
+/// The gap of a solution (see [`ContactSolver::gap`]) from its pressure, displacement and
+/// heights, with the cap `hardness` if any.
+fn gap_of(pressure: &[f64], displacement: &[f64], heights: &[f64], hardness: Option<f64>) -> Vec<f64> {
+    let cap = hardness.unwrap_or(f64::INFINITY);
+    let (sum, count) = pressure
+        .iter()
+        .zip(displacement.iter().zip(heights))
+        .filter(|(p, _)| **p > 0.0 && **p < cap)
+        .fold((0.0, 0usize), |(s, c), (_, (u, h))| (s + (u - h), c + 1));
+    let mean = sum / count.max(1) as f64;
+    (0..heights.len())
+        .map(|i| {
+            let (p, g) = (pressure[i], displacement[i] - heights[i] - mean);
+            if p == 0.0 {
+                g.max(0.0)
+            } else if p == cap {
+                g.min(0.0)
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+impl CpuSolver {
+    /// The problem [`ContactSolver::new`] has checked, with the RMS height `h_rms` [m].
+    fn new(
+        heights: &[f64],
+        (ny, nx): (usize, usize),
+        (lx, ly): (f64, f64),
+        e_star: f64,
+        boundary: Boundary,
+        options: SolverOptions,
+        h_rms: f64,
+    ) -> Result<Self> {
+        let n = ny * nx;
         let operator = match boundary {
             Boundary::Periodic => Influence::periodic(ny, nx, (lx, ly), e_star),
             Boundary::Free => Influence::free(ny, nx, (lx, ly), e_star),
@@ -449,7 +645,7 @@ impl ContactSolver {
         };
         let mut heights_buffer = large_buffer(n, 0.0);
         heights_buffer.copy_from_slice(heights);
-        Ok(ContactSolver {
+        Ok(CpuSolver {
             ny,
             nx,
             size: (lx, ly),
@@ -480,95 +676,52 @@ impl ContactSolver {
         })
     }
 
-    /// Grid shape (ny, nx).
-    pub fn shape(&self) -> (usize, usize) {
+    fn shape(&self) -> (usize, usize) {
         (self.ny, self.nx)
     }
 
-    /// Physical size (lx, ly) [m].
-    pub fn size(&self) -> (f64, f64) {
+    fn size(&self) -> (f64, f64) {
         self.size
     }
 
-    /// The boundary condition.
-    pub fn boundary(&self) -> Boundary {
+    fn boundary(&self) -> Boundary {
         self.boundary
     }
 
-    /// The heights h [m].
-    pub fn heights(&self) -> &[f64] {
+    fn e_star(&self) -> f64 {
+        self.e_star
+    }
+
+    fn hardness(&self) -> Option<f64> {
+        self.hardness
+    }
+
+    fn heights(&self) -> &[f64] {
         &self.heights
     }
 
-    /// Pressure of the last solve [Pa], row-major (ny, nx); zero after a failed solve.
-    pub fn pressure(&self) -> &[f64] {
+    fn pressure(&self) -> &[f64] {
         &self.pressure_field
     }
 
-    /// Gap of the last solve [m]: zero where 0 < p < H (the hardness, if set), positive where
-    /// p = 0, and where p = H the penetration of the rigid surface as a negative gap (the
-    /// plastic indentation).
-    pub fn gap(&self) -> Vec<f64> {
-        let cap = self.hardness.unwrap_or(f64::INFINITY);
-        let (sum, count) = self
-            .pressure_field
-            .iter()
-            .zip(self.displacement.iter().zip(&self.heights))
-            .filter(|(p, _)| **p > 0.0 && **p < cap)
-            .fold((0.0, 0usize), |(s, c), (_, (u, h))| (s + (u - h), c + 1));
-        let mean = sum / count.max(1) as f64;
-        (0..self.heights.len())
-            .map(|i| {
-                let (p, g) = (self.pressure_field[i], self.displacement[i] - self.heights[i] - mean);
-                if p == 0.0 {
-                    g.max(0.0)
-                } else if p == cap {
-                    g.min(0.0)
-                } else {
-                    0.0
-                }
-            })
-            .collect()
+    fn displacement(&self) -> &[f64] {
+        &self.displacement
     }
 
-    /// Surface displacement u = K p of the last solve [m]. In the periodic model its mean is
-    /// zero: the rigid-body approach is not defined there.
-    pub fn displacement(&self) -> Vec<f64> {
-        self.displacement.clone()
-    }
-
-    /// Start the next solve from scratch rather than from the last pressure.
-    pub fn reset(&mut self) {
+    fn reset(&mut self) {
         self.warm = false;
     }
 
-    /// Start the next solve from `pressure` [Pa] (row-major (ny, nx), each ≥ 0) as if it were
-    /// the last solve's: a load sweep resumed from a saved pressure map continues exactly as
-    /// the uninterrupted sweep (a solve depends only on the pressure it starts from).
-    pub fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
-        let (ny, nx) = (self.ny, self.nx);
-        if pressure.len() != ny * nx {
-            return Err(Error::invalid("warm start", format!("{} pressures for a {ny}×{nx} grid", pressure.len())));
-        }
-        if let Some(i) = pressure.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
-            return Err(Error::invalid("warm start", format!("pressure {} Pa at point {i}", pressure[i])));
-        }
+    /// See [`ContactSolver::warm_start`], which checks `pressure`.
+    fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
         self.pressure_field.copy_from_slice(pressure);
         self.adopt_pressure_field();
         self.warm = true;
         Ok(())
     }
 
-    /// Cap the pressure at the hardness H [Pa] in the solves that follow (elastic–perfectly-
-    /// plastic contact, 0 ≤ p ≤ H; two FFT pairs per iteration), or lift the cap with `None`.
-    pub fn set_hardness(&mut self, hardness: Option<f64>) -> Result<()> {
-        if let Some(h) = hardness {
-            if !(h > 0.0 && h.is_finite()) {
-                return Err(Error::invalid("--hardness", format!("must be positive and finite, got {h} Pa")));
-            }
-        }
+    fn set_hardness(&mut self, hardness: Option<f64>) {
         self.hardness = hardness;
-        Ok(())
     }
 
     /// The contact set of the dense pressure field: its points with p > 0.
@@ -582,18 +735,13 @@ impl ContactSolver {
         self.uniform = None;
     }
 
-    /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
-    /// the iteration count and the current residual; it answers `()`, or a [`ControlFlow`]
-    /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
-    /// cold).
-    pub fn solve<R: Proceed>(&mut self, load: f64, mut progress: impl FnMut(usize, f64) -> R) -> Result<SolveReport> {
-        check_load(load, self.size, self.e_star)?;
-        let mut proceed = |it: usize, residual: f64| progress(it, residual).proceed();
+    /// See [`ContactSolver::solve`], which checks the load.
+    fn solve(&mut self, load: f64, proceed: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         // The dense pressure is rebuilt at the end: the iteration needs only the contact set.
         self.pressure_field = Vec::new();
         let report = match self.hardness {
-            Some(hardness) => self.solve_saturated(hardness, load, &mut proceed),
-            None => self.solve_elastic(load, &mut proceed),
+            Some(hardness) => self.solve_saturated(hardness, load, proceed),
+            None => self.solve_elastic(load, proceed),
         };
         if report.is_ok() {
             // Converged in full contact at the start (a flat surface): the set is stored.
@@ -1274,7 +1422,7 @@ impl Search {
     }
 }
 
-/// Count a point of the next contact set into a row's sums (see [`ContactSolver::step`]):
+/// Count a point of the next contact set into a row's sums (see [`CpuSolver::step`]):
 /// pressure q, gap g, displacement u, direction t.
 fn member(a: &mut [f64; SUMS], q: f64, g: f64, u: f64, t: f64) {
     a[2] += q;

@@ -18,7 +18,8 @@
 //! poisson = 0.26
 //!
 //! [contact]                       # boundary "periodic" | "free", tolerance, max_iterations, grid;
-//! boundary = "periodic"           # plastic = true | [false, true] (needs material.hardness)
+//! boundary = "periodic"           # plastic = true | [false, true] (needs material.hardness);
+//!                                 # device = "cpu" | "gpu" (a build with the gpu feature)
 //!
 //! [loads]                         # values = [...], or min, max, count (log-spaced) [N]
 //! min = "0.1 mN"
@@ -56,7 +57,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use super::{FigureKind, Sharing};
-use crate::contact::{Boundary, Material, SolverOptions};
+use crate::contact::{Boundary, Device, Material, SolverOptions};
 use crate::error::{Error, Result};
 use crate::friction::FrictionLaw;
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
@@ -206,6 +207,13 @@ pub struct ContactSpec {
     /// list of both: each its own load sweep, told apart by the results' `plastic` column.
     #[serde(default, skip_serializing_if = "Plastic::is_elastic")]
     pub plastic: Plastic,
+    /// Where the normal solves run: "cpu" or "gpu" (a build with the `gpu` feature).
+    #[serde(default, skip_serializing_if = "is_cpu")]
+    pub device: Device,
+}
+
+fn is_cpu(device: &Device) -> bool {
+    *device == Device::Cpu
 }
 
 /// `plastic = false | true | [false, true]`.
@@ -658,7 +666,7 @@ impl StudyConfig {
         }
 
         let c = &self.contact;
-        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations };
+        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations, device: c.device };
         if let Err(e) = options.check() {
             let field = if matches!(&e, Error::Invalid { option, .. } if option == "--max-iter") {
                 "max_iterations"
@@ -666,6 +674,9 @@ impl StudyConfig {
                 "tolerance"
             };
             return at(&[key("contact"), key(field)], reason_of(e));
+        }
+        if c.device == Device::Gpu && !Device::GPU_BUILT {
+            return at(&[key("contact"), key("device")], Device::UNAVAILABLE.into());
         }
         if let Some((nx, ny)) = c.grid {
             if nx < 2 || ny < 2 {
@@ -1381,6 +1392,22 @@ mod tests {
         assert_eq!(laws, ["hold 100 s", "hold 10 s"]);
         assert_eq!(c.output.figures, FigureKind::ALL);
         assert!(DEFAULT_STUDY.contains("ILLUSTRATIVE PLACEHOLDERS"));
+    }
+
+    /// `device` picks where the solves run; a build without the GPU backend refuses "gpu" at
+    /// its line, in the study file's terms.
+    #[test]
+    fn the_device_is_a_contact_key() {
+        assert_eq!(StudyConfig::default_study().contact.device, Device::Cpu);
+        let text = "[contact]\ndevice = \"gpu\"\n";
+        if Device::GPU_BUILT {
+            assert_eq!(StudyConfig::parse(text, "study.toml").unwrap().contact.device, Device::Gpu);
+        } else {
+            let e = err(text);
+            assert!(e.starts_with("study.toml:2:10: contact.device: this asperity was built without the GPU backend"), "{e}");
+        }
+        let e = err("[contact]\ndevice = \"tpu\"\n");
+        assert!(e.starts_with("study.toml:2:10: contact.device: ") && e.contains("tpu"), "{e}");
     }
 
     #[test]

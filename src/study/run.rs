@@ -814,7 +814,7 @@ impl Study {
         let pixel = (size.0 / shape.1 as f64, size.1 / shape.0 as f64);
         let c = &self.config.contact;
         let heights = topo.heights.as_standard_layout();
-        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations };
+        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations, device: c.device };
         let mut solver = ContactSolver::new(
             heights.as_slice().expect("standard layout"),
             shape,

@@ -24,15 +24,15 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{sum_rows, ContactSolver, Iterations, SolveReport, STALL};
+use super::{sum_rows, CpuSolver, Iterations, SolveReport, STALL};
 use crate::error::{Error, Result};
 use crate::fft::large_buffer;
 
 /// Newton steps of the load restoration at most (it is exact after a few).
 const NEWTON: usize = 64;
 
-impl ContactSolver {
-    /// [`ContactSolver::solve`] with the pressure capped at `hardness` [Pa].
+impl CpuSolver {
+    /// [`super::ContactSolver::solve`] with the pressure capped at `hardness` [Pa].
     pub(super) fn solve_saturated(
         &mut self,
         hardness: f64,
