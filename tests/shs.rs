@@ -286,12 +286,27 @@ fn short_holds_are_reported() {
         "{:?}",
         analysis.skipped
     );
-    let reason = &analysis.skipped[0];
+    let skipped = &analysis.skipped[0];
     // The stop begins at 126.67 s (13.33 s slides around the first 100 s hold).
     assert!(
-        reason.starts_with("hold from 126.") && reason.contains("s at rest, shorter than the minimum duration 1 s"),
-        "{reason}"
+        skipped.reason.starts_with("hold from 126.")
+            && skipped.reason.contains("s at rest, shorter than the minimum duration 1 s"),
+        "{skipped:?}"
     );
+    assert!(
+        (skipped.start_s - 126.67).abs() < 0.1 && (skipped.end_s - skipped.start_s - 0.6).abs() < 0.1,
+        "{skipped:?}"
+    );
+    // --json (and Python) keep a list of reasons.
+    assert_eq!(serde_json::to_value(&analysis).unwrap()["skipped"][0], skipped.reason.as_str());
+
+    // The figure marks it (issue 37: holds shorter than --min-duration were not marked).
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("trace.png");
+    let figure = asperity::plot::trace_figure(&trace(&s, true), &analysis, &ShsOptions::default());
+    let svg = std::fs::read_to_string(asperity::plot::write_figure(&png, &figure).unwrap()).unwrap();
+    assert!(svg.contains("3 restarts after holds, 1 hold not measured (crossed)"), "the title counts it");
+    assert!(svg.contains("hold not measured (see stderr)"), "the legend names its cross");
 }
 
 #[test]

@@ -215,7 +215,7 @@ fn every_figure_movie_and_the_report() {
         ("friction-drop-sharing", 1800, 850),
         ("static-dynamic-coefficients", 1400, 850),
         ("resolution", 1400, 850),
-        ("hold-time", 1300, 850),
+        ("hold-time", 1800, 850),
         ("stress-ratio-histograms", 1500, 1100),
         ("pressure-distribution", 1200, 800),
         ("contact-maps", 1400, 1600),
@@ -417,4 +417,26 @@ fn figures_say_what_they_show() {
     assert!(report.contains("every topography solved on its own grid"));
     assert!(report.contains("lifts this"), "the limits say what elastic sharing lifts");
     assert!(report.contains("The lowest load with more than one element on some topography, per pixel size"));
+}
+
+/// The hold-time figure samples the aging law through the study's two laws, between and beyond
+/// them, and marks the laws (issue 37: two hold times made a straight segment).
+#[test]
+fn hold_time_samples_the_aging_law() {
+    let s = study();
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), &input(s, &s.maps, &[], &[FigureKind::HoldTime], &[1.0])).unwrap();
+    let svg = std::fs::read_to_string(dir.path().join("figures/hold-time.svg")).unwrap();
+    // 1 s to 10⁴ s at 12 per decade: one polyline of 49 vertices per load (the old figure's
+    // longest line had 2).
+    let vertices = |line: &str| {
+        line.split("points=\"").nth(1).map_or(0, |p| p.split('"').next().unwrap().split_whitespace().count())
+    };
+    let curves = svg.split("<polyline").skip(1).filter(|l| vertices(l) == 49).count();
+    assert_eq!(curves, 3, "an aging curve at each of the three loads");
+    for label in ["aging law at", "ball 0", "hold 100 s", "t = 100 s", "hold 10 s", "t = 10 s", "laws at"] {
+        assert!(svg.contains(label), "the legend names {label:?}");
+    }
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(html.contains("one aging law") && html.contains("49 hold times from 1 s to 10000 s"), "{html}");
 }

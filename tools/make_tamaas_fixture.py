@@ -7,13 +7,11 @@ compare with them without Python.
 
     python3 tools/make_tamaas_fixture.py
 """
-import json
-import pathlib
-
 import numpy as np
 import tamaas as tm
 
-OUT = pathlib.Path(__file__).resolve().parent.parent / "tests" / "fixtures" / "tamaas"
+from tamaas_fixture import fixture_dir, rough_surface, write_meta
+
 NY, NX = 96, 128
 LX, LY = 8e-6, 6e-6
 E, NU = 130e9, 0.26
@@ -22,12 +20,7 @@ LOADS = [2e-4, 2e-3, 2e-2]  # N
 
 
 def surface():
-    gen = tm.SurfaceGeneratorFilter2D([NY, NX])
-    gen.random_seed = 7
-    gen.spectrum = tm.Isopowerlaw2D()
-    gen.spectrum.q0, gen.spectrum.q1, gen.spectrum.q2 = 2, 4, 40
-    gen.spectrum.hurst = 0.8
-    rough = np.array(gen.buildSurface())
+    rough = rough_surface((NY, NX), 40)
     rough *= 5e-9 / rough.std()
     y = (np.arange(NY) + 0.5) * LY / NY - LY / 2
     x = (np.arange(NX) + 0.5) * LX / NX - LX / 2
@@ -36,9 +29,9 @@ def surface():
 
 
 def main():
-    OUT.mkdir(parents=True, exist_ok=True)
+    out = fixture_dir("tamaas")
     h = surface()
-    np.save(OUT / "heights.npy", h)
+    np.save(out / "heights.npy", h)
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [LY, LX], [NY, NX])
     model.E, model.nu = E, NU
     solver = tm.PolonskyKeerRey(model, h, 1e-14)
@@ -48,12 +41,10 @@ def main():
         solver.solve(load / (LX * LY))
         p = np.array(model.traction).reshape(NY, NX)
         name = f"pressure-{k:03}.npy"
-        np.save(OUT / name, p)
+        np.save(out / name, p)
         files.append({"load_n": load, "pressure_file": name, "contact_points": int((p > 0).sum())})
-    meta = {"tamaas": tm.TamaasInfo.version, "grid": [NY, NX], "physical_size_m": [LX, LY],
-            "youngs_pa": E, "poisson": NU, "tolerance": 1e-14, "loads": files}
-    (OUT / "meta.json").write_text(json.dumps(meta, indent=1) + "\n")
-    print(json.dumps(meta, indent=1))
+    write_meta(out, {"grid": [NY, NX], "physical_size_m": [LX, LY], "youngs_pa": E, "poisson": NU,
+                     "tolerance": 1e-14, "loads": files})
 
 
 if __name__ == "__main__":

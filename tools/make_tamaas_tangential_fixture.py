@@ -32,13 +32,11 @@ wavenumber −(n + 1)/2 instead of (n − 1)/2.
 
     python3 tools/make_tamaas_tangential_fixture.py
 """
-import json
-import pathlib
-
 import numpy as np
 import tamaas as tm
 
-OUT = pathlib.Path(__file__).resolve().parent.parent / "tests" / "fixtures" / "tamaas_tangential"
+from tamaas_fixture import fixture_dir, rough_surface, write_meta
+
 N = 64
 L = 6.4e-6
 E = 130e9
@@ -47,16 +45,6 @@ MEAN_PRESSURE = 2e8  # Pa
 RATIO = 0.5  # Q / (μ N), along asperity's x (Tamaas' component 1)
 POISSON = [0.0, 0.26, 0.5]
 MAX_ITER = 3000
-
-
-def surface():
-    gen = tm.SurfaceGeneratorFilter2D([N, N])
-    gen.random_seed = 7
-    gen.spectrum = tm.Isopowerlaw2D()
-    gen.spectrum.q0, gen.spectrum.q1, gen.spectrum.q2 = 2, 4, 24
-    gen.spectrum.hurst = 0.8
-    h = np.array(gen.buildSurface())
-    return h * 5e-9 / h.std()
 
 
 def checks(t, u, h):
@@ -86,11 +74,12 @@ def checks(t, u, h):
 
 
 def main():
-    OUT.mkdir(parents=True, exist_ok=True)
-    for old in OUT.glob("*.npy"):
+    out = fixture_dir("tamaas_tangential")
+    for old in out.glob("*.npy"):
         old.unlink()
-    h = surface()
-    np.save(OUT / "heights.npy", h)
+    h = rough_surface((N, N), 24)
+    h = h * 5e-9 / h.std()
+    np.save(out / "heights.npy", h)
     cases = []
     for k, nu in enumerate(POISSON):
         model = tm.ModelFactory.createModel(tm.model_type.surface_2d, [L, L], [N, N])
@@ -128,16 +117,14 @@ def main():
         names = {}
         for field, values in fields.items():
             names[field] = f"{field}-{k:03}.npy"
-            np.save(OUT / names[field], np.ascontiguousarray(values))
+            np.save(out / names[field], np.ascontiguousarray(values))
         cases.append({"poisson": nu, "error": error, "contact_points": int((t[..., 2] > 0).sum()),
                       "displacement_m": [float(delta[1]), float(delta[0])], **residuals, **names})
-    meta = {"tamaas": tm.TamaasInfo.version, "licence": "Tamaas is AGPL-3.0; these are its outputs",
-            "model": "surface_2d", "solver": "PolonskyKeerTan", "tolerance": 1e-12,
-            "max_iter": MAX_ITER, "grid": [N, N], "physical_size_m": [L, L], "youngs_pa": E,
-            "mu": MU, "axes": "asperity's: x along columns (Tamaas' component 1), y along rows",
-            "mean_traction_pa": [RATIO * MU * MEAN_PRESSURE, 0.0, MEAN_PRESSURE], "cases": cases}
-    (OUT / "meta.json").write_text(json.dumps(meta, indent=1) + "\n")
-    print(json.dumps(meta, indent=1))
+    write_meta(out, {"licence": "Tamaas is AGPL-3.0; these are its outputs",
+                     "model": "surface_2d", "solver": "PolonskyKeerTan", "tolerance": 1e-12,
+                     "max_iter": MAX_ITER, "grid": [N, N], "physical_size_m": [L, L], "youngs_pa": E,
+                     "mu": MU, "axes": "asperity's: x along columns (Tamaas' component 1), y along rows",
+                     "mean_traction_pa": [RATIO * MU * MEAN_PRESSURE, 0.0, MEAN_PRESSURE], "cases": cases})
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use serde::Serialize;
 
-use asperity::contact::{self, Boundary, ContactSolver, SolverOptions};
+use asperity::contact::{self, ContactSolver, SolverOptions};
 use asperity::output::{self, StagedDir};
 use asperity::plausible::{self, Spelling};
 use asperity::quantity::{show, FORCE, PRESSURE};
@@ -61,10 +61,6 @@ pub struct ContactArgs {
     /// is reached the surface yields (penetrates) instead of loading further.
     #[arg(long)]
     plastic: bool,
-    /// Free (non-periodic) boundary: the window is an isolated patch of an infinite half-space,
-    /// as for a sphere on a flat. Default: periodic.
-    #[arg(long)]
-    free: bool,
     /// Convergence tolerance on the solver's relative residual (complementarity and
     /// penetration, relative to mean pressure × RMS height), below 1e-2.
     #[arg(long, value_name = "T", default_value = "1e-10")]
@@ -165,7 +161,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         contact::check_load(load, size, e_star)?;
         super::judge("--load", plausible::load(load, size, e_star, Spelling::CommandLine))?;
     }
-    let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
+    let boundary = args.material.boundary();
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
     let mut solver =
@@ -184,7 +180,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let mut warnings = Vec::new();
     // The ways left to keep a contact inside the window: those not taken already.
     let remedies: Vec<String> = [
-        (!args.free, "a free boundary (--free)"),
+        (!args.material.free, "a free boundary (--free)"),
         (args.prepare.crop.is_none(), "a crop (--crop)"),
         (args.prepare.detrend == Detrend::None, "a detrend (--detrend)"),
         (args.cap_radius.is_none(), "a cap (--cap-radius)"),

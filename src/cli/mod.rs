@@ -16,7 +16,7 @@ use std::process::ExitCode;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 
-use asperity::contact::{combined_modulus, Device, Material};
+use asperity::contact::{combined_modulus, Boundary, Device, Material};
 use asperity::error::{acts_on_terminal, escaped, one_line};
 use asperity::limits::{Limits, DEFAULT_MAX_POINTS};
 use asperity::plausible::{self, Spelling};
@@ -243,7 +243,8 @@ impl ReadArgs {
     }
 }
 
-/// The elastic bodies in contact: the options of every command that solves a contact.
+/// The elastic bodies in contact and their boundary: the options of every command that solves
+/// a contact.
 #[derive(Args)]
 pub struct MaterialArgs {
     /// Young's modulus of the elastic body [Pa, or with a unit: 130GPa] (default: silicon).
@@ -259,6 +260,11 @@ pub struct MaterialArgs {
     /// Poisson's ratio of the second elastic body.
     #[arg(long, value_name = "NU2", requires = "youngs2", allow_negative_numbers = true)]
     poisson2: Option<f64>,
+    /// Free (non-periodic) boundary: the window is an isolated patch of an infinite half-space,
+    /// as for a sphere on a flat (a contact directory given to `slide` states its own).
+    /// Default: periodic.
+    #[arg(long)]
+    pub free: bool,
 }
 
 impl MaterialArgs {
@@ -278,6 +284,15 @@ impl MaterialArgs {
             _ => unreachable!("one or two bodies"),
         };
         Ok((bodies, e_star))
+    }
+
+    /// The half-space's boundary: free with --free, else periodic.
+    pub fn boundary(&self) -> Boundary {
+        if self.free {
+            Boundary::Free
+        } else {
+            Boundary::Periodic
+        }
     }
 }
 

@@ -134,15 +134,15 @@ pub fn run(args: Args) -> asperity::Result<()> {
     let trace = shs::read_trace(&args.trace, &format)?;
     let analysis = shs::analyse(&trace, &options)?;
 
-    for reason in &analysis.skipped {
-        super::message(&format!("warning: {}: {reason}", args.trace.display()));
+    for skipped in &analysis.skipped {
+        super::message(&format!("warning: {}: {}", args.trace.display(), skipped.reason));
     }
     if let Some(path) = &args.out {
         let points: Vec<ShsPoint> = analysis.groups.iter().map(ShsPoint::from).collect();
         shs::write_points(path, &points)?;
     }
     if let Some(path) = &args.plot {
-        plot::write_figure(path, &shs::trace_figure(&trace, &analysis, &options))?;
+        plot::write_figure(path, &plot::trace_figure(&trace, &analysis, &options))?;
     }
     if args.json {
         super::print_json(&analysis)

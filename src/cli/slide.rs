@@ -89,9 +89,6 @@ pub struct SlideArgs {
     tangential_force: Option<f64>,
     #[command(flatten)]
     material: MaterialArgs,
-    /// Free (non-periodic) boundary, as `contact --free` (a contact directory states its own).
-    #[arg(long)]
-    free: bool,
     #[command(flatten)]
     device: super::DeviceArgs,
     /// Tolerance of the tangential solve (relative norm of its projected gradient, below 1e-2); the path
@@ -419,7 +416,7 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
                 "not used with a contact directory: its contact.json gives the surface",
             ));
         }
-        return read_contact_dir(path, args.load, e_star, args.free, &args.read.limits.limits());
+        return read_contact_dir(path, args.load, e_star, args.material.free, &args.read.limits.limits());
     }
     let load = args.load.ok_or_else(|| Error::invalid("--load", "give the normal load for a topography"))?;
     if !(load > 0.0 && load.is_finite()) {
@@ -429,7 +426,7 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let size = contact::contact_size(&surface)?;
     contact::check_load(load, size, e_star)?;
     super::judge("--load", plausible::load(load, size, e_star, Spelling::CommandLine))?;
-    let boundary = if args.free { Boundary::Free } else { Boundary::Periodic };
+    let boundary = args.material.boundary();
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
     let heights = heights.as_slice().expect("standard layout");
@@ -441,7 +438,8 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     let report = solver.solve(load, |_, _| {})?;
     super::message(&format!("normal solve: {} iterations, {:.1} s", report.iterations, report.seconds));
     // As `contact` warns: a contact cut by the window, or pressures beyond belief.
-    let remedies: Vec<String> = (!args.free).then(|| "a free boundary (--free)".to_string()).into_iter().collect();
+    let remedies: Vec<String> =
+        (!args.material.free).then(|| "a free boundary (--free)".to_string()).into_iter().collect();
     for w in contact::summarize(solver.pressure(), shape, size, boundary, None).warnings(&remedies) {
         super::message(&format!(
             "warning: at {}: {w} (`asperity contact` levels, crops and caps; `slide` takes its folder)",

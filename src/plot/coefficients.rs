@@ -7,6 +7,8 @@
 use super::maps::load_label;
 use super::shared::{by_load, spread, FigureInput, LOAD_COLOURS};
 use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
+use crate::friction::{ElementLoads, FrictionLaw, Onset};
+use crate::plausible::MAX_FRICTION_COEFFICIENT;
 use crate::shs::ShsPoint;
 use crate::study::{law_name, ResolutionRow, Row, COARSENING};
 
@@ -84,6 +86,17 @@ fn fit(levels: &[f64]) -> (f64, f64) {
 fn measured(xy: Vec<(f64, f64)>, err: Vec<f64>, marker: Marker, colour: RGBColor, levels: &mut Vec<f64>) -> Series {
     levels.extend(xy.iter().zip(&err).flat_map(|(p, e)| [p.1 - e, p.1 + e]));
     Series::scatter(xy, marker, colour).errors(err)
+}
+
+/// The panel of the friction drop against the load [mN] over `x` and `y`, its legend beside the
+/// axes: the bands span the height at low loads and the ticks line the top.
+fn drop_vs_load(x: (f64, f64), y: (f64, f64), title: &str) -> Panel {
+    Panel::new(
+        Axis::new("normal load N", "mN").log().range(x.0, x.1),
+        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y.0, y.1),
+    )
+    .title(title)
+    .legend_beside(480)
 }
 
 /// Friction drop vs load (Fig. 2): per law a band over the topographies — and over E ± ΔE when
@@ -166,13 +179,7 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
             marked.push(load_label(load));
         }
     }
-    let mut panel = Panel::new(
-        Axis::new("normal load N", "mN").log().range(x0, x1),
-        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
-    )
-    .title("Friction drop vs normal load")
-    // Beside the axes: the bands span the height at low loads and the ticks line the top.
-    .legend_beside(480);
+    let mut panel = drop_vs_load((x0, x1), (y0, y1), "Friction drop vs normal load");
     panel.series = series;
     let experiments = if input.experiments.is_empty() {
         " No measured points were given.".to_string()
@@ -263,12 +270,7 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
         });
     }
     let (y0, y1) = fit(&levels);
-    let mut panel = Panel::new(
-        Axis::new("normal load N", "mN").log().range(x0, x1),
-        Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
-    )
-    .title("Friction drop vs normal load: equal and elastic sharing")
-    .legend_beside(480);
+    let mut panel = drop_vs_load((x0, x1), (y0, y1), "Friction drop vs normal load: equal and elastic sharing");
     panel.series = series;
     let caption = format!(
         "The friction drop F_S/(μ_d N) against the normal load with the tangential force shared equally among the \
@@ -454,51 +456,91 @@ pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
     Some((Figure::new(panel).with_size(1400, 850), caption))
 }
 
-/// Friction drop vs hold time at the chosen loads, for the laws with a hold time: a band over
-/// the topographies per load, measured points at their hold time.
+/// The aging law through the laws with a hold time (`laws`: (t [s], law), at least two), when
+/// they share mu_d and lie on one line mu_s(t) = mu_s(t₀) + β·log10(t/t₀): (t₀, mu_s(t₀), β, mu_d),
+/// t₀ the first law's hold time. The default study's two laws are such a law.
+fn aging_law(laws: &[(f64, &FrictionLaw)]) -> Option<(f64, f64, f64, f64)> {
+    let (t0, first) = laws[0];
+    let (t1, last) = laws[laws.len() - 1];
+    let beta = (last.mu_s - first.mu_s) / (t1 / t0).log10();
+    let on_line = |&(t, law): &(f64, &FrictionLaw)| {
+        let mu_s = first.mu_s + beta * (t / t0).log10();
+        law.mu_d == first.mu_d && (law.mu_s - mu_s).abs() <= 1e-9 * law.mu_s
+    };
+    (t1 > t0 && beta.is_finite() && laws.iter().all(on_line)).then_some((t0, first.mu_s, beta, first.mu_d))
+}
+
+/// Hold times [s] at which the aging curve is drawn: 12 per decade from 1 s to 10⁴ s, widened
+/// to a decade beyond the hold times `(lo, hi)` [s] of the laws and the measured points.
+fn aging_samples((lo, hi): (f64, f64)) -> Vec<f64> {
+    let (a, b) = ((lo / 10.0).min(1.0).log10().floor(), (hi * 10.0).max(1e4).log10().ceil());
+    let n = ((b - a) * 12.0).round() as i32;
+    (0..=n).map(|k| 10f64.powf(a + (b - a) * f64::from(k) / f64::from(n))).collect()
+}
+
+/// Friction drop vs hold time at the chosen loads (aging): the laws of the study with a hold
+/// time, each at its hold time (mean over the topographies, their range as a bar); when the
+/// laws are one aging law, that law sampled over hold times from 1 s to 10⁴ s on the first
+/// topography's kept pressure map at each load; measured points at their hold time.
 pub(super) fn hold_time(input: &FigureInput) -> Option<(Figure, String)> {
-    let mut laws: Vec<(f64, String)> =
-        input.laws.iter().zip(input.hold_times).filter_map(|(l, h)| h.map(|h| (h, law_name(l)))).collect();
+    let mut laws: Vec<(f64, &FrictionLaw)> =
+        input.laws.iter().zip(input.hold_times).filter_map(|(l, h)| h.map(|h| (h, l))).collect();
     laws.sort_by(|a, b| a.0.total_cmp(&b.0));
     if laws.len() < 2 {
         return None;
     }
+    let aging = aging_law(&laws);
+    let times: Vec<f64> = laws.iter().map(|l| l.0).collect();
+    let hold_xs = times.iter().copied().chain(input.experiments.iter().map(|p| p.hold_s));
+    let (t_lo, t_hi) = hold_xs.fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t), b.max(t)));
+    let samples = if aging.is_some() { aging_samples((t_lo, t_hi)) } else { Vec::new() };
     let mut series = Vec::new();
     let mut levels = Vec::new();
-    let times: Vec<f64> = laws.iter().map(|l| l.0).collect();
     let mut chosen = Vec::new();
+    let mut sampled = Vec::new();
     for (k, &target) in input.hold_time_loads.iter().enumerate() {
         let Some(load) = nearest_load(input.rows, target) else { continue };
         chosen.push(load);
-        let stats: Vec<(f64, f64, f64)> = laws
-            .iter()
-            .map(|(_, name)| {
-                spread(
-                    input
-                        .rows
-                        .iter()
-                        .filter(|r| r.law == *name && (r.load_n / load - 1.0).abs() < 1e-9)
-                        .map(|r| r.friction_drop),
-                )
-            })
-            .collect();
-        levels.extend(stats.iter().flat_map(|s| [s.0, s.2]));
         let colour = LOAD_COLOURS[k % LOAD_COLOURS.len()];
+        // The aging law on the first topography's map at this load, where the study kept one.
+        let map = input.maps.iter().find(|m| (m.load_n / load - 1.0).abs() < 1e-9);
+        let loads = map.and_then(|m| ElementLoads::from_pressure(&m.pressure, m.pixel_area()).ok());
+        if let (Some((t0, mu_s0, beta, mu_d)), Some(loads), Some(map)) = (aging, loads, map) {
+            let curve: Vec<(f64, f64)> = samples
+                .iter()
+                .filter_map(|&t| {
+                    // At μ_s = μ_d (t = 1 s for the default law) a rounding error must not drop the point.
+                    let mu_s = mu_s0 + beta * (t / t0).log10();
+                    let mu_s = if (mu_s - mu_d).abs() <= 1e-12 * mu_d { mu_d } else { mu_s };
+                    let law = FrictionLaw::new(mu_s, mu_d).ok().filter(|_| mu_s <= MAX_FRICTION_COEFFICIENT)?;
+                    Some((t, Onset::new(&loads, &law).friction_drop()))
+                })
+                .collect();
+            levels.extend(curve.iter().map(|p| p.1));
+            series.push(Series::line(curve, colour).label(format!(
+                "aging law at {}, {}",
+                load_label(load),
+                map.topography
+            )));
+            sampled.push(load_label(load));
+        }
+        let marks = laws.iter().map(|(t, law)| {
+            let name = law_name(law);
+            let drops = input.rows.iter().filter(|r| r.law == name && (r.load_n / load - 1.0).abs() < 1e-9);
+            (*t, spread(drops.map(|r| r.friction_drop)))
+        });
+        let mut means = Vec::new();
+        for (t, (lo, mean, hi)) in marks {
+            levels.extend([lo, hi]);
+            series.push(Series::line(vec![(t, lo), (t, hi)], colour).width(4));
+            means.push((t, mean));
+        }
+        let topographies = input.topographies.len();
         series.push(
-            Series::band(
-                times.clone(),
-                stats.iter().map(|s| s.0).collect(),
-                stats.iter().map(|s| s.2).collect(),
-                colour,
-            )
-            .label(format!("model at {}", load_label(load))),
+            Series::scatter(means, Marker::Circle, colour)
+                .hollow()
+                .label(format!("the study's laws at {} (mean, range over {topographies})", load_label(load))),
         );
-        series.push(Series::line(times.iter().copied().zip(stats.iter().map(|s| s.1)).collect(), colour));
-        series.push(Series::scatter(
-            times.iter().copied().zip(stats.iter().map(|s| s.1)).collect(),
-            Marker::Circle,
-            colour,
-        ));
     }
     if chosen.is_empty() {
         return None;
@@ -528,23 +570,50 @@ pub(super) fn hold_time(input: &FigureInput) -> Option<(Figure, String)> {
         series.push(measured(xy, err, Marker::Square, colour, &mut levels).hollow().label(label));
     }
     let (y0, y1) = fit(&levels);
-    let hold_xs = times.iter().copied().chain(input.experiments.iter().map(|p| p.hold_s));
-    let (t0, t1) = hold_xs.fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t), b.max(t)));
+    // Each law of the study marked at its hold time across the panel.
+    for (t, law) in &laws {
+        let label = format!("law \"{}\": t = {} s", law_name(law), tick_label(t));
+        series.push(Series::line(vec![(*t, y0), (*t, y1)], style::GREY).dotted().width(1).label(label));
+    }
+    let (t0, t1) = samples.iter().fold((t_lo, t_hi), |(a, b), &t| (a.min(t), b.max(t)));
     let mut panel = Panel::new(
         Axis::new("hold time t", "s").log().range(t0 / 1.5, t1 * 1.5),
         Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
     )
     .title("Friction drop vs hold time")
-    .legend(LegendPosition::UpperLeft);
+    // Beside the axes: the curves span the panel.
+    .legend_beside(560);
     panel.series = series;
+    let names: Vec<String> =
+        laws.iter().map(|(t, l)| format!("\"{}\" (t = {} s)", law_name(l), tick_label(t))).collect();
+    let curve = match aging {
+        Some((t0, mu_s0, beta, mu_d)) if !sampled.is_empty() => format!(
+            " The laws are one aging law, μ_s(t) = {} + {}·log10(t/{} s) with μ_d = {}: its curves (lines) are its \
+             friction drop at {} hold times from {} s to {} s on the first topography's pressure map at {} (where \
+             μ_s(t) ≥ μ_d).",
+            tick_label(&mu_s0),
+            tick_label(&beta),
+            tick_label(&t0),
+            tick_label(&mu_d),
+            samples.len(),
+            tick_label(&samples[0]),
+            tick_label(&samples[samples.len() - 1]),
+            sampled.join(", ")
+        ),
+        Some(_) => " No pressure map was kept at these loads, so the aging law is not sampled between them.".into(),
+        None => {
+            " The laws are not one aging law (a shared μ_d, μ_s linear in log t), so nothing is drawn between them."
+                .into()
+        }
+    };
     let caption = format!(
-        "The friction drop against the AFM hold time t of the local law (laws {}), at the swept loads nearest {} \
-         (band over the topographies, line their mean). An aging law has mu_s(t) = mu_s(t₀) + β·log10(t/t₀) with \
-         mu_d fixed; measured points sit at their hold time, coloured as the nearest of these loads.",
-        laws.iter().map(|l| format!("\"{}\"", l.1)).collect::<Vec<_>>().join(", "),
-        chosen.iter().map(|l| load_label(*l)).collect::<Vec<_>>().join(", ")
+        "The friction drop against the AFM hold time t of the local law at the swept loads nearest {}: the study's \
+         laws {} at their hold times (dotted; circle the mean over the topographies, bar their range).{curve} \
+         Measured points sit at their hold time, coloured as the nearest of these loads.",
+        chosen.iter().map(|l| load_label(*l)).collect::<Vec<_>>().join(", "),
+        names.join(", ")
     );
-    Some((Figure::new(panel).with_size(1300, 850), caption))
+    Some((Figure::new(panel).with_size(1800, 850), caption))
 }
 
 /// The single-element limit mu_s/mu_d of law `name`, dotted from `x0` up to its first load

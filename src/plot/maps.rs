@@ -57,30 +57,30 @@ impl View {
     /// The contact points of a snapshot with a margin of a tenth of their extent, and at
     /// least six pixels on a side (a single element is then a visible square).
     pub fn contact(snap: &MapSnapshot) -> View {
-        View::around(snap, |_| true)
+        let boxes = patches(snap);
+        match boxes.iter().map(|p| p.0).reduce(View::union) {
+            Some(all) => all.with_margin(snap.pixel_size),
+            None => View::window(snap),
+        }
     }
 
     /// The region of the contact patch (4-connected pixels) that carries the largest force.
     pub fn main_patch(snap: &MapSnapshot) -> View {
-        let mask: Vec<bool> = snap.pressure.iter().map(|p| *p > 0.0).collect();
-        let (labels, sizes) = crate::contact::patches::label(&mask, snap.pressure.dim(), false);
-        let mut force = vec![0.0; sizes.len() + 1];
-        for (l, p) in labels.iter().zip(snap.pressure.iter()) {
-            force[*l as usize] += p;
+        match patches(snap).into_iter().reduce(|a, b| if b.1 >= a.1 { b } else { a }) {
+            Some((main, _)) => main.with_margin(snap.pixel_size),
+            None => View::window(snap),
         }
-        let main = (1..force.len()).max_by(|a, b| force[*a].total_cmp(&force[*b])).unwrap_or(0) as u32;
-        let nx = snap.pressure.ncols();
-        View::around(snap, |(r, c)| labels[r * nx + c] == main)
     }
 
-    /// The view of a map drawn about `screen` px wide: the whole contact when its pixels then
-    /// show at least [`DETAIL_PX`] px wide, else the most loaded patch with its surroundings
-    /// at that scale (or the patch alone when larger). Returns the view and whether it is
-    /// such a zoom.
-    pub fn detail(snap: &MapSnapshot, screen: u32) -> (View, bool) {
+    /// The view of a map drawn on a plotting area of `plot` px: the whole contact when its
+    /// pixels then show at least [`DETAIL_PX`] px wide, else the most loaded patch with its
+    /// surroundings at that scale (or the patch alone when larger), grown until it cuts no
+    /// patch (see [`View::uncut`]). Returns the view (a zoom fitted to `plot`) and whether it
+    /// leaves some of the contact out.
+    pub fn detail(snap: &MapSnapshot, plot: (u32, u32)) -> (View, bool) {
         let region = View::contact(snap);
         let (dx, dy) = snap.pixel_size;
-        let least = f64::from(screen) / DETAIL_PX;
+        let least = f64::from(plot.0) / DETAIL_PX;
         if region.width().max(region.height()) <= least * dx.max(dy) {
             return (region, false);
         }
@@ -89,30 +89,53 @@ impl View {
             let half = (0.5 * (b - a)).max(0.5 * least * d);
             (0.5 * (a + b) - half, 0.5 * (a + b) + half)
         };
-        (View { x: grow(patch.x, dx), y: grow(patch.y, dy) }, true)
+        let boxes = patches(snap);
+        let view = View { x: grow(patch.x, dx), y: grow(patch.y, dy) }.uncut(&boxes, plot);
+        let zoomed = boxes.iter().any(|(b, _)| !view.holds(b));
+        (view, zoomed)
     }
 
-    /// The contact pixels (row, column) of `snap` for which `keep` holds, with a margin.
-    fn around(snap: &MapSnapshot, keep: impl Fn((usize, usize)) -> bool) -> View {
-        let (dx, dy) = snap.pixel_size;
-        let (mut r0, mut r1, mut c0, mut c1) = (usize::MAX, 0, usize::MAX, 0);
-        for ((r, c), p) in snap.pressure.indexed_iter() {
-            if *p > 0.0 && keep((r, c)) {
-                (r0, r1, c0, c1) = (r0.min(r), r1.max(r + 1), c0.min(c), c1.max(c + 1));
+    /// This view fitted to `plot` px and grown, as often as needed, over every patch of
+    /// `boxes` it cuts, so that each patch lies wholly inside it or wholly outside (a zoom at
+    /// 1 mN cut patches at the panel's edge: issue 37).
+    fn uncut(self, boxes: &[(View, f64)], plot: (u32, u32)) -> View {
+        let mut view = self.fit(plot);
+        loop {
+            let grown = boxes.iter().filter(|(b, _)| view.cuts(b)).fold(view, |v, (b, _)| v.union(*b));
+            if grown == view {
+                return view;
             }
+            view = grown.fit(plot);
         }
-        if r0 == usize::MAX {
-            return View::window(snap);
-        }
-        let (or, oc) = (snap.origin.0 as f64, snap.origin.1 as f64);
-        let x = ((oc + c0 as f64) * dx, (oc + c1 as f64) * dx);
-        let y = ((or + r0 as f64) * dy, (or + r1 as f64) * dy);
+    }
+
+    /// Whether `b` lies inside this view (to a millionth of its size: the fit that a chart
+    /// applies again may move an edge by a rounding error).
+    fn holds(&self, b: &View) -> bool {
+        let (ex, ey) = (1e-6 * self.width(), 1e-6 * self.height());
+        b.x.0 >= self.x.0 - ex && b.x.1 <= self.x.1 + ex && b.y.0 >= self.y.0 - ey && b.y.1 <= self.y.1 + ey
+    }
+
+    /// Whether this view shows part of `b` but not all of it.
+    pub fn cuts(&self, b: &View) -> bool {
+        let overlaps = b.x.0 < self.x.1 && b.x.1 > self.x.0 && b.y.0 < self.y.1 && b.y.1 > self.y.0;
+        overlaps && !self.holds(b)
+    }
+
+    /// The smallest view holding both.
+    fn union(self, b: View) -> View {
+        View { x: (self.x.0.min(b.x.0), self.x.1.max(b.x.1)), y: (self.y.0.min(b.y.0), self.y.1.max(b.y.1)) }
+    }
+
+    /// Grown about its centre by a tenth of its extent on each side, to at least six pixels
+    /// (`pixel` = (dx, dy) [m]) on a side.
+    fn with_margin(self, (dx, dy): (f64, f64)) -> View {
         let side = |(a, b): (f64, f64), d: f64| {
             let half = ((b - a) * 0.6).max(3.0 * d);
             let mid = 0.5 * (a + b);
             (mid - half, mid + half)
         };
-        View { x: side(x, dx), y: side(y, dy) }
+        View { x: side(self.x, dx), y: side(self.y, dy) }
     }
 
     pub fn width(&self) -> f64 {
@@ -142,6 +165,34 @@ impl View {
     }
 }
 
+/// The contact patches (4-connected pixels of positive pressure, not wrapped across the
+/// edges) of a snapshot, in the order of their first pixel: each one's bounding box in the
+/// window [m] and the sum of its pressures [Pa] (its force over the pixel area).
+pub(super) fn patches(snap: &MapSnapshot) -> Vec<(View, f64)> {
+    let mask: Vec<bool> = snap.pressure.iter().map(|p| *p > 0.0).collect();
+    let (labels, sizes) = crate::contact::patches::label(&mask, snap.pressure.dim(), false);
+    // Per patch: first and last row + 1, first and last column + 1, and its pressure sum.
+    let mut extent = vec![(usize::MAX, 0, usize::MAX, 0, 0.0); sizes.len()];
+    let nx = snap.pressure.ncols();
+    for ((r, c), p) in snap.pressure.indexed_iter() {
+        let l = labels[r * nx + c] as usize;
+        if l > 0 {
+            let e = &mut extent[l - 1];
+            *e = (e.0.min(r), e.1.max(r + 1), e.2.min(c), e.3.max(c + 1), e.4 + p);
+        }
+    }
+    let (dx, dy) = snap.pixel_size;
+    let (or, oc) = (snap.origin.0 as f64, snap.origin.1 as f64);
+    extent
+        .into_iter()
+        .map(|(r0, r1, c0, c1, force)| {
+            let x = ((oc + c0 as f64) * dx, (oc + c1 as f64) * dx);
+            let y = ((or + r0 as f64) * dy, (or + r1 as f64) * dy);
+            (View { x, y }, force)
+        })
+        .collect()
+}
+
 /// Values on pixels of the window: NaN where nothing is drawn.
 pub(super) struct Layer<'a> {
     pub values: &'a Array2<f64>,
@@ -169,6 +220,12 @@ pub(super) struct MapAxes<'a, DB: DrawingBackend> {
     pub plot: (u32, u32),
 }
 
+/// The plotting area [px] of a map drawn on an area of `(w, h)` px: what [`map_chart`] fits
+/// its view to.
+pub(super) fn plot_size((w, h): (u32, u32)) -> (u32, u32) {
+    (w.saturating_sub(2 * MAP_MARGIN + Y_LABELS), h.saturating_sub(2 * MAP_MARGIN + X_LABELS))
+}
+
 /// Axes for a map on `area`: the view fitted to the plotting area, lengths labelled in the
 /// view's unit, the axis names only when `named`.
 pub(super) fn map_chart<'a, DB: DrawingBackend>(
@@ -176,8 +233,7 @@ pub(super) fn map_chart<'a, DB: DrawingBackend>(
     view: View,
     named: bool,
 ) -> DrawResult<DB, MapAxes<'a, DB>> {
-    let (w, h) = area.dim_in_pixel();
-    let plot = (w.saturating_sub(2 * MAP_MARGIN + Y_LABELS), h.saturating_sub(2 * MAP_MARGIN + X_LABELS));
+    let plot = plot_size(area.dim_in_pixel());
     let view = view.fit(plot);
     let (scale, unit) = view.unit();
     let mut chart = ChartBuilder::on(area)
@@ -302,7 +358,12 @@ pub(super) fn draw_layer<DB: DrawingBackend>(
     };
     let plotting = chart.plotting_area();
     for (corners, c) in runs {
-        plotting.draw(&Rectangle::new(clip(corners), c.filled()))?;
+        let [(x0, y0), (x1, y1)] = clip(corners);
+        // A run outside the view clips to nothing; drawn, plotters would pin it to the panel's
+        // edge as a sliver, which read as a cut patch (issue 37).
+        if x0 < x1 && y0 < y1 {
+            plotting.draw(&Rectangle::new([(x0, y0), (x1, y1)], c.filled()))?;
+        }
     }
     Ok(())
 }
@@ -781,12 +842,16 @@ impl Draw for RatioSnapshots<'_> {
         for (j, (snap, onset)) in self.columns.iter().enumerate() {
             let x = (ROW_HEADER + j as u32 * CELL + CELL / 2) as i32;
             let heading = format!("N = {}, {} elements", load_label(snap.load_n), onset.elements);
-            let zoom = if View::detail(snap, CELL - 90).1 { "zoom: most loaded patch" } else { "whole contact" };
+            let zoom = if View::detail(snap, plot_size((CELL, CELL))).1 {
+                "zoom: most loaded patch, neighbours whole"
+            } else {
+                "whole contact"
+            };
             text(&col_heads, &heading, (x, 16), LABEL, (HPos::Center, VPos::Center))?;
             text(&col_heads, zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
         }
         let layers: Vec<(&MapSnapshot, &Onset, View)> =
-            self.columns.iter().map(|(s, o)| (*s, o, View::detail(s, CELL - 90).0)).collect();
+            self.columns.iter().map(|(s, o)| (*s, o, View::detail(s, plot_size((CELL, CELL))).0)).collect();
         for (i, f) in self.fractions.iter().enumerate() {
             let row = rows_area.clone().shrink((0, i as u32 * CELL), (w, CELL));
             let (label, cells) = row.split_horizontally(ROW_HEADER);
@@ -865,6 +930,66 @@ mod tests {
         assert_eq!(percent(0.053), "5.3 %");
         assert_eq!(percent(0.00025), "0.025 %");
         assert_eq!(percent(0.0), "0.0 %");
+    }
+
+    /// A zoom cuts no contact patch (issue 37: the 1 mN zooms of Fig. S6 and the movies cut
+    /// patches at the panel's edge): as drawn, every patch lies inside the view or outside it.
+    #[test]
+    fn zooms_cut_no_patch() {
+        let mut pressure = Array2::zeros((400, 400));
+        // The most loaded patch, a neighbour across where a zoom of the least size ends, and a
+        // far patch that makes the whole contact too wide to show at DETAIL_PX.
+        for (rows, cols, p) in [(195..205, 95..105, 5e9), (190..193, 150..175, 1e9), (200..204, 380..384, 1e9)] {
+            pressure.slice_mut(ndarray::s![rows, cols]).fill(p);
+        }
+        let pixel = 1e-8;
+        let snap = MapSnapshot {
+            topography: "ball".into(),
+            load_n: 1e-3,
+            pressure,
+            origin: (0, 0),
+            grid: (400, 400),
+            pixel_size: (pixel, pixel),
+        };
+        let plot = plot_size((CELL, CELL));
+        let mut boxes: Vec<View> = patches(&snap).into_iter().map(|p| p.0).collect();
+        boxes.sort_by(|a, b| a.x.0.total_cmp(&b.x.0));
+        let [main, neighbour, far] = boxes[..] else { panic!("three patches: {boxes:?}") };
+        // The zoom of the least size about the main patch (120.8 px at 2.5 px each), as drawn
+        // before: it cut the neighbour.
+        let least = View { x: (39.6 * pixel, 160.4 * pixel), y: (139.6 * pixel, 260.4 * pixel) }.fit(plot);
+        assert!(least.cuts(&neighbour), "the case: {least:?} against {neighbour:?}");
+
+        let (view, zoomed) = View::detail(&snap, plot);
+        let drawn = view.fit(plot);
+        for b in [main, neighbour, far] {
+            assert!(!drawn.cuts(&b), "{drawn:?} cuts the patch {b:?}");
+        }
+        assert!(zoomed && drawn.holds(&main) && drawn.holds(&neighbour) && !drawn.holds(&far), "{drawn:?}");
+        assert!(drawn.width() < 200.0 * pixel, "still a zoom: {drawn:?}");
+    }
+
+    /// Pixels outside the view are not drawn (their clipped rectangles were pinned to the
+    /// panel's edge: the slivers of patches beside a zoom in Fig. S6 at 1 mN).
+    #[test]
+    fn pixels_outside_the_view_leave_no_sliver() {
+        let mut values = Array2::from_elem((20, 40), f64::NAN);
+        values.slice_mut(ndarray::s![5..10, 30..35]).fill(1.0);
+        values.slice_mut(ndarray::s![12..14, 2..4]).fill(1.0);
+        let layer = Layer { values: &values, origin: (0, 0), pixel: (1.0, 1.0) };
+        let view = View { x: (0.0, 20.0), y: (0.0, 20.0) };
+        let mut rgb = vec![255u8; 200 * 200 * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, (200, 200)).into_drawing_area();
+            let chart = ChartBuilder::on(&root).build_cartesian_2d(0.0..20.0, 0.0..20.0).unwrap();
+            draw_layer(&chart, view, (200, 200), &layer, |_| RGBColor(255, 0, 0)).unwrap();
+            root.present().unwrap();
+        }
+        let red: Vec<usize> =
+            (0..200 * 200).filter(|k| rgb[3 * k..3 * k + 3] == [255, 0, 0]).map(|k| k % 200).collect();
+        // The patch inside (x from 2 to 4: columns 20 to 40) is drawn; the one beyond x = 20 is not.
+        assert!(red.len() >= 400, "the patch inside is drawn: {} px", red.len());
+        assert!(red.iter().all(|&column| (19..42).contains(&column)), "no sliver at the right edge");
     }
 
     #[test]

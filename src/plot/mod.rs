@@ -4,7 +4,8 @@
 //! looks the same on a machine without system fonts. Figures with their own layout (maps,
 //! movie frames) implement [`Draw`] and reuse [`style`] and [`write_figure`].
 //!
-//! [`study::render`] draws a numerical study's figures, movies and report.
+//! [`study::render`] draws a numerical study's figures, movies and report; [`trace_figure`] a
+//! slide-hold-slide trace with what [`crate::shs`] found in it.
 
 mod coefficients;
 mod figure;
@@ -15,6 +16,7 @@ mod report;
 mod shared;
 pub mod study;
 pub mod style;
+mod trace;
 
 use std::path::{Path, PathBuf};
 
@@ -24,6 +26,7 @@ pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Grid, Marker,
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;
 pub use shared::FigureInput;
+pub use trace::trace_figure;
 
 use crate::error::{Error, Result};
 

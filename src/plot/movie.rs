@@ -14,7 +14,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 use rayon::prelude::*;
 
 use super::maps::{
-    draw_layer, map_chart, ratio_key, ratio_layer, ratio_value_colour, text, Layer, MapAxes, View, LEVELS,
+    draw_layer, map_chart, plot_size, ratio_key, ratio_layer, ratio_value_colour, text, Layer, MapAxes, View, LEVELS,
 };
 use super::{style, tick_label, Axis, Draw, DrawResult, Marker, Panel, Series};
 use crate::error::{Error, Result};
@@ -31,6 +31,8 @@ const DELAY_PEAK: u16 = 120;
 const DELAY_END: u16 = 200;
 /// Canvas [px].
 const SIZE: (u32, u32) = (760, 1080);
+/// Height [px] of the map's area, below the heading.
+const MAP_HEIGHT: u32 = 580;
 
 /// Number of frames of a movie.
 pub const FRAMES: usize = END_STEPS + 1;
@@ -66,7 +68,7 @@ impl Draw for Frame<'_> {
             tick_label(&law.mu_d),
         );
         text(&head, &title, (w as i32 / 2, 22), 22.0, (HPos::Center, VPos::Center))?;
-        let shown = if self.zoomed { "the most loaded contact patch" } else { "the whole contact" };
+        let shown = if self.zoomed { "the most loaded contact patch and its neighbours" } else { "the whole contact" };
         let subtitle = format!("{} elements; the map shows {shown}", self.onset.elements);
         text(&head, &subtitle, (w as i32 / 2, 54), 19.0, (HPos::Center, VPos::Center))?;
         let values = ratio_layer(self.snap, self.onset, self.fraction);
@@ -82,7 +84,7 @@ impl Draw for Frame<'_> {
         );
         text(&head, &state, (w as i32 / 2, 88), 19.0, (HPos::Center, VPos::Center))?;
 
-        let (map, rest) = rest.split_vertically(580);
+        let (map, rest) = rest.split_vertically(MAP_HEIGHT);
         let MapAxes { chart, view, plot } = map_chart(&map, self.view, true)?;
         let mu_s = law.mu_s;
         draw_layer(&chart, view, plot, &Layer::on(self.snap, &values), |v| ratio_value_colour(v, mu_s))?;
@@ -174,7 +176,7 @@ pub(super) fn write_movie(path: &Path, snap: &MapSnapshot, onset: &Onset, law_na
     let loads = ElementLoads::from_pressure(&snap.pressure, snap.pixel_area())?;
     let end = END_STEPS as f64 / STEPS as f64;
     let curve = scaled_curve(&loads, onset, Loading::EqualLoadSharing, end);
-    let (view, zoomed) = View::detail(snap, SIZE.0 - 110);
+    let (view, zoomed) = View::detail(snap, plot_size((SIZE.0, MAP_HEIGHT)));
     let colours = palette();
     let transparent = (colours.len() - 1) as u8;
     let quantizer = Quantizer::new(&colours[..colours.len() - 1]);

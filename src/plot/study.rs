@@ -68,27 +68,32 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
         Ok::<(), Error>(())
     };
     let name = stem(kind);
+    // A figure drawn from the input alone, or the note of what it lacks.
+    let made = |drawn: &mut Drawn, made: Option<(Figure, String)>, lacking: &str| match made {
+        Some((fig, caption)) => figure(drawn, name, &|p| write_figure(p, &fig), caption),
+        None => {
+            drawn.notes.push(lacking.into());
+            Ok(())
+        }
+    };
     match kind {
-        FigureKind::FrictionDrop => match coefficients::friction_drop(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("no result rows to draw the friction drop from".into()),
-        },
-        FigureKind::FrictionDropSharing => match coefficients::friction_drop_sharing(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("no elastic-sharing rows: list \"elastic\" in [model] sharing".into()),
-        },
-        FigureKind::StaticDynamicCoefficients => match coefficients::static_dynamic(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("no result rows to draw the coefficients from".into()),
-        },
-        FigureKind::Resolution => match coefficients::resolution(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("no solves at coarser pixels".into()),
-        },
-        FigureKind::HoldTime => match coefficients::hold_time(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("fewer than two laws with a hold time, or no load near the chosen ones".into()),
-        },
+        FigureKind::FrictionDrop => {
+            made(&mut drawn, coefficients::friction_drop(input), "no result rows to draw the friction drop from")?
+        }
+        FigureKind::FrictionDropSharing => made(
+            &mut drawn,
+            coefficients::friction_drop_sharing(input),
+            "no elastic-sharing rows: list \"elastic\" in [model] sharing",
+        )?,
+        FigureKind::StaticDynamicCoefficients => {
+            made(&mut drawn, coefficients::static_dynamic(input), "no result rows to draw the coefficients from")?
+        }
+        FigureKind::Resolution => made(&mut drawn, coefficients::resolution(input), "no solves at coarser pixels")?,
+        FigureKind::HoldTime => made(
+            &mut drawn,
+            coefficients::hold_time(input),
+            "fewer than two laws with a hold time, or no load near the chosen ones",
+        )?,
         FigureKind::StressRatioHistograms => match first_law {
             Some(law) => {
                 let (fig, caption) = histograms::stress_ratio_histograms(nearest(input.maps, 1e-2), law)?;
@@ -96,10 +101,9 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
             }
             None => drawn.notes.push("no friction law".into()),
         },
-        FigureKind::PressureDistribution => match pressure_distribution(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("no pressure map near 0.1, 1 or 10 mN".into()),
-        },
+        FigureKind::PressureDistribution => {
+            made(&mut drawn, pressure_distribution(input), "no pressure map near 0.1, 1 or 10 mN")?
+        }
         FigureKind::ContactMaps => {
             let panels: Vec<(f64, Option<&MapSnapshot>)> =
                 FIGURE_LOADS_N.iter().map(|&t| (t, nearest(input.maps, t))).collect();
@@ -132,10 +136,9 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
             (None, _) => drawn.notes.push("no pressure map near 10 mN".into()),
             (_, None) => drawn.notes.push("no friction law".into()),
         },
-        FigureKind::ClassFractions => match class_fractions(input) {
-            Some((fig, caption)) => figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?,
-            None => drawn.notes.push("no result rows for the first friction law".into()),
-        },
+        FigureKind::ClassFractions => {
+            made(&mut drawn, class_fractions(input), "no result rows for the first friction law")?
+        }
         FigureKind::FrictionCurve => match (nearest(input.maps, 1e-4), first_law) {
             (Some(snap), Some(law)) => {
                 let (fig, caption) = friction_curve(snap, law)?;
@@ -174,7 +177,8 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                      δ/δ_peak = {} (rows) for the loads nearest 0.1, 1 and 10 mN (columns), law \"{}\" (the \
                      paper's Fig. S6): stuck elements from pale green (unloaded) to brown at μ_s (critical), \
                      slipped elements amber (μ_d). Each map shows the whole contact or, where its pixels would be \
-                     too small to see, the most loaded contact patch and its surroundings.",
+                     too small to see, the most loaded contact patch and its surroundings, grown so that no patch is cut at \
+                     the edge.",
                     list.join(", "),
                     law_name(law)
                 );
@@ -201,7 +205,8 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                      ({} elements, law \"{}\"; the paper's supplemental movie at {}): stuck elements green, \
                      turning brown as they reach μ_s, slipped elements amber; below, the friction coefficient \
                      F/N with the current displacement. The map shows the whole contact or, where its pixels \
-                     would be too small to see, the most loaded contact patch. The movie holds at the peak (the \
+                     would be too small to see, the most loaded contact patch and its surroundings, no patch cut at the \
+                     edge. The movie holds at the peak (the \
                      critical state) and at total sliding.",
                     load_label(snap.load_n),
                     onset.elements,

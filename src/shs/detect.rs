@@ -30,7 +30,7 @@
 //! 4. A coefficient F_S/N or F_D/N that is not finite, or above `MAX_COEFFICIENT`, is no
 //!    friction coefficient (a unit or column mistake): the trace is refused, naming the row.
 
-use super::{Analysis, Cycle, ShsOptions, Trace};
+use super::{Analysis, Cycle, ShsOptions, Skipped, Trace};
 use crate::error::{Error, Result};
 
 /// Half-width [samples] of the running median the hold/slide decision is made on.
@@ -115,27 +115,32 @@ pub(super) fn analyse(trace: &Trace, options: &ShsOptions) -> Result<Analysis> {
         groups: Vec::new(),
         skipped: Vec::new(),
     };
-    // Reasons in time order: the holds too short to count, then each hold that gave no restart.
-    let mut skipped: Vec<(f64, String)> = dropped
+    // In time order: the holds too short to count, then each hold that gave no restart.
+    let mut skipped: Vec<Skipped> = dropped
         .iter()
-        .map(|&(start, length)| {
-            let reason = format!(
-                "hold from {start:.2} s: {length:.2} s at rest, shorter than the minimum duration {} s",
+        .map(|&(start_s, length)| Skipped {
+            start_s,
+            end_s: start_s + length,
+            reason: format!(
+                "hold from {start_s:.2} s: {length:.2} s at rest, shorter than the minimum duration {} s",
                 options.min_duration
-            );
-            (start, reason)
+            ),
         })
         .collect();
     let runs = &split.runs;
+    let last = t.len() - 1;
     // The first run, hold or slide, is the trace's start: a hold needs a slide before it.
     for k in 1..runs.len() {
         if runs[k].state != State::Hold {
             continue;
         }
         analysis.holds_found += 1;
+        let start_s = t[runs[k].start];
+        // The hold lasts until the next run's first sample.
+        let end_s = t[(runs[k].end + 1).min(last)];
         let Some(&slide) = runs.get(k + 1) else {
-            let start = t[runs[k].start];
-            skipped.push((start, format!("hold from {start:.2} s: the trace ends before sliding restarts")));
+            let reason = format!("hold from {start_s:.2} s: the trace ends before sliding restarts");
+            skipped.push(Skipped { start_s, end_s, reason });
             continue;
         };
         let hold = match trace.displacement() {
@@ -144,11 +149,11 @@ pub(super) fn analyse(trace: &Trace, options: &ShsOptions) -> Result<Analysis> {
         };
         match hold.and_then(|hold| measure(trace, &hold, options)) {
             Ok(cycle) => analysis.cycles.push(cycle),
-            Err(reason) => skipped.push((t[runs[k].start], reason)),
+            Err(reason) => skipped.push(Skipped { start_s, end_s, reason }),
         }
     }
-    skipped.sort_by(|a, b| a.0.total_cmp(&b.0));
-    analysis.skipped = skipped.into_iter().map(|(_, reason)| reason).collect();
+    skipped.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
+    analysis.skipped = skipped;
     if analysis.cycles.is_empty() {
         return Err(fail(if analysis.holds_found == 0 {
             match stage {
@@ -168,7 +173,8 @@ pub(super) fn analyse(trace: &Trace, options: &ShsOptions) -> Result<Analysis> {
                 ),
             }
         } else {
-            format!("no complete restart after {} hold(s): {}", analysis.holds_found, analysis.skipped.join("; "))
+            let reasons: Vec<&str> = analysis.skipped.iter().map(|s| s.reason.as_str()).collect();
+            format!("no complete restart after {} hold(s): {}", analysis.holds_found, reasons.join("; "))
         }));
     }
     for c in &analysis.cycles {

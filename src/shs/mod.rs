@@ -18,16 +18,14 @@
 //! module describes both.
 
 mod detect;
-mod figure;
 mod points;
 mod trace;
 
 pub use crate::quantity::seconds_per;
-pub use figure::trace_figure;
 pub use points::{read_points, write_points, ShsPoint};
 pub use trace::{read_trace, Trace, TraceFormat, DISPLACEMENT_COLUMN};
 
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 
 use crate::error::{Error, Result};
 
@@ -165,7 +163,24 @@ pub struct Analysis {
     pub holds_found: usize,
     pub cycles: Vec<Cycle>,
     pub groups: Vec<Group>,
-    pub skipped: Vec<String>,
+    pub skipped: Vec<Skipped>,
+}
+
+/// A hold found but not measured: too short, or no complete restart after it. Serialised as
+/// its reason alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skipped {
+    /// When the hold began and ended [s] (the end of the trace for a hold it ends in).
+    pub start_s: f64,
+    pub end_s: f64,
+    /// Why it gave no measurement, starting with when it began ("hold from 12.50 s: …").
+    pub reason: String,
+}
+
+impl Serialize for Skipped {
+    fn serialize<S: Serializer>(&self, serializer: S) -> std::result::Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.reason)
+    }
 }
 
 /// Find every hold and restart in `trace` and measure each restart. An error, naming the

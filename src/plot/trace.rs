@@ -1,10 +1,12 @@
-//! The trace as a figure, with what the analysis found marked on it.
+//! A slide-hold-slide trace as a figure, with what the analysis found marked on it.
 
-use super::{Analysis, ShsOptions, Trace};
-use crate::plot::{prefixed, style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, Series};
+use super::{prefixed, style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, Series};
+use crate::shs::{Analysis, Group, ShsOptions, Trace};
 
-/// Three panels: the whole trace (friction against time, holds shaded, each static peak F_S
-/// circled); every restart overlaid against sliding distance since its restart, with its peak
+/// Three panels: the whole trace (friction against time, measured holds shaded, each static
+/// peak F_S circled, each hold found but not measured — shorter than the minimum duration, or
+/// without a complete restart — shaded in its own colour and marked by a cross below it, however
+/// short); every restart overlaid against sliding distance since its restart, with its peak
 /// and its mean F_D drawn across its window, coloured by hold-time group; the normal force
 /// against time. Forces are shown with the SI prefix that suits them (mN, µN, …).
 pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) -> Figure {
@@ -16,7 +18,7 @@ pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) ->
         trace.source().file_name().map_or_else(|| trace.source().display().to_string(), |n| n.to_string_lossy().into());
     let index = |time: f64| t.partition_point(|&x| x < time).min(t.len() - 1);
     let group_of = |hold: f64| {
-        let distance = |g: &super::Group| (g.hold_s.mean / hold).ln().abs();
+        let distance = |g: &Group| (g.hold_s.mean / hold).ln().abs();
         (0..analysis.groups.len())
             .min_by(|&a, &b| distance(&analysis.groups[a]).total_cmp(&distance(&analysis.groups[b])))
     };
@@ -24,8 +26,14 @@ pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) ->
     // Headroom above the data keeps the legends clear of the curves.
     let top = 1.3 * biggest(f) * f_scale;
 
-    let mut whole = Panel::new(Axis::new("time", "s"), Axis::new("friction force", &f_unit).range(-0.05 * top, top))
-        .title(format!("{name}: {} restarts after holds", analysis.cycles.len()))
+    let skipped = match analysis.skipped.len() {
+        0 => String::new(),
+        n => format!(", {n} hold{} not measured (crossed)", if n == 1 { "" } else { "s" }),
+    };
+    // Room below zero for the crosses of skipped holds.
+    let bottom = if analysis.skipped.is_empty() { -0.05 * top } else { -0.12 * top };
+    let mut whole = Panel::new(Axis::new("time", "s"), Axis::new("friction force", &f_unit).range(bottom, top))
+        .title(format!("{name}: {} restarts after holds{skipped}", analysis.cycles.len()))
         .legend(LegendPosition::UpperRight);
     let mut restarts = Panel::new(
         Axis::new("sliding distance since the restart", "µm"),
@@ -73,6 +81,14 @@ pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) ->
         restarts.push(Series::line(vec![(peak, level), (stop, level)], colour(c.hold_s)).width(4));
         restarts
             .push(Series::scatter(vec![(peak, c.static_force_n * f_scale)], Marker::Circle, colour(c.hold_s)).hollow());
+    }
+    // A skipped hold may last a fraction of a screen pixel: its span alone would not show.
+    for h in &analysis.skipped {
+        whole.push(Series::span(h.start_s, h.end_s, style::PALETTE[3]).opacity(0.35));
+    }
+    if !analysis.skipped.is_empty() {
+        let marks = analysis.skipped.iter().map(|h| (0.5 * (h.start_s + h.end_s), -0.06 * top)).collect();
+        whole.push(Series::scatter(marks, Marker::Cross, style::PALETTE[3]).label("hold not measured (see stderr)"));
     }
     let line = |v: &[f64], scale: f64| t.iter().zip(v).map(|(&t, &v)| (t, v * scale)).collect();
     whole.push(Series::line(line(f, f_scale), style::PALETTE[0]).width(1).label("friction"));
