@@ -208,7 +208,7 @@ fn array(object: &[u8], count: usize, what: &str) -> Result<(Vec<u8>, usize), St
     let mut c = Cursor::new(data, Endian::Little);
     let total = c.i64(what)? as u64;
     let size = usize::try_from(total / count as u64).unwrap_or(0);
-    if total % count as u64 != 0 || !matches!(size, 1 | 2 | 4) {
+    if !total.is_multiple_of(count as u64) || !matches!(size, 1 | 2 | 4) {
         return Err(format!("{what}: {total} bytes for {count} values"));
     }
     let mut blocks = Vec::new();
