@@ -401,3 +401,12 @@ fn ps_survives_mutation() {
         [4, 8, 162, 174, 182, 186, 194, 198, 1050717, 1050721, 1050757, 1050765, 1050837, 1050845, 1050853, 1050965];
     fuzz("example_ps.tiff", "ps", Header::Binary(1051197, fields.to_vec(), |_| {}));
 }
+
+#[test]
+fn mnt_survives_mutation() {
+    // The compound file's sector size, allocation sector count, directory and mini-table starts,
+    // DIFAT chain, first allocation sector; the directory entry of ScopedContents (the third of
+    // the directory in sector 2, at 12544): its first sector and size.
+    let fields = vec![0x1C, 0x2C, 0x30, 0x3C, 0x40, 0x44, 0x48, 0x4C, 12544 + 116, 12544 + 120, 12544 + 124];
+    fuzz("mnt-1.mnt", "mnt", Header::Binary(12544 + 128, fields, |_| {}));
+}

@@ -11,10 +11,14 @@
 use super::{Provenance, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::Error;
 
-/// How far positions may lie from an equally spaced grid and still be uniform, as a fraction of
-/// the profile's length. SurfaceTopography's tolerance is 1e-6 in the file's unit; relative to
-/// the length it is the same for a profile about one unit long, and does not depend on the unit.
+/// How far each step may differ from the mean step for the positions to be uniform, in the
+/// file's unit (before any conversion): SurfaceTopography's tolerance, the last digit of
+/// positions printed with six decimals (a stylus export's steps of 0.000099 and 0.000100 are
+/// one grid of 0.0000996 as printed).
 const UNIFORM: f64 = 1e-6;
+/// And as a fraction of the mean step, so that steps themselves near 1e-6 (positions in metres)
+/// are not uniform for being small: printed positions round off far less than a step.
+const UNIFORM_OF_STEP: f64 = 1e-2;
 
 /// A line profile.
 #[derive(Debug, Clone, PartialEq)]
@@ -69,7 +73,8 @@ impl Profile {
         positions.iter_mut().for_each(|x| *x -= origin);
         let end = positions[n - 1];
         let step = end / (n - 1) as f64;
-        let uniform = positions.windows(2).all(|w| ((w[1] - w[0]) - step).abs() < UNIFORM * end);
+        let tolerance = UNIFORM.min(UNIFORM_OF_STEP * step);
+        let uniform = positions.windows(2).all(|w| ((w[1] - w[0]) - step).abs() < tolerance);
         Ok(Profile {
             positions,
             heights,
@@ -176,18 +181,27 @@ mod tests {
     use super::*;
 
     #[test]
-    fn positions_start_at_zero_and_uniformity_is_relative() {
+    fn positions_start_at_zero_and_uniformity_is_surface_topographys() {
         let p = Profile::new(vec![10.0, 11.0, 12.0, 13.0], vec![0.0; 4]).unwrap();
         assert_eq!(p.positions(), [0.0, 1.0, 2.0, 3.0]);
         assert_eq!((p.step(), p.length()), (Some(1.0), 4.0));
-        // Printed to seven significant digits, a uniform grid stays uniform in any unit; steps
-        // of 99 and 100 are not.
-        for unit in [1.0, 1e-6, 1e3] {
+        // Printed to seven significant digits, a uniform grid stays uniform; steps of 97 and
+        // 100 are not, in any unit.
+        for unit in [1.0, 1e-3, 1e-6] {
             let x: Vec<f64> = (0..50).map(|i| format!("{:.6e}", unit * f64::from(i) / 7.0).parse().unwrap()).collect();
             assert!(Profile::new(x, vec![0.0; 50]).unwrap().step().is_some(), "unit {unit}");
-            let x: Vec<f64> = (0..50).map(|i| unit * f64::from(100 * i - i % 2)).collect();
+            let x: Vec<f64> = (0..50).map(|i| unit * f64::from(100 * i - 3 * (i % 2))).collect();
             assert!(Profile::new(x, vec![0.0; 50]).unwrap().step().is_none(), "unit {unit}");
         }
+        // A stylus export (container-2.zip's .txt): a grid of 0.29868 / 3000 printed with six
+        // decimals, steps 0.000099 and 0.000100, is uniform, as SurfaceTopography reads it.
+        let x: Vec<f64> =
+            (0..3001).map(|i| format!("{:.6}", 0.298684 * f64::from(i) / 3000.0).parse().unwrap()).collect();
+        let p = Profile::new(x, vec![0.0; 3001]).unwrap();
+        assert!((p.length() - 0.298684 * 3001.0 / 3000.0).abs() < 1e-12, "{}", p.length());
+        // Steps of 1e-8 and 1.3e-8 (metres): under 1e-6 apart, yet not one grid.
+        let x: Vec<f64> = (0..50).map(|i| 1e-8 * (f64::from(i) + 0.3 * f64::from(i % 2))).collect();
+        assert!(Profile::new(x, vec![0.0; 50]).unwrap().step().is_none());
         let p = Profile::new(vec![0.0, 1.0, 2.5, 3.0], vec![1.0; 4]).unwrap();
         assert_eq!((p.step(), p.length()), (None, 3.0));
         let mut p = Profile::new(vec![0.0, 1.0, 2.0], vec![1.0, 2.0, 3.0]).unwrap();

@@ -144,6 +144,11 @@ impl<'a> Cursor<'a> {
         self.pos
     }
 
+    /// The bytes left after the current position.
+    pub fn remaining(&self) -> usize {
+        self.bytes.len().saturating_sub(self.pos)
+    }
+
     /// The next `n` bytes.
     pub fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
         let b = extent(self.bytes, self.pos, n, what)?;

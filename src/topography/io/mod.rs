@@ -28,12 +28,14 @@ mod matrix;
 mod metropro;
 mod mi;
 mod mitutoyo;
+mod mnt;
 mod nanoscope;
 mod netcdf;
 mod nid;
 pub mod npy;
 mod npz;
 mod opd;
+mod opdx;
 mod plu;
 mod profile;
 mod ps;
@@ -180,6 +182,8 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&sur::Sur),
     Reader::Map(&al3d::Al3d),
     Reader::Map(&opd::Opd),
+    Reader::Map(&mnt::Mnt),
+    Reader::Profile(&opdx::Opdx),
     // Sensofar files have no magic number: known by their extension only.
     Reader::Map(&plu::Plu),
     Reader::Map(&frt::Frt),
