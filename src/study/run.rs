@@ -1096,8 +1096,8 @@ impl Study {
 
     /// Run the elastic onset `job`, record it (`NN-elastic-LL.json`) and report it to the
     /// progress callback, whose `Break` stops the run at once with [`Error::Interrupted`] (the
-    /// onsets finished stay recorded); then record the sweep's solves whose onsets are all
-    /// done. Errors name the topography, the load and the law.
+    /// onsets finished stay recorded, no solve's record is written); then record the sweep's
+    /// solves whose onsets are all done. Errors name the topography, the load and the law.
     fn onset<R: Proceed>(&self, job: &OnsetJob, work: &Work<'_, R>) -> Result<()> {
         let chain = &job.chain;
         let (k, l) = (job.k, job.l);
@@ -1136,12 +1136,6 @@ impl Study {
         row.require_finite()?;
         output::write_json(&chain.solves.join(onset_name(k, l)), &row)?;
         work.tally.onsets.fetch_add(1, Ordering::Relaxed);
-        {
-            let mut state = chain.state.lock().expect("no panic holding it");
-            let pending = state.pending.get_mut(&k).expect("pending until its onsets end");
-            pending.rows[job.slot] = Some(row);
-            pending.left -= 1;
-        }
         let answer = (work.progress)(Progress::Slid {
             topography: &chain.label,
             load_n: load,
@@ -1150,14 +1144,23 @@ impl Study {
             seconds,
         });
         if !answer.proceed() {
-            return Err(self.interrupted());
+            // Stopped before the row reaches its solve: no record is written without it.
+            work.fail(self.interrupted());
+            return Ok(());
+        }
+        {
+            let mut state = chain.state.lock().expect("no panic holding it");
+            let pending = state.pending.get_mut(&k).expect("pending until its onsets end");
+            pending.rows[job.slot] = Some(row);
+            pending.left -= 1;
         }
         self.flush(chain, work)
     }
 
     /// Record `chain`'s solves whose onsets are all done, in load order (one thread at a
-    /// time: the others leave theirs to it), and once the sweep has run its last load and
-    /// recorded it, remove what no solve needs any more ([`Study::tidy`]).
+    /// time: the others leave theirs to it), unless the run stopped; and once the sweep has
+    /// run its last load and recorded it, remove what no solve needs any more
+    /// ([`Study::tidy`]).
     fn flush<R: Proceed>(&self, chain: &Chain, work: &Work<'_, R>) -> Result<()> {
         let lock = || chain.state.lock().expect("no panic holding it");
         {
@@ -1168,6 +1171,10 @@ impl Study {
             state.flushing = true;
         }
         let flushed = (|| loop {
+            // Once stopped, the solves stay in their parts, as a stop leaves them.
+            if work.stopped() {
+                return Ok(());
+            }
             let ready = {
                 let mut state = lock();
                 match state.pending.first_key_value() {
@@ -1187,7 +1194,7 @@ impl Study {
 
     /// Write load `k`'s record (its rows all known), remove its parts and the maps no load
     /// goes on from, and report it to the progress callback, whose `Break` stops the run with
-    /// [`Error::Interrupted`].
+    /// [`Error::Interrupted`] (no later record is written).
     fn record<R: Proceed>(&self, chain: &Chain, k: usize, pending: Pending, work: &Work<'_, R>) -> Result<()> {
         let Pending { load, cold, facts, rows, .. } = pending;
         let rows: Vec<Row> = rows.into_iter().map(|r| r.expect("every onset done")).collect();
@@ -1214,7 +1221,7 @@ impl Study {
             seconds: facts.seconds,
         });
         if !answer.proceed() {
-            return Err(self.interrupted());
+            work.fail(self.interrupted());
         }
         Ok(())
     }
