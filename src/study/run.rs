@@ -53,14 +53,16 @@
 //!
 //! Every file is written atomically. The library prints nothing: progress goes to a callback.
 
+use std::cmp::Reverse;
 use std::collections::hash_map::DefaultHasher;
+use std::collections::{BTreeMap, BinaryHeap};
 use std::hash::{Hash, Hasher};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 
 use ndarray::Array2;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
@@ -180,17 +182,116 @@ struct Tally {
     onsets_resumed: AtomicUsize,
 }
 
-/// A solve of a sweep as its elastic-sharing rows need it.
-struct Solved<'a> {
-    /// The name of its rows and its name in progress reports.
-    name: &'a str,
-    label: &'a str,
-    /// Normal load [N].
-    load: f64,
-    facts: &'a SolveFacts,
+/// What the workers of a run share: its tallies, its progress callback, and the queue of the
+/// elastic onsets whose solves are done. Each onset depends only on its solve's pressure, so
+/// they run in any order, over all threads together with the sweeps' normal solves, the
+/// largest first; the first error stops the run.
+struct Work<'s, R> {
+    dir: &'s Path,
+    progress: &'s (dyn Fn(Progress) -> R + Sync),
+    tally: Tally,
+    queue: Mutex<Queue>,
+    /// Whether a worker failed or was stopped: no new solve or onset starts.
+    stopped: AtomicBool,
+    /// The first error.
+    error: Mutex<Option<Error>>,
+}
+
+impl<R> Work<'_, R> {
+    fn stopped(&self) -> bool {
+        self.stopped.load(Ordering::Relaxed)
+    }
+
+    /// Stop the run with `e`, unless an earlier error stopped it.
+    fn fail(&self, e: Error) {
+        self.error.lock().expect("no panic holding it").get_or_insert(e);
+        self.stopped.store(true, Ordering::Relaxed);
+    }
+}
+
+/// The elastic onsets waiting for a thread, and how many workers take them.
+#[derive(Default)]
+struct Queue {
+    jobs: BinaryHeap<OnsetJob>,
+    workers: usize,
+}
+
+/// One elastic onset to run: law `l` on load `k`'s solve of a sweep, its row going to `slot`
+/// of the solve's rows.
+struct OnsetJob {
+    /// The solve's contact points: the larger contact set first (its onset takes longest).
+    cost: usize,
+    chain: Arc<Chain>,
+    k: usize,
+    l: usize,
+    slot: usize,
+}
+
+impl OnsetJob {
+    /// The queue's order: the most contact points first, then (in a fixed order) the earlier
+    /// sweep, the heavier load, the earlier law.
+    fn key(&self) -> (usize, Reverse<usize>, usize, Reverse<usize>) {
+        (self.cost, Reverse(self.chain.u), self.k, Reverse(self.l))
+    }
+}
+
+impl PartialEq for OnsetJob {
+    fn eq(&self, other: &Self) -> bool {
+        self.key() == other.key()
+    }
+}
+
+impl Eq for OnsetJob {}
+
+impl PartialOrd for OnsetJob {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for OnsetJob {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.key().cmp(&other.key())
+    }
+}
+
+/// A sweep as its solves' onsets and records need it.
+struct Chain {
+    /// The sweep's unit, its label in progress reports and errors, and its rows' name.
+    u: usize,
+    label: String,
+    name: String,
+    /// Its folder of solve records, its loads, and which of them an earlier run recorded.
+    solves: PathBuf,
+    loads: Range<usize>,
+    recorded: Vec<bool>,
     /// Grid (ny, nx) and physical size (lx, ly) [m].
     shape: (usize, usize),
     size: (f64, f64),
+    state: Mutex<ChainState>,
+}
+
+/// The solves of a sweep waiting for their record.
+#[derive(Default)]
+struct ChainState {
+    /// By load index: the sweep's solves not recorded yet.
+    pending: BTreeMap<usize, Pending>,
+    /// Whether the sweep has solved its last load (or stopped).
+    complete: bool,
+    /// Whether a thread is writing records ([`Study::flush`]).
+    flushing: bool,
+}
+
+/// A solve waiting for its elastic onsets, and then its record.
+struct Pending {
+    /// Normal load [N].
+    load: f64,
+    cold: bool,
+    facts: SolveFacts,
+    /// Its rows, sharing-major; the elastic ones as their onsets end.
+    rows: Vec<Option<Row>>,
+    /// Its onsets not done yet.
+    left: usize,
 }
 
 /// The record of one finished solve, `solves/<topography>/NN.json`.
@@ -417,19 +518,37 @@ impl Study {
         if !progress(Progress::Start { total: share, done: resumed, onsets, onsets_done }).proceed() {
             return Err(self.interrupted());
         }
-        let tally = Tally::default();
-        // Each worker takes the next piece in order: the study's own sweeps first, the cheap
-        // coarse ones filling in at the end.
+        let work = Work {
+            dir,
+            progress,
+            tally: Tally::default(),
+            queue: Mutex::new(Queue::default()),
+            stopped: AtomicBool::new(false),
+            error: Mutex::new(None),
+        };
+        // Each sweep's worker takes the next piece in order: the study's own sweeps first, the
+        // cheap coarse ones filling in at the end. Their elastic onsets go to the queue, whose
+        // workers start as onsets come ([`Study::enqueue`]); the scope ends when all are done.
         let next = AtomicUsize::new(0);
         let workers = rayon::current_num_threads().min(pieces.len()).max(1);
-        (0..workers).into_par_iter().try_for_each(|_| loop {
-            let k = next.fetch_add(1, Ordering::Relaxed);
-            if k >= pieces.len() {
-                return Ok(());
+        rayon::scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(|scope| loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    if k >= pieces.len() || work.stopped() {
+                        return;
+                    }
+                    let (u, plastic) = sweeps[pieces[k].sweep];
+                    if let Err(e) = self.sweep(scope, &work, u, plastic, pieces[k].loads.clone()) {
+                        return work.fail(e);
+                    }
+                });
             }
-            let (u, plastic) = sweeps[pieces[k].sweep];
-            self.sweep(dir, u, plastic, pieces[k].loads.clone(), progress, &tally)?;
-        })?;
+        });
+        if let Some(e) = work.error.into_inner().expect("no panic holding it") {
+            return Err(e);
+        }
+        let tally = work.tally;
         let solved = tally.solved.into_inner();
         let (onsets, onsets_resumed) = (tally.onsets.into_inner(), tally.onsets_resumed.into_inner());
         if self.shard.is_some() {
@@ -788,20 +907,21 @@ impl Study {
     /// With elastic sharing a solve's parts are recorded as they finish, for a run stopped
     /// before its record to go on from: the normal solve (`NN-normal.json`, with its map
     /// `warm-NN.npy`) and each law's onset (`NN-elastic-LL.json`, LL the law's index). The
-    /// solve's record replaces them.
-    fn sweep<R: Proceed>(
-        &self,
-        dir: &Path,
+    /// onsets go to the run's queue ([`Work`]) and the sweep goes on to its next load; the
+    /// solves are recorded in load order as their onsets finish ([`Study::flush`]), each
+    /// record replacing its parts.
+    fn sweep<'s, R: Proceed>(
+        &'s self,
+        scope: &rayon::Scope<'s>,
+        work: &'s Work<'s, R>,
         u: usize,
         plastic: bool,
         loads: Range<usize>,
-        progress: &(dyn Fn(Progress) -> R + Sync),
-        tally: &Tally,
     ) -> Result<()> {
+        let dir = work.dir;
         let solves = self.solves_dir(dir, u, plastic);
-        let record = |k: usize| solves.join(record_name(k));
         let warm = |k: usize| solves.join(warm_name(k));
-        let recorded: Vec<bool> = loads.clone().map(|k| record(k).is_file()).collect();
+        let recorded: Vec<bool> = loads.clone().map(|k| solves.join(record_name(k)).is_file()).collect();
         let is_recorded = |k: usize| loads.contains(&k) && recorded[k - loads.start];
         if recorded.iter().all(|&r| r) {
             return self.tidy(&solves, loads);
@@ -838,9 +958,23 @@ impl Study {
         if todo.iter().any(|&k| k > loads.start && is_recorded(k - 1) && !warm(k - 1).is_file() && !kept(k)) {
             todo = loads.clone().collect();
         }
+        let chain = Arc::new(Chain {
+            u,
+            label: label.clone(),
+            name: name.to_string(),
+            solves: solves.clone(),
+            loads: loads.clone(),
+            recorded: recorded.clone(),
+            shape,
+            size,
+            state: Mutex::new(ChainState::default()),
+        });
         // The load whose solution the solver holds.
         let mut held = None;
         for k in todo {
+            if work.stopped() {
+                break;
+            }
             let load = self.loads[k];
             let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
             let (pressure, cold, facts) = if kept(k) {
@@ -863,8 +997,8 @@ impl Study {
                 let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
                 let facts = SolveFacts::new(&summary, &report);
                 if elastic {
-                    // The onsets take long: the solve they start from is recorded first, its
-                    // map before the record that names it.
+                    // The onsets read the solve from its map, and a run stopped before its
+                    // record goes on from it: the map first, then the record that names it.
                     facts.require_finite().map_err(context)?;
                     output::write_npy(&warm(k), &pressure)?;
                     output::write_json(
@@ -875,15 +1009,25 @@ impl Study {
                 (pressure, cold, facts)
             };
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
+            // One row per sharing and law, sharing-major; the elastic ones as their onsets end.
             let mut rows = Vec::with_capacity(self.sharings(u).len() * self.laws.len());
+            let mut onsets = Vec::new();
             for sharing in self.sharings(u) {
                 match sharing {
-                    Sharing::Equal => rows
-                        .extend(self.laws.iter().map(|law| Row::new(name, load, &facts, &Onset::new(&elements, law)))),
+                    Sharing::Equal => rows.extend(
+                        self.laws.iter().map(|law| Some(Row::new(name, load, &facts, &Onset::new(&elements, law)))),
+                    ),
                     Sharing::Elastic => {
-                        let at = Solved { name, label: &label, load, facts: &facts, shape, size };
-                        let pressure = pressure.as_slice().expect("row-major");
-                        rows.extend(self.elastic_rows(pressure, &at, &solves, k, progress, tally)?);
+                        for (l, law) in self.laws.iter().enumerate() {
+                            let path = solves.join(onset_name(k, l));
+                            if path.is_file() {
+                                rows.push(Some(read_onset(&path, name, load, &super::law_name(law))?));
+                                work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
+                            } else {
+                                onsets.push((rows.len(), l));
+                                rows.push(None);
+                            }
+                        }
                     }
                 }
             }
@@ -901,94 +1045,185 @@ impl Study {
             }
             // The map the next load goes on from, should this run stop before it (or this piece
             // end there); with elastic sharing it is written already.
-            let next = k + 1 < self.loads.len() && !is_recorded(k + 1);
-            if next && !elastic {
+            if k + 1 < self.loads.len() && !is_recorded(k + 1) && !elastic {
                 output::write_npy(&warm(k), &pressure)?;
             }
-            // Never a NaN in a record (written as null): no later run could read it back.
-            rows.iter().try_for_each(Row::require_finite)?;
-            output::write_json(&record(k), &SolveRecord { load_n: load, cold, solve: facts, rows })?;
-            self.remove_parts(&solves, k)?;
-            if !next {
-                remove_if_present(&warm(k))?;
+            let pending = Pending { load, cold, facts, rows, left: onsets.len() };
+            chain.state.lock().expect("no panic holding it").pending.insert(k, pending);
+            for (slot, l) in onsets {
+                let job = OnsetJob { cost: facts.contact_points, chain: Arc::clone(&chain), k, l, slot };
+                self.enqueue(scope, work, job);
             }
-            if k > loads.start {
-                remove_if_present(&warm(k - 1))?;
-            }
+            self.flush(&chain, work)?;
             held = Some(k);
-            tally.solved.fetch_add(1, Ordering::Relaxed);
-            let answer = progress(Progress::Solved {
-                topography: &label,
-                load_n: load,
-                iterations: facts.iterations,
-                seconds: facts.seconds,
-            });
-            if !answer.proceed() {
-                return Err(self.interrupted());
-            }
         }
-        self.tidy(&solves, loads)
+        chain.state.lock().expect("no panic holding it").complete = true;
+        self.flush(&chain, work)
     }
 
-    /// The elastic-sharing rows of load `k`'s solve with normal pressure `pressure` [Pa], one
-    /// per law: each onset an earlier run recorded in `solves`, or run now, recorded and
-    /// reported to `progress` as it finishes; a `Break` stops at once with
-    /// [`Error::Interrupted`] (the onsets finished stay recorded). Errors name the
-    /// topography, the load and the law.
-    fn elastic_rows<R: Proceed>(
-        &self,
-        pressure: &[f64],
-        at: &Solved,
-        solves: &Path,
-        k: usize,
-        progress: &(dyn Fn(Progress) -> R + Sync),
-        tally: &Tally,
-    ) -> Result<Vec<Row>> {
-        let compliance = ShearCompliance::of(&self.config.bodies());
-        let boundary = self.config.contact.boundary;
-        let failed = |law: &str, e: Error| {
-            Error::invalid(format!("topography \"{}\" at {} N: {law}", at.label, at.load), e.to_string())
-        };
-        // Built for the first onset run now: each onset starts from no traction.
-        let mut tangential = None;
-        let mut rows = Vec::with_capacity(self.laws.len());
-        for (l, law) in self.laws.iter().enumerate() {
-            let law_label = super::law_name(law);
-            let path = solves.join(onset_name(k, l));
-            if path.is_file() {
-                rows.push(read_onset(&path, at, &law_label)?);
-                tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
-                continue;
-            }
-            if tangential.is_none() {
-                let options = TangentialOptions::default();
-                let solver = TangentialSolver::new(pressure, at.shape, at.size, compliance, boundary, options)
-                    .map_err(|e| failed("elastic sharing", e))?;
-                tangential = Some(solver);
-            }
-            let start = std::time::Instant::now();
-            // The paper's law: mu_d at once on the first slip, as equal sharing has it.
-            let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
-            let onset = elastic_onset(tangential.as_mut().expect("built above"), &slip, |_| {})
-                .map_err(|e| failed(&format!("elastic sharing, law \"{law_label}\""), e))?;
-            let seconds = start.elapsed().as_secs_f64();
-            let row = Row::elastic(at.name, at.load, at.facts, law, &onset, seconds);
-            row.require_finite()?;
-            output::write_json(&path, &row)?;
-            rows.push(row);
-            tally.onsets.fetch_add(1, Ordering::Relaxed);
-            let answer = progress(Progress::Slid {
-                topography: at.label,
-                load_n: at.load,
-                law: &law_label,
-                iterations: onset.work.iterations,
-                seconds,
-            });
-            if !answer.proceed() {
-                return Err(self.interrupted());
+    /// Queue an elastic onset, and start a worker for it unless every thread has one: the
+    /// workers take the largest onset queued first ([`OnsetJob`]'s order). Never more
+    /// workers than threads, so that no more onsets are under way at once (each holds its
+    /// solver's memory) when a thread waiting inside an onset's transforms takes up other work.
+    fn enqueue<'s, R: Proceed>(&'s self, scope: &rayon::Scope<'s>, work: &'s Work<'s, R>, job: OnsetJob) {
+        let mut queue = work.queue.lock().expect("no panic holding it");
+        queue.jobs.push(job);
+        if queue.workers < rayon::current_num_threads() {
+            queue.workers += 1;
+            scope.spawn(move |_| self.onsets(work));
+        }
+    }
+
+    /// A worker of the onsets' queue: the largest first, until the queue is empty or the run
+    /// stops.
+    fn onsets<R: Proceed>(&self, work: &Work<'_, R>) {
+        loop {
+            let job = {
+                let mut queue = work.queue.lock().expect("no panic holding it");
+                match queue.jobs.pop() {
+                    Some(job) if !work.stopped() => job,
+                    _ => {
+                        queue.workers -= 1;
+                        return;
+                    }
+                }
+            };
+            if let Err(e) = self.onset(&job, work) {
+                work.fail(e);
             }
         }
-        Ok(rows)
+    }
+
+    /// Run the elastic onset `job`, record it (`NN-elastic-LL.json`) and report it to the
+    /// progress callback, whose `Break` stops the run at once with [`Error::Interrupted`] (the
+    /// onsets finished stay recorded, no solve's record is written); then record the sweep's
+    /// solves whose onsets are all done. Errors name the topography, the load and the law.
+    fn onset<R: Proceed>(&self, job: &OnsetJob, work: &Work<'_, R>) -> Result<()> {
+        let chain = &job.chain;
+        let (k, l) = (job.k, job.l);
+        let (load, facts) = {
+            let state = chain.state.lock().expect("no panic holding it");
+            let pending = &state.pending[&k];
+            (pending.load, pending.facts)
+        };
+        let law = &self.laws[l];
+        let law_label = super::law_name(law);
+        let failed = |e: Error| {
+            Error::invalid(
+                format!("topography \"{}\" at {load} N: elastic sharing, law \"{law_label}\"", chain.label),
+                e.to_string(),
+            )
+        };
+        let pressure = read_map(&chain.solves.join(warm_name(k)))?;
+        let start = std::time::Instant::now();
+        let compliance = ShearCompliance::of(&self.config.bodies());
+        let options = TangentialOptions::default();
+        let mut solver = TangentialSolver::new(
+            pressure.as_slice().expect("row-major"),
+            chain.shape,
+            chain.size,
+            compliance,
+            self.config.contact.boundary,
+            options,
+        )
+        .map_err(failed)?;
+        // The paper's law: mu_d at once on the first slip, as equal sharing has it.
+        let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
+        let onset = elastic_onset(&mut solver, &slip, |_| {}).map_err(failed)?;
+        drop(solver);
+        let seconds = start.elapsed().as_secs_f64();
+        let row = Row::elastic(&chain.name, load, &facts, law, &onset, seconds);
+        row.require_finite()?;
+        output::write_json(&chain.solves.join(onset_name(k, l)), &row)?;
+        work.tally.onsets.fetch_add(1, Ordering::Relaxed);
+        let answer = (work.progress)(Progress::Slid {
+            topography: &chain.label,
+            load_n: load,
+            law: &law_label,
+            iterations: onset.work.iterations,
+            seconds,
+        });
+        if !answer.proceed() {
+            // Stopped before the row reaches its solve: no record is written without it.
+            work.fail(self.interrupted());
+            return Ok(());
+        }
+        {
+            let mut state = chain.state.lock().expect("no panic holding it");
+            let pending = state.pending.get_mut(&k).expect("pending until its onsets end");
+            pending.rows[job.slot] = Some(row);
+            pending.left -= 1;
+        }
+        self.flush(chain, work)
+    }
+
+    /// Record `chain`'s solves whose onsets are all done, in load order (one thread at a
+    /// time: the others leave theirs to it), unless the run stopped; and once the sweep has
+    /// run its last load and recorded it, remove what no solve needs any more
+    /// ([`Study::tidy`]).
+    fn flush<R: Proceed>(&self, chain: &Chain, work: &Work<'_, R>) -> Result<()> {
+        let lock = || chain.state.lock().expect("no panic holding it");
+        {
+            let mut state = lock();
+            if state.flushing {
+                return Ok(());
+            }
+            state.flushing = true;
+        }
+        let flushed = (|| loop {
+            // Once stopped, the solves stay in their parts, as a stop leaves them.
+            if work.stopped() {
+                return Ok(());
+            }
+            let ready = {
+                let mut state = lock();
+                match state.pending.first_key_value() {
+                    Some((_, first)) if first.left == 0 => state.pending.pop_first(),
+                    None if state.complete => None,
+                    _ => return Ok(()),
+                }
+            };
+            match ready {
+                Some((k, pending)) => self.record(chain, k, pending, work)?,
+                None => return self.tidy(&chain.solves, chain.loads.clone()),
+            }
+        })();
+        lock().flushing = false;
+        flushed
+    }
+
+    /// Write load `k`'s record (its rows all known), remove its parts and the maps no load
+    /// goes on from, and report it to the progress callback, whose `Break` stops the run with
+    /// [`Error::Interrupted`] (no later record is written).
+    fn record<R: Proceed>(&self, chain: &Chain, k: usize, pending: Pending, work: &Work<'_, R>) -> Result<()> {
+        let Pending { load, cold, facts, rows, .. } = pending;
+        let rows: Vec<Row> = rows.into_iter().map(|r| r.expect("every onset done")).collect();
+        let warm = |k: usize| chain.solves.join(warm_name(k));
+        // Never a NaN in a record (written as null): no later run could read it back.
+        rows.iter().try_for_each(Row::require_finite)?;
+        output::write_json(
+            &chain.solves.join(record_name(k)),
+            &SolveRecord { load_n: load, cold, solve: facts, rows },
+        )?;
+        self.remove_parts(&chain.solves, k)?;
+        let next_recorded = chain.loads.contains(&(k + 1)) && chain.recorded[k + 1 - chain.loads.start];
+        if k + 1 >= self.loads.len() || next_recorded {
+            remove_if_present(&warm(k))?;
+        }
+        if k > chain.loads.start {
+            remove_if_present(&warm(k - 1))?;
+        }
+        work.tally.solved.fetch_add(1, Ordering::Relaxed);
+        let answer = (work.progress)(Progress::Solved {
+            topography: &chain.label,
+            load_n: load,
+            iterations: facts.iterations,
+            seconds: facts.seconds,
+        });
+        if !answer.proceed() {
+            work.fail(self.interrupted());
+        }
+        Ok(())
     }
 
     /// Remove the parts of load `k`'s solve in `solves` ([`Study::sweep`]), once it is
@@ -1226,10 +1461,11 @@ fn read_map(path: &Path) -> Result<Array2<f64>> {
     Ok(pressure)
 }
 
-/// The elastic onset row recorded in `path` for the solve `at` under the law named `law`.
-fn read_onset(path: &Path, at: &Solved, law: &str) -> Result<Row> {
+/// The elastic onset row recorded in `path` for the solve of the rows named `name` at `load`
+/// [N] under the law named `law`.
+fn read_onset(path: &Path, name: &str, load: f64, law: &str) -> Result<Row> {
     let row: Row = read_record(path)?;
-    let ours = row.sharing == Sharing::Elastic && row.law == law && row.topography == at.name && row.load_n == at.load;
+    let ours = row.sharing == Sharing::Elastic && row.law == law && row.topography == name && row.load_n == load;
     if ours {
         Ok(row)
     } else {
