@@ -167,3 +167,20 @@ fn the_stylus_profile_printed_to_six_decimals_is_uniform() {
     let (mean, rms) = profile_height(&p).unwrap();
     assert!(close(mean, 1.4995001666117043e-08) && close(rms, 0.00032216820243188013), "{mean:e} {rms:e}");
 }
+
+/// A Gwyddion file from another project's test suite (gwyfile's), read as that project's test
+/// asserts: the channel 'Test', 128 × 128, data[0][0] ≈ 0.00082494 and data[44][33] ≈
+/// 0.00085301 (row, column). Its units are empty strings, so neither size nor height unit is
+/// taken as metres without being told.
+#[test]
+fn a_gwyddion_file_of_another_project_reads_as_its_tests_assert() {
+    let path = common::sample("gwyfile-test.gwy");
+    let e = read(&path, &ReadOptions::default()).map(|_| ()).unwrap_err().to_string();
+    assert!(!e.contains('\n') && e.contains("gwyfile-test.gwy"), "{e}");
+    let options = ReadOptions { physical_size: Some((1e-6, 1e-6)), height_unit: Some("m".into()), ..Default::default() };
+    let t = read(&path, &options).unwrap();
+    assert_eq!((t.ny(), t.nx()), (128, 128));
+    assert_eq!(t.channel, "Test");
+    assert!((t.heights[[0, 0]] / 0.00082494 - 1.0).abs() < 1e-5, "{}", t.heights[[0, 0]]);
+    assert!((t.heights[[44, 33]] / 0.00085301 - 1.0).abs() < 1e-5, "{}", t.heights[[44, 33]]);
+}
