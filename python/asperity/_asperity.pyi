@@ -66,6 +66,9 @@ class Topography:
         """A spherical cap of radius [m] added, apex at the centre (a ball levelled flat)."""
     def fill_missing(self) -> Topography:
         """Missing points filled harmonically."""
+    def statistics(self) -> Dict[str, float]:
+        """SurfaceTopography's mean, rms_height [m], rms_gradient, rms_slope_from_profile [1],
+        rms_curvature_from_area, rms_curvature_from_profile [1/m]."""
 
 class ContactSolution:
     """One load of a contact solve."""

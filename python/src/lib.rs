@@ -430,6 +430,25 @@ impl Topography {
         Ok(Topography { inner: topo, channels: self.channels.clone() })
     }
 
+    /// The statistics ``asperity topo info`` reports, with SurfaceTopography's definitions, as
+    /// a dict: ``mean`` and ``rms_height`` [m] (Sq), ``rms_gradient`` [1] (√⟨|∇h|²⟩),
+    /// ``rms_slope_from_profile`` [1] (along x), ``rms_curvature_from_area`` [1/m] (half the
+    /// Laplacian) and ``rms_curvature_from_profile`` [1/m] (along x), from forward (slopes) and
+    /// central (curvatures) differences. Needs the physical size and no missing point.
+    fn statistics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let topo = &self.inner;
+        let (heights, derivatives) =
+            py.detach(|| Ok((stats::height_stats(topo)?, stats::slope_curvature(topo)?))).map_err(error)?;
+        let dict = PyDict::new(py);
+        dict.set_item("mean", heights.mean)?;
+        dict.set_item("rms_height", heights.rms_height)?;
+        dict.set_item("rms_gradient", derivatives.rms_gradient)?;
+        dict.set_item("rms_slope_from_profile", derivatives.rms_slope_from_profile)?;
+        dict.set_item("rms_curvature_from_area", derivatives.rms_curvature_from_area_per_m)?;
+        dict.set_item("rms_curvature_from_profile", derivatives.rms_curvature_from_profile_per_m)?;
+        Ok(dict)
+    }
+
     /// Missing points filled harmonically (each the mean of its four neighbours).
     fn fill_missing(&self, py: Python<'_>) -> PyResult<Topography> {
         let mut topo = self.inner.clone();

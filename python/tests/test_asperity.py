@@ -596,3 +596,14 @@ def test_signatures_show_their_defaults_and_the_stub_matches():
         t.id for n in stub.body if isinstance(n, ast.AnnAssign) for t in [n.target]
     }
     assert public <= stubbed, public - stubbed
+
+
+def test_statistics_are_surface_topographys():
+    # SurfaceTopography 1.27.1 on the same file: rms_gradient, rms_curvature_from_area.
+    t = ap.read_topography(ROOT / "tests" / "data" / "si-ball-roughness.gwy")
+    s = t.statistics()
+    assert s["rms_height"] == pytest.approx(1.2078773492359754e-08, rel=1e-9)
+    assert s["rms_gradient"] == pytest.approx(0.06727190036769483, rel=1e-9)
+    assert s["rms_slope_from_profile"] == pytest.approx(0.0482823519044096, rel=1e-9)
+    assert s["rms_curvature_from_area"] == pytest.approx(304481.4766922735, rel=1e-9)
+    assert s["rms_curvature_from_profile"] == pytest.approx(378573.9694702846, rel=1e-9)
