@@ -325,3 +325,17 @@ fn laws_expand_and_are_written_back_as_given() {
     assert_eq!(again.laws[0].hold_times.as_ref().map(Vec::len), Some(2));
     assert_eq!(again.laws[0].aging, Some(0.1));
 }
+
+/// The default study lists every levelling a study takes, each of which it takes (`sphere`
+/// was missing from the list).
+#[test]
+fn the_default_study_lists_every_detrend() {
+    use asperity::topography::detrend::Detrend;
+    let line = DEFAULT_STUDY.lines().find(|l| l.contains("detrend      =")).expect("the detrend key is explained");
+    let listed: Vec<&str> = line.split('"').skip(3).step_by(2).collect();
+    assert_eq!(listed, ["none", "mean", "plane", "poly:N", "sphere", "plane"], "{line}");
+    for value in &listed[..5] {
+        let value = value.replace('N', "2");
+        assert!(value.parse::<Detrend>().is_ok(), "{value}");
+    }
+}

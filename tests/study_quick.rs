@@ -32,6 +32,24 @@ fn the_quick_study_shows_the_friction_drop_falling_with_load() {
         assert!((first.1 - law).abs() < 1e-12, "{topography}: drop {} at 0.1 µN", first.1);
         assert!(first.1 > last.1, "{topography}: drop {} at 0.1 µN, {} at 100 mN", first.1, last.1);
     }
+    // The run ends with the table in brief: per law, the drop's range over the balls at 0.1,
+    // 1, 10 and 100 mN, as the rows give it.
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.starts_with("friction drop, min–max") && stdout.contains("100 µN"), "{stdout}");
+    for law in ["hold 100 s", "hold 10 s"] {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("{law}, equal sharing")))
+            .unwrap_or_else(|| panic!("no line for {law}: {stdout}"));
+        let cells: Vec<&str> = line.split_whitespace().rev().take(4).collect();
+        for (cell, load) in cells.iter().rev().zip([1e-4, 1e-3, 1e-2, 1e-1]) {
+            let drops: Vec<f64> =
+                rows.iter().filter(|r| r.law == law && r.load_n == load).map(|r| r.friction_drop).collect();
+            assert_eq!(drops.len(), 3);
+            let (lo, hi) = (drops.iter().copied().fold(f64::MAX, f64::min), drops.iter().copied().fold(0.0, f64::max));
+            assert_eq!(*cell, format!("{lo:.4}–{hi:.4}"), "{law} at {load} N: {line}");
+        }
+    }
     // The first ball's maps at 0.1, 1, 10 and 100 mN (loads 3 to 6 of 7, one per decade).
     for (k, load) in [(3, 1e-4), (4, 1e-3), (5, 1e-2), (6, 1e-1)] {
         let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();

@@ -7,13 +7,16 @@ contact, run the stick-slip transition model, analyse slide-hold-slide traces, r
 Units are SI everywhere (m, Pa, N); maps are numpy float64 arrays of shape (ny, nx), row index
 y, column index x. Defaults (silicon, tolerance 1e-10, periodic boundary) are the command
 line's, so the same call gives the command line's numbers to the last bit. Bad input raises
-:class:`asperity.Error` (a ``ValueError``) with the command line's one-line message. Solves
-release the GIL; Ctrl-C stops them.
+:class:`asperity.Error` (a ``ValueError``) with the command line's one-line message, naming the
+argument at fault; a value no contact problem has (``youngs=130``) is refused with the unit
+likely meant, and an unusual one (a load pressing above 1e-3 E*, a contact cut by the window)
+is a ``UserWarning`` through :mod:`warnings`. Solves release the GIL; Ctrl-C stops them.
+Plotting needs matplotlib (``pip install .[plot]``).
 
 >>> import asperity as ap
->>> t = ap.generate(size=31.13e-6, grid=256, hurst=0.8, rms=22e-9, rolloff=5e-6,
+>>> t = ap.generate(size=31.13e-6, grid=256, hurst=0.8, rms=21e-9, rolloff=7e-6, cutoff=0.25e-6,
 ...                 sphere_radius=1.5e-3, seed=1)
->>> s = ap.contact(t, loads=[1e-3])[0]
+>>> s = ap.contact(t, loads=[1e-3], hardness=12e9)[0]
 >>> o = ap.onset(s, mu_s=0.6, mu_d=0.4)
 >>> o.friction_drop  # doctest: +SKIP
 """
@@ -31,6 +34,8 @@ from ._asperity import (
     ContactSolution,
     Error,
     Onset,
+    PartialSlip,
+    Slide,
     Topography,
     __version__,
     compound,
@@ -39,6 +44,7 @@ from ._asperity import (
     onset,
     psd,
     read_topography,
+    slide,
 )
 from . import _asperity
 
@@ -48,6 +54,8 @@ __all__ = [
     "ContactSolution",
     "Onset",
     "ClassShare",
+    "Slide",
+    "PartialSlip",
     "PRESETS",
     "read_topography",
     "compound",
@@ -55,6 +63,7 @@ __all__ = [
     "psd",
     "contact",
     "onset",
+    "slide",
     "analyse_shs",
     "run_study",
     "__version__",

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import os
 import pathlib
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -13,7 +13,7 @@ PRESETS: List[Tuple[str, float, float]]
 """The preset local laws: (name, mu_s, mu_d). Illustrative placeholders, not measurements."""
 
 class Error(ValueError):
-    """Bad input or a computation that failed: the command line's one-line message."""
+    """Bad input or a computation that failed: one line naming the argument and the reason."""
 
 _Path = Union[str, "os.PathLike[str]"]
 _Lengths = Union[float, Tuple[float, float]]
@@ -43,14 +43,14 @@ class Topography:
     @property
     def channel(self) -> str: ...
     @property
-    def unit(self) -> Optional[str]:
-        """Height unit the file states (heights are in metres all the same)."""
+    def height_unit(self) -> Optional[str]:
+        """Height unit the file states or read_topography was given (heights are in metres)."""
     @property
     def file(self) -> Optional[pathlib.Path]: ...
     @property
     def missing_points(self) -> int: ...
     def detrend(self, kind: str = "plane") -> Topography:
-        """Levelled: "none", "mean", "plane", "poly:N" (N ≤ 8) or "sphere"."""
+        """Levelled (least squares): "none", "mean", "plane", "poly:N" (N ≤ 8) or "sphere"."""
     def crop(
         self,
         x: Optional[Tuple[float, float]] = None,
@@ -62,8 +62,13 @@ class Topography:
         """The part inside x, y [m] from the origin, or columns, rows [pixels], end excluded."""
     def resample(self, pixel_size: float, *, max_points: Optional[int] = None) -> Topography:
         """Resampled to the pixel size [m] nearest to pixel_size that divides the size."""
+    def add_cap(self, radius: float, *, paraboloid: bool = False) -> Topography:
+        """A spherical cap of radius [m] added, apex at the centre (a ball levelled flat)."""
     def fill_missing(self) -> Topography:
         """Missing points filled harmonically."""
+    def statistics(self) -> Dict[str, float]:
+        """SurfaceTopography's mean, rms_height [m], rms_gradient, rms_slope_from_profile [1],
+        rms_curvature_from_area, rms_curvature_from_profile [1/m]."""
 
 class ContactSolution:
     """One load of a contact solve."""
@@ -76,6 +81,8 @@ class ContactSolution:
     """Pressure [Pa], (ny, nx)."""
     gap: npt.NDArray[np.float64]
     """Gap [m], (ny, nx): zero on the contact."""
+    displacement: npt.NDArray[np.float64]
+    """Elastic surface displacement [m], (ny, nx)."""
     contact_fraction: float
     contact_area: float
     """Real contact area [m²]."""
@@ -83,12 +90,29 @@ class ContactSolution:
     patches: int
     patch_sizes: List[int]
     """Patch sizes in pixels, largest first."""
+    max_pressure: float
+    """Largest local pressure [Pa]."""
+    edge_load_fraction: float
+    """Share of the load within 2 % of the window's edges (above 0.01: a warning)."""
+    load_above_hardness_fraction: Optional[float]
+    """Share of the load at p ≥ hardness; None without a hardness."""
+    hardness: Optional[float]
+    """Hardness [Pa] given to contact, or None."""
+    plastic: bool
+    """Whether the pressure was capped at the hardness."""
+    effective_modulus: float
+    """E* [Pa]."""
     iterations: int
+    operator_applications: float
     residual: float
     seconds: float
     """Wall-clock time of the solve [s]."""
     physical_size: Tuple[float, float]
+    """(lx, ly) [m]."""
     boundary: str
+    """"periodic" or "free"."""
+    warnings: List[str]
+    """The warnings about this load, as warnings.warn gave them."""
 
 class ClassShare:
     """Count and shares of one class of elements at the critical state."""
@@ -142,6 +166,62 @@ class Onset:
     def curve(self, loading: str = "equal_load_sharing", max_points: int = 2000) -> Dict[str, Any]:
         """{"shear" [N], "force" [N], "coefficient", "stuck", "peak"}."""
 
+class Slide:
+    """The onset of sliding with elastic sharing between the contact points."""
+
+    load: float
+    """N [N]."""
+    contact_points: int
+    mu_s: float
+    mu_d: float
+    law: Optional[str]
+    slip_distance: Optional[float]
+    """d_c [m], or None: weakening at once."""
+    static_force: float
+    """F_S [N]."""
+    static_coefficient: float
+    friction_drop: float
+    """F_S / (mu_d N)."""
+    peak_displacement: Optional[float]
+    """δ at F_S [m]; None when F_S is the steady sliding force."""
+    stuck: ClassShare
+    critical: ClassShare
+    slipped: ClassShare
+    equal_sharing_static_coefficient: float
+    equal_sharing_friction_drop: float
+    shear_x: npt.NDArray[np.float64]
+    """Shear along x at the peak [Pa], (ny, nx)."""
+    shear_y: npt.NDArray[np.float64]
+    """Shear along y at the peak [Pa], (ny, nx)."""
+    classes: npt.NDArray[np.int8]
+    """0 no contact, 1 slipped, 2 critical, 3 stuck; (ny, nx)."""
+    steps: int
+    solves: int
+    iterations: int
+    seconds: float
+    @property
+    def curve(self) -> Dict[str, npt.NDArray[Any]]:
+        """{"displacement" [m], "force" [N], "coefficient", "stick_points", "slip_points"}."""
+
+class PartialSlip:
+    """A partial-slip state at an imposed tangential force."""
+
+    load: float
+    """N [N]."""
+    mu: float
+    tangential_force: float
+    """Q [N]."""
+    displacement: float
+    """δ [m]."""
+    stick_points: int
+    slip_points: int
+    shear_x: npt.NDArray[np.float64]
+    shear_y: npt.NDArray[np.float64]
+    classes: npt.NDArray[np.int8]
+    solves: int
+    iterations: int
+    seconds: float
+
 def read_topography(
     path: _Path,
     channel: Union[str, int, None] = None,
@@ -179,10 +259,14 @@ def contact(
     poisson: float = 0.26,
     youngs2: Optional[float] = None,
     poisson2: Optional[float] = None,
+    hardness: Optional[float] = None,
+    plastic: bool = False,
     boundary: str = "periodic",
     tolerance: float = 1e-10,
     max_iter: int = 20000,
-) -> List[ContactSolution]: ...
+    device: str = "cpu",
+) -> List[ContactSolution]:
+    """Elastic (or, with plastic=True, elastic–perfectly-plastic) normal contact; loads [N], moduli and hardness [Pa]."""
 def onset(
     pressure: Union[_Map, ContactSolution],
     physical_size: Optional[_Lengths] = None,
@@ -192,6 +276,32 @@ def onset(
     law: Optional[str] = None,
     pixel_area: Optional[float] = None,
 ) -> Onset: ...
+@overload
+def slide(
+    solution: ContactSolution,
+    *,
+    mu_s: Optional[float] = None,
+    mu_d: Optional[float] = None,
+    law: Optional[str] = None,
+    slip_distance: Optional[float] = None,
+    tangential_force: None = None,
+    tolerance: float = 1e-6,
+    max_iter: int = 20000,
+) -> Slide:
+    """The onset of sliding with elastic sharing; slip_distance [m]."""
+@overload
+def slide(
+    solution: ContactSolution,
+    *,
+    mu_s: Optional[float] = None,
+    mu_d: Optional[float] = None,
+    law: Optional[str] = None,
+    slip_distance: None = None,
+    tangential_force: float,
+    tolerance: float = 1e-6,
+    max_iter: int = 20000,
+) -> PartialSlip:
+    """The partial-slip state at tangential_force [N] under Coulomb friction at mu_s."""
 def _analyse_shs(
     time_s: Sequence[float],
     friction_n: Sequence[float],

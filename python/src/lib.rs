@@ -3,7 +3,10 @@
 //! It converts arguments and results (numpy float64 arrays of shape (ny, nx), SI units) and
 //! adds no physics. Long work runs with the GIL released and stops on Ctrl-C: the solver's
 //! per-iteration callback checks for signals. Every library error becomes `asperity.Error`
-//! (a `ValueError`) with the command line's one-line message.
+//! (a `ValueError`) with the command line's one-line message in Python's words: the arguments'
+//! names, not the options'. The plausibility checks of the command line ([`asperity::plausible`])
+//! refuse a value no contact problem has and warn (`warnings.warn`, a `UserWarning`) about an
+//! unusual one.
 
 use std::ops::ControlFlow;
 use std::path::PathBuf;
@@ -11,21 +14,32 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use asperity::contact::{self as core_contact, Boundary, ContactSolver, Material, SolverOptions};
-use asperity::friction::{ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading, Onset as CoreOnset};
+use std::ffi::CString;
+
+use asperity::contact::{
+    self as core_contact, Boundary, ContactSolver, Device, Material, ShearCompliance, SolverOptions, TangentialOptions,
+    TangentialSolver,
+};
+use asperity::friction::{
+    elastic_onset, ramp_force, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading, Onset as CoreOnset,
+    SlidePoint, SlipLaw, Snapshot, Weakening,
+};
 use asperity::limits::Limits;
+use asperity::plausible::{self, Spelling, Verdict};
+use asperity::quantity::human;
 use asperity::shs::{self, ShsOptions, Trace};
 use asperity::study::config::StudyConfig;
 use asperity::study::run::{Progress, Study};
 use asperity::topography::detrend::Detrend;
 use asperity::topography::missing::fill_missing;
+use asperity::topography::prepare::Preparation;
 use asperity::topography::resample::{self, CropWindow};
 use asperity::topography::stats::{self, Window};
 use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
 use asperity::topography::{io, Provenance, Topography as CoreTopography};
 use ndarray::{Array2, ArrayView2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -36,10 +50,90 @@ pyo3::create_exception!(
     "Bad input or a computation that failed: the one-line message of the asperity command line."
 );
 
-/// A library error as `asperity.Error`: its one line as the command line prints it, control
-/// characters escaped.
+/// A library error as `asperity.Error`: its one line as the command line prints it, in
+/// Python's words ([`python_words`]), control characters escaped.
 fn error(e: asperity::Error) -> PyErr {
-    Error::new_err(asperity::error::one_line(&e.to_string()))
+    error_naming(e, &[])
+}
+
+/// [`error`], with some options named otherwise than [`python_words`] would (`--load` is
+/// `loads` in `contact`).
+fn error_naming(e: asperity::Error, names: &[(&str, &str)]) -> PyErr {
+    use asperity::Error as E;
+    let line = match e {
+        E::Invalid { option, reason } => format!("{}: {}", python_words(&option, names), python_words(&reason, names)),
+        E::File { path, reason } => E::File { path, reason: python_words(&reason, names) }.to_string(),
+        e @ E::NotConverged { .. } => python_words(&e.to_string(), names),
+        other => other.to_string(),
+    };
+    Error::new_err(asperity::error::one_line(&line))
+}
+
+/// Phrases of the library's messages that point at a command line, and what Python calls them.
+const PHRASES: &[(&str, &str)] = &[("asperity topo convert --fill-missing", "Topography.fill_missing()")];
+
+/// `text` with each command-line option (`--max-iter`, `--height-unit U`) written as the
+/// argument of the same meaning in Python (`max_iter`, `height_unit`): its name with `_` for
+/// `-`, or as `names` says, its value's placeholder dropped.
+fn python_words(text: &str, names: &[(&str, &str)]) -> String {
+    let mut text = text.to_string();
+    for (phrase, python) in PHRASES {
+        text = text.replace(phrase, python);
+    }
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text.as_str();
+    while let Some(at) = rest.find("--") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + 2..];
+        let len =
+            after.find(|c: char| !(c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')).unwrap_or(after.len());
+        if len == 0 || !after.starts_with(|c: char| c.is_ascii_lowercase()) {
+            out.push_str("--");
+            rest = after;
+            continue;
+        }
+        let flag = &rest[at..at + 2 + len];
+        match names.iter().find(|(f, _)| *f == flag) {
+            Some((_, name)) => out.push_str(name),
+            None => out.push_str(&after[..len].replace('-', "_")),
+        }
+        rest = &after[len..];
+        // The value's placeholder (`--height-unit U`, `--size LX[,LY]`) is no part of a keyword.
+        if let Some(placeholder) = rest.strip_prefix(' ') {
+            let end = placeholder
+                .find(|c: char| !(c.is_ascii_uppercase() || c.is_ascii_digit() || "[],_".contains(c)))
+                .unwrap_or(placeholder.len());
+            if end > 0 && placeholder.starts_with(|c: char| c.is_ascii_uppercase()) {
+                rest = &placeholder[end..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The argument `name` = `value` [SI] as [`plausible`] judges it: refused as `asperity.Error`
+/// ("youngs=130: 130 Pa is not a solid's Young's modulus …; did you mean 1.3e11 (130 GPa)?"), or
+/// taken with a `UserWarning` of the same form when merely unusual. The warning points at the
+/// caller's line.
+fn judge(py: Python<'_>, name: &str, value: f64, verdict: Verdict) -> PyResult<Option<String>> {
+    let said = format!("{name}={}", human(value));
+    match verdict {
+        Ok(None) => Ok(None),
+        Ok(Some(warning)) => {
+            let line = format!("{said}: {warning}");
+            warn(py, &line, 1)?;
+            Ok(Some(line))
+        }
+        Err(reason) => Err(Error::new_err(asperity::error::one_line(&format!("{said}: {reason}")))),
+    }
+}
+
+/// `line` as a `UserWarning` (an error when warnings are errors), from the line of the
+/// caller `stacklevel` frames up: 1 for a function of this module called from Python.
+fn warn(py: Python<'_>, line: &str, stacklevel: i32) -> PyResult<()> {
+    let message = CString::new(asperity::error::one_line(line)).expect("an escaped line has no NUL");
+    PyErr::warn(py, py.get_type::<PyUserWarning>().as_any(), &message, stacklevel)
 }
 
 /// A whole number ≥ 0 (a seed, a count), refused as the command line refuses `--seed -1`.
@@ -64,7 +158,7 @@ fn limits(max_points: Option<&Bound<'_, PyAny>>) -> PyResult<Limits> {
 
 /// An `asperity.Error` about the argument `name`.
 fn invalid(name: &str, reason: impl Into<String>) -> PyErr {
-    error(asperity::Error::invalid(name, reason))
+    Error::new_err(asperity::error::one_line(&format!("{name}: {}", reason.into())))
 }
 
 /// How often long work looks for signals while the GIL is released: often enough for Ctrl-C
@@ -127,6 +221,17 @@ fn float_map<'py>(value: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyA
     converted.extract::<PyReadonlyArray2<f64>>()
 }
 
+/// `(lx, ly)` from a length or a pair of lengths [m] of a measured window, each positive and
+/// finite and judged plausible ([`plausible::window`]).
+fn window(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(f64, f64)> {
+    let (x, y) = lengths(value, name)?;
+    judge(value.py(), name, x, plausible::window(x, Spelling::Python))?;
+    if y != x {
+        judge(value.py(), name, y, plausible::window(y, Spelling::Python))?;
+    }
+    Ok((x, y))
+}
+
 /// `(lx, ly)` from a length or a pair of lengths [m], each positive and finite.
 fn lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(f64, f64)> {
     let (x, y) = match value.extract::<f64>() {
@@ -185,7 +290,7 @@ impl Topography {
     #[new]
     #[pyo3(signature = (heights, physical_size, periodic = false))]
     fn new(heights: &Bound<'_, PyAny>, physical_size: &Bound<'_, PyAny>, periodic: bool) -> PyResult<Self> {
-        let size = lengths(physical_size, "physical_size")?;
+        let size = window(physical_size, "physical_size")?;
         let heights = float_map(heights, "heights")?.as_array().to_owned();
         if heights.nrows() == 0 || heights.ncols() == 0 {
             return Err(invalid("heights", format!("an empty {:?} array", heights.dim())));
@@ -242,10 +347,10 @@ impl Topography {
         self.inner.channel.clone()
     }
 
-    /// Height unit as the file states it ("nm", "µm", …; heights are in metres all the same),
-    /// or None when it states none.
+    /// Height unit of the file as it states it or as ``read_topography(height_unit=)`` gave it
+    /// ("nm", "µm", …; heights are in metres all the same), or None when neither does.
     #[getter]
-    fn unit(&self) -> Option<String> {
+    fn height_unit(&self) -> Option<String> {
         self.inner.provenance.height_unit.clone()
     }
 
@@ -261,10 +366,12 @@ impl Topography {
         self.inner.missing_points()
     }
 
-    /// Levelled: "none", "mean", "plane", "poly:N" (least squares, N ≤ 8) or "sphere".
+    /// Levelled (least squares): "none", "mean", "plane" (the default, as a study levels a
+    /// file), "poly:N" (a polynomial of total degree N ≤ 8) or "sphere" (the best-fitting
+    /// sphere subtracted: a ball's curvature).
     #[pyo3(signature = (kind = "plane"))]
     fn detrend(&self, py: Python<'_>, kind: &str) -> PyResult<Topography> {
-        let detrend: Detrend = kind.parse().map_err(|e: String| invalid("--detrend", e))?;
+        let detrend: Detrend = kind.parse().map_err(|e: String| invalid("kind", e))?;
         let mut topo = self.inner.clone();
         py.detach(|| detrend.apply(&mut topo)).map_err(error)?;
         Ok(Topography { inner: topo, channels: self.channels.clone() })
@@ -283,7 +390,7 @@ impl Topography {
     ) -> PyResult<Topography> {
         let window = if columns.is_some() || rows.is_some() {
             if x.is_some() || y.is_some() {
-                return Err(invalid("--crop", "give lengths (x, y) or pixels (columns, rows), not both"));
+                return Err(invalid("crop", "give lengths (x, y) or pixels (columns, rows), not both"));
             }
             let columns = columns.map(|v| pixels(v, "columns")).transpose()?;
             let rows = rows.map(|v| pixels(v, "rows")).transpose()?;
@@ -304,8 +411,42 @@ impl Topography {
     #[pyo3(signature = (pixel_size, *, max_points = None))]
     fn resample(&self, py: Python<'_>, pixel_size: f64, max_points: Option<&Bound<'_, PyAny>>) -> PyResult<Topography> {
         let limits = limits(max_points)?;
+        judge(py, "pixel_size", pixel_size, plausible::pixel(pixel_size, Spelling::Python))?;
         let topo = py.detach(|| resample::resample(&self.inner, pixel_size, &limits)).map_err(error)?;
         Ok(Topography { inner: topo, channels: self.channels.clone() })
+    }
+
+    /// A spherical cap of radius ``radius`` [m] added, apex at the window's centre (a paraboloid
+    /// with ``paraboloid=True``): a ball scanned after its curvature was levelled away, as
+    /// ``asperity contact --cap-radius``. The result is not periodic.
+    #[pyo3(signature = (radius, *, paraboloid = false))]
+    fn add_cap(&self, py: Python<'_>, radius: f64, paraboloid: bool) -> PyResult<Topography> {
+        judge(py, "radius", radius, plausible::radius(radius, Spelling::Python))?;
+        let shape = if paraboloid { CapShape::Paraboloid } else { CapShape::Sphere };
+        let prep = Preparation { cap: Some(Cap { radius, shape }), ..Preparation::default() };
+        let topo = py
+            .detach(|| prep.apply(self.inner.clone()))
+            .map_err(|e| error_naming(e, &[("--sphere-radius", "radius")]))?;
+        Ok(Topography { inner: topo, channels: self.channels.clone() })
+    }
+
+    /// The statistics ``asperity topo info`` reports, with SurfaceTopography's definitions, as
+    /// a dict: ``mean`` and ``rms_height`` [m] (Sq), ``rms_gradient`` [1] (√⟨|∇h|²⟩),
+    /// ``rms_slope_from_profile`` [1] (along x), ``rms_curvature_from_area`` [1/m] (half the
+    /// Laplacian) and ``rms_curvature_from_profile`` [1/m] (along x), from forward (slopes) and
+    /// central (curvatures) differences. Needs the physical size and no missing point.
+    fn statistics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let topo = &self.inner;
+        let (heights, derivatives) =
+            py.detach(|| Ok((stats::height_stats(topo)?, stats::slope_curvature(topo)?))).map_err(error)?;
+        let dict = PyDict::new(py);
+        dict.set_item("mean", heights.mean)?;
+        dict.set_item("rms_height", heights.rms_height)?;
+        dict.set_item("rms_gradient", derivatives.rms_gradient)?;
+        dict.set_item("rms_slope_from_profile", derivatives.rms_slope_from_profile)?;
+        dict.set_item("rms_curvature_from_area", derivatives.rms_curvature_from_area_per_m)?;
+        dict.set_item("rms_curvature_from_profile", derivatives.rms_curvature_from_profile_per_m)?;
+        Ok(dict)
     }
 
     /// Missing points filled harmonically (each the mean of its four neighbours).
@@ -348,7 +489,7 @@ fn read_topography(
     let options = io::ReadOptions {
         format,
         channel: channel.map(|c| c.str().map(|s| s.to_string())).transpose()?,
-        physical_size: size.map(|s| lengths(s, "--size")).transpose()?,
+        physical_size: size.map(|s| window(s, "size")).transpose()?,
         height_unit,
         limits: limits(max_points)?,
     };
@@ -392,17 +533,23 @@ fn generate(
     max_points: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Topography> {
     let limits = limits(max_points)?;
-    let seed = whole(seed, "--seed")?;
-    let size = lengths(size, "--size")?;
+    let seed = whole(seed, "seed")?;
+    let size = window(size, "size")?;
     let grid = match grid.extract::<usize>() {
         Ok(n) => (n, n),
-        Err(_) => grid.extract::<(usize, usize)>().map_err(|_| invalid("--grid", "expected n or (nx, ny) points"))?,
+        Err(_) => grid.extract::<(usize, usize)>().map_err(|_| invalid("grid", "expected n or (nx, ny) points"))?,
     };
+    if let Some(h) = rms {
+        judge(py, "rms", h, plausible::roughness(h, Spelling::Python))?;
+    }
+    if let Some(r) = sphere_radius {
+        judge(py, "sphere_radius", r, plausible::radius(r, Spelling::Python))?;
+    }
     let roughness = match (hurst, rms, rms_slope) {
         (None, None, None) => None,
-        (None, ..) => return Err(invalid("--hurst", "roughness (rms or rms_slope) needs the Hurst exponent")),
-        (Some(_), Some(_), Some(_)) => return Err(invalid("--rms", "give rms or rms_slope, not both")),
-        (Some(_), None, None) => return Err(invalid("--rms", "give the roughness's rms or rms_slope")),
+        (None, ..) => return Err(invalid("hurst", "roughness (rms or rms_slope) needs the Hurst exponent")),
+        (Some(_), Some(_), Some(_)) => return Err(invalid("rms", "give rms or rms_slope, not both")),
+        (Some(_), None, None) => return Err(invalid("rms", "give the roughness's rms or rms_slope")),
         (Some(hurst), rms, slope) => Some(SelfAffine {
             hurst,
             rolloff_wavelength: rolloff,
@@ -434,43 +581,89 @@ fn psd<'py>(py: Python<'py>, topography: &Topography, window: &str) -> PyResult<
         "auto" => Window::default_for(&topography.inner),
         "hann" => Window::Hann,
         "none" => Window::None,
-        other => return Err(invalid("--window", format!("'{other}' is not auto, hann or none"))),
+        other => return Err(invalid("window", format!("'{other}' is not auto, hann or none"))),
     };
     let spectrum = py.detach(|| stats::psd(&topography.inner, window)).map_err(error)?;
     Ok((spectrum.q.into_pyarray(py), spectrum.c.into_pyarray(py)))
 }
 
-/// One load of a contact solve: the pressure and gap maps and what summarises them.
-#[pyclass(frozen, get_all, module = "asperity")]
+/// One load of a contact solve: the pressure, gap and displacement maps and what summarises
+/// them, as a load of ``asperity contact``'s contact.json.
+#[pyclass(frozen, module = "asperity")]
 struct ContactSolution {
     /// Normal load N [N].
+    #[pyo3(get)]
     load: f64,
     /// Mean pressure N / (lx·ly) [Pa].
+    #[pyo3(get)]
     mean_pressure: f64,
     /// Pressure [Pa], float64 of shape (ny, nx).
+    #[pyo3(get)]
     pressure: Py<PyArray2<f64>>,
     /// Gap [m], float64 of shape (ny, nx): zero on the contact, positive elsewhere.
+    #[pyo3(get)]
     gap: Py<PyArray2<f64>>,
+    /// Elastic surface displacement [m], float64 of shape (ny, nx) (into the body positive).
+    #[pyo3(get)]
+    displacement: Py<PyArray2<f64>>,
     /// Fraction of the window in contact.
+    #[pyo3(get)]
     contact_fraction: f64,
     /// Real contact area [m²].
+    #[pyo3(get)]
     contact_area: f64,
     /// Pixels with p > 0.
+    #[pyo3(get)]
     contact_points: usize,
     /// Number of contact patches (4-connected clusters, wrapping when periodic).
+    #[pyo3(get)]
     patches: usize,
     /// Patch sizes in pixels, largest first.
+    #[pyo3(get)]
     patch_sizes: Vec<usize>,
+    /// Largest local pressure [Pa].
+    #[pyo3(get)]
+    max_pressure: f64,
+    /// Share of the load carried within 2 % of the window's edges (at least 2 pixels); above
+    /// 0.01 the contact is cut by the window (a warning).
+    #[pyo3(get)]
+    edge_load_fraction: f64,
+    /// Share of the load carried at p ≥ ``hardness``, or None without a hardness.
+    #[pyo3(get)]
+    load_above_hardness_fraction: Option<f64>,
+    /// Hardness of the softer body [Pa] given to ``contact``, or None.
+    #[pyo3(get)]
+    hardness: Option<f64>,
+    /// Whether the pressure was capped at ``hardness`` (elastic–perfectly-plastic).
+    #[pyo3(get)]
+    plastic: bool,
+    /// Effective modulus E* [Pa] of the bodies.
+    #[pyo3(get)]
+    effective_modulus: f64,
     /// Conjugate-gradient iterations.
+    #[pyo3(get)]
     iterations: usize,
-    /// Residual at convergence.
+    /// Applications of the influence operator, in FFT pairs.
+    #[pyo3(get)]
+    operator_applications: f64,
+    /// Relative residual at convergence.
+    #[pyo3(get)]
     residual: f64,
     /// Wall-clock time of the solve [s].
+    #[pyo3(get)]
     seconds: f64,
     /// Physical size (lx, ly) [m] of the window.
+    #[pyo3(get)]
     physical_size: (f64, f64),
     /// "periodic" or "free".
+    #[pyo3(get)]
     boundary: &'static str,
+    /// The warnings about this load, as ``warnings.warn`` gave them (and the command line
+    /// prints them): an unusual load, a contact cut by the window, pressures at the hardness.
+    #[pyo3(get)]
+    warnings: Vec<String>,
+    /// The elastic bodies, for the tangential problem of ``slide``.
+    bodies: Vec<Material>,
 }
 
 #[pymethods]
@@ -490,6 +683,7 @@ struct Solved {
     summary: core_contact::ContactSummary,
     pressure: Array2<f64>,
     gap: Array2<f64>,
+    displacement: Array2<f64>,
 }
 
 /// Elastic normal contact of a rigid rough surface on an elastic half-space (boundary integral
@@ -497,15 +691,27 @@ struct Solved {
 ///
 /// ``loads`` [N]: one or a sequence; solved in increasing order, each from the previous
 /// solution, and returned in the order given. ``youngs`` [Pa] and ``poisson`` of the elastic
-/// body (default silicon, 130 GPa and 0.26); ``youngs2``/``poisson2`` for an elastic
-/// counter-body (1/E* = (1−ν1²)/E1 + (1−ν2²)/E2). ``boundary``: "periodic" or "free".
-/// ``tolerance``: on the solver's relative residual. ``max_iter``: iteration limit per load.
-/// The GIL is released while solving; Ctrl-C stops the solve.
+/// body (default silicon: 130e9 Pa and 0.26); ``youngs2`` [Pa] and ``poisson2`` of an elastic
+/// counter-body (default None: rigid; 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2). ``hardness`` [Pa] of the
+/// softer body (default None; silicon ≈ 12e9): each solution reports the share of its load
+/// carried at p ≥ hardness and a warning when it is not zero; ``plastic=True`` caps the
+/// pressure at it (elastic–perfectly-plastic). ``boundary``: "periodic" (default) or "free".
+/// ``tolerance`` (default 1e-10): on the solver's relative residual, below 1e-2.
+/// ``max_iter`` (default 20000): iteration limit per load. ``device``: "cpu" (default, every
+/// core) or "gpu" (the first NVIDIA GPU; a build with the ``gpu`` feature).
+///
+/// Values no contact problem has (``youngs=130``, a load pressing harder than E*) raise
+/// ``asperity.Error`` with the unit likely meant; unusual ones, a contact cut by the window's
+/// edges and pressures at the hardness are ``UserWarning``s, kept in each solution's
+/// ``warnings``. The GIL is released while solving; Ctrl-C stops the solve.
 #[pyfunction]
 #[pyo3(signature = (topography, loads, *, youngs = Material::SILICON.youngs, poisson = Material::SILICON.poisson,
-                    youngs2 = None, poisson2 = None, boundary = "periodic",
+                    youngs2 = None, poisson2 = None, hardness = None, plastic = false, boundary = "periodic",
                     tolerance = SolverOptions::default().tolerance,
-                    max_iter = SolverOptions::default().max_iterations))]
+                    max_iter = SolverOptions::default().max_iterations, device = "cpu"),
+       text_signature = "(topography, loads, *, youngs=130e9, poisson=0.26, youngs2=None, poisson2=None, \
+                         hardness=None, plastic=False, boundary='periodic', tolerance=1e-10, max_iter=20000, \
+                         device='cpu')")]
 #[allow(clippy::too_many_arguments)]
 fn contact(
     py: Python<'_>,
@@ -515,50 +721,97 @@ fn contact(
     poisson: f64,
     youngs2: Option<f64>,
     poisson2: Option<f64>,
+    hardness: Option<f64>,
+    plastic: bool,
     boundary: &str,
     tolerance: f64,
     max_iter: usize,
+    device: &str,
 ) -> PyResult<Vec<ContactSolution>> {
+    let named = |e| error_naming(e, &[("--load", "loads")]);
     let loads: Vec<f64> = match loads.extract::<f64>() {
         Ok(l) => vec![l],
-        Err(_) => loads.extract().map_err(|_| invalid("--load", "expected a load or a sequence of loads [N]"))?,
+        Err(_) => loads.extract().map_err(|_| invalid("loads", "expected a load or a sequence of loads [N]"))?,
     };
     if loads.is_empty() {
-        return Err(invalid("--load", "no load given"));
+        return Err(invalid("loads", "no load given"));
     }
-    core_contact::check_loads(&loads).map_err(error)?;
-    let body = Material::new(youngs, poisson, "--youngs/--poisson").map_err(error)?;
-    let e_star = match (youngs2, poisson2) {
+    core_contact::check_loads(&loads).map_err(named)?;
+    judge(py, "youngs", youngs, plausible::modulus(youngs, Spelling::Python))?;
+    let mut bodies = vec![Material::new(youngs, poisson, "youngs/poisson").map_err(error)?];
+    match (youngs2, poisson2) {
         (Some(e2), Some(nu2)) => {
-            core_contact::combined_modulus(&body, &Material::new(e2, nu2, "--youngs2/--poisson2").map_err(error)?)
+            judge(py, "youngs2", e2, plausible::modulus(e2, Spelling::Python))?;
+            bodies.push(Material::new(e2, nu2, "youngs2/poisson2").map_err(error)?);
         }
-        (None, None) => body.plane_strain_modulus(),
-        _ => return Err(invalid("--youngs2/--poisson2", "give both for an elastic counter-body, or neither")),
+        (None, None) => {}
+        _ => return Err(invalid("youngs2/poisson2", "give both for an elastic counter-body, or neither")),
+    }
+    let e_star = match bodies[..] {
+        [a, b] => core_contact::combined_modulus(&a, &b),
+        [a] => a.plane_strain_modulus(),
+        _ => unreachable!("one or two bodies"),
     };
     let boundary = match boundary {
         "periodic" => Boundary::Periodic,
         "free" => Boundary::Free,
         other => return Err(invalid("boundary", format!("'{other}' is not periodic or free"))),
     };
+    let device = match device {
+        "cpu" => Device::Cpu,
+        "gpu" if Device::GPU_BUILT => Device::Gpu,
+        "gpu" => return Err(invalid("device", Device::UNAVAILABLE)),
+        other => return Err(invalid("device", format!("'{other}' is not cpu or gpu"))),
+    };
+    let options = SolverOptions { tolerance, max_iterations: max_iter, device };
+    options.check().map_err(error)?;
     let surface = &topography.inner;
     let size = core_contact::contact_size(surface).map_err(error)?;
-    // Every load checked before any is solved, as the command line does.
-    for &load in &loads {
-        core_contact::check_load(load, size, e_star).map_err(error)?;
+    if plastic && hardness.is_none() {
+        return Err(invalid("plastic", "needs hardness, the cap on the pressure [Pa]"));
     }
+    if let Some(h) = hardness {
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(invalid("hardness", format!("must be positive and finite, got {h} Pa")));
+        }
+        judge(py, "hardness", h, plausible::hardness(h, Spelling::Python))?;
+        let heaviest = loads.iter().copied().fold(0.0, f64::max);
+        if plastic && heaviest / (size.0 * size.1) >= h {
+            return Err(invalid(
+                "hardness",
+                format!("{h:e} Pa cannot carry {heaviest:e} N on the {:e} m² window", size.0 * size.1),
+            ));
+        }
+    }
+    // Every load checked before any is solved, as the command line does.
+    let mut warnings: Vec<Vec<String>> = vec![Vec::new(); loads.len()];
+    for (&load, said) in loads.iter().zip(&mut warnings) {
+        core_contact::check_load(load, size, e_star).map_err(named)?;
+        said.extend(judge(py, "loads", load, plausible::load(load, size, e_star, Spelling::Python))?);
+    }
+    // The ways to keep a contact inside the window, in Python's words.
+    let remedies: Vec<String> = [
+        (boundary == Boundary::Periodic, "a free boundary (boundary=\"free\")"),
+        (true, "a crop (Topography.crop)"),
+        (true, "a detrend (Topography.detrend)"),
+        (true, "a cap (Topography.add_cap)"),
+    ]
+    .into_iter()
+    .filter_map(|(left, remedy)| left.then(|| remedy.to_string()))
+    .collect();
     let shape = surface.heights.dim();
-    let options = SolverOptions { tolerance, max_iterations: max_iter, ..Default::default() };
     let mut signals = Signals::new(py)?;
     let solved = py.detach(|| -> asperity::Result<Vec<Solved>> {
         let heights = surface.heights.as_standard_layout();
         let mut solver =
             ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)?;
+        solver.set_hardness(hardness.filter(|_| plastic))?;
         let mut order: Vec<usize> = (0..loads.len()).collect();
         order.sort_by(|&a, &b| loads[a].total_cmp(&loads[b]));
         let mut solved = Vec::with_capacity(loads.len());
         for index in order {
             let report = solver.solve(loads[index], |_, _| signals.check())?;
-            let summary = core_contact::summarize(solver.pressure(), shape, size, boundary, None);
+            let summary = core_contact::summarize(solver.pressure(), shape, size, boundary, hardness);
             let field = |v: Vec<f64>| Array2::from_shape_vec(shape, v).expect("a field has the grid's shape");
             solved.push(Solved {
                 index,
@@ -566,31 +819,48 @@ fn contact(
                 summary,
                 pressure: field(solver.pressure().to_vec()),
                 gap: field(solver.gap()),
+                displacement: field(solver.displacement()),
             });
         }
         solved.sort_by_key(|s| s.index);
         Ok(solved)
     });
     let solved = solved.map_err(|e| signals.error(e))?;
-    Ok(solved
-        .into_iter()
-        .map(|s| ContactSolution {
+    let mut solutions = Vec::with_capacity(solved.len());
+    for (s, mut said) in solved.into_iter().zip(warnings) {
+        for w in s.summary.warnings(&remedies) {
+            let line = format!("at {}: {w}", asperity::quantity::show(s.report.load, &asperity::quantity::FORCE));
+            warn(py, &line, 1)?;
+            said.push(line);
+        }
+        solutions.push(ContactSolution {
             load: s.report.load,
             mean_pressure: s.report.mean_pressure,
             pressure: s.pressure.into_pyarray(py).unbind(),
             gap: s.gap.into_pyarray(py).unbind(),
+            displacement: s.displacement.into_pyarray(py).unbind(),
             contact_fraction: s.summary.contact_fraction,
             contact_area: s.summary.contact_area,
             contact_points: s.summary.contact_points,
             patches: s.summary.patch_sizes.len(),
             patch_sizes: s.summary.patch_sizes,
+            max_pressure: s.summary.max_pressure,
+            edge_load_fraction: s.summary.edge_load_fraction,
+            load_above_hardness_fraction: s.summary.load_above_hardness_fraction,
+            hardness,
+            plastic,
+            effective_modulus: e_star,
             iterations: s.report.iterations,
+            operator_applications: s.report.operator_applications,
             residual: s.report.residual,
             seconds: s.report.seconds,
             physical_size: size,
             boundary: boundary.name(),
-        })
-        .collect())
+            warnings: said,
+            bodies: bodies.clone(),
+        });
+    }
+    Ok(solutions)
 }
 
 /// Count and shares of one class of elements at the critical state.
@@ -782,18 +1052,20 @@ impl Onset {
     }
 }
 
-/// The local law from mu_s/mu_d or a preset name, as ``asperity onset`` takes it.
-fn friction_law(mu_s: Option<f64>, mu_d: Option<f64>, law: Option<&str>) -> asperity::Result<FrictionLaw> {
+/// The local law from mu_s/mu_d or a preset name, as ``asperity onset`` takes it: each
+/// coefficient judged ([`plausible::friction_coefficient`]).
+fn friction_law(py: Python<'_>, mu_s: Option<f64>, mu_d: Option<f64>, law: Option<&str>) -> PyResult<FrictionLaw> {
     let pair = match (mu_s, mu_d, law) {
-        (Some(mu_s), Some(mu_d), _) => FrictionLaw::new(mu_s, mu_d)?,
-        (Some(_), None, _) => return Err(asperity::Error::invalid("--mu-s", "needs --mu-d too")),
-        (None, Some(_), _) => return Err(asperity::Error::invalid("--mu-d", "needs --mu-s too")),
-        (None, None, Some(name)) => return FrictionLaw::preset(name),
+        (Some(mu_s), Some(mu_d), _) => {
+            judge(py, "mu_s", mu_s, plausible::friction_coefficient(mu_s))?;
+            judge(py, "mu_d", mu_d, plausible::friction_coefficient(mu_d))?;
+            FrictionLaw::new(mu_s, mu_d).map_err(error)?
+        }
+        (Some(_), None, _) => return Err(invalid("mu_s", "needs mu_d too")),
+        (None, Some(_), _) => return Err(invalid("mu_d", "needs mu_s too")),
+        (None, None, Some(name)) => return FrictionLaw::preset(name).map_err(error),
         (None, None, None) => {
-            return Err(asperity::Error::invalid(
-                "--mu-s",
-                "give the local friction law: mu_s and mu_d, or a preset law name",
-            ))
+            return Err(invalid("mu_s", "give the local friction law: mu_s and mu_d, or a preset law name"))
         }
     };
     Ok(match law {
@@ -820,18 +1092,18 @@ fn onset(
     law: Option<&str>,
     pixel_area: Option<f64>,
 ) -> PyResult<Onset> {
-    let law = friction_law(mu_s, mu_d, law).map_err(error)?;
+    let law = friction_law(py, mu_s, mu_d, law)?;
     let (map, solution_size) = match pressure.cast::<ContactSolution>() {
         Ok(s) => (s.get().pressure.bind(py).readonly(), Some(s.get().physical_size)),
         Err(_) => (float_map(pressure, "pressure")?, None),
     };
     let (ny, nx) = map.as_array().dim();
-    let size = physical_size.map(|s| lengths(s, "--size")).transpose()?.or(solution_size);
+    let size = physical_size.map(|s| window(s, "physical_size")).transpose()?.or(solution_size);
     let area = match (size, pixel_area) {
-        (Some(_), Some(_)) => return Err(invalid("--pixel-area", "give physical_size or pixel_area, not both")),
+        (Some(_), Some(_)) => return Err(invalid("pixel_area", "give physical_size or pixel_area, not both")),
         (Some((lx, ly)), None) => Some(lx / nx as f64 * (ly / ny as f64)),
         (None, Some(a)) if a.is_finite() && a > 0.0 => Some(a),
-        (None, Some(a)) => return Err(invalid("--pixel-area", format!("must be positive and finite, got {a} m²"))),
+        (None, Some(a)) => return Err(invalid("pixel_area", format!("must be positive and finite, got {a} m²"))),
         (None, None) => None,
     };
     let pixel_area = area.unwrap_or(1.0);
@@ -845,6 +1117,297 @@ fn onset(
         .map_err(error)?;
     let array: Bound<'_, PyArray2<f64>> = (*map).clone();
     Ok(Onset { inner, loads, pressure: array.unbind(), pixel_area, area_known: area.is_some() })
+}
+
+/// The shear maps of a sliding state: shear_x, shear_y [Pa] and the classes (int8: 0 no
+/// contact, 1 slipped, 2 critical, 3 stuck), as slide's shear_x.npy, shear_y.npy, classes.npy.
+fn shear_maps(solver: &TangentialSolver, state: &Snapshot) -> (Array2<f64>, Array2<f64>, Array2<i8>) {
+    let (ny, nx) = solver.shape();
+    let (mut sx, mut sy) = (Array2::<f64>::zeros((ny, nx)), Array2::<f64>::zeros((ny, nx)));
+    let mut classes = Array2::<i8>::zeros((ny, nx));
+    for ((&i, q), c) in solver.points().iter().zip(&state.traction).zip(&state.classes) {
+        let at = (i / nx, i % nx);
+        sx[at] = q[0];
+        sy[at] = q[1];
+        classes[at] = *c as i8;
+    }
+    (sx, sy, classes)
+}
+
+/// The onset of sliding with elastic sharing (``slide``), as ``asperity slide``'s slide.json,
+/// curve.csv and maps at the peak force.
+#[pyclass(frozen, module = "asperity")]
+struct Slide {
+    /// Normal load N [N].
+    #[pyo3(get)]
+    load: f64,
+    /// Contact points (pixels with p > 0).
+    #[pyo3(get)]
+    contact_points: usize,
+    /// Local static friction coefficient mu_s.
+    #[pyo3(get)]
+    mu_s: f64,
+    /// Local dynamic friction coefficient mu_d: the dynamic coefficient of the interface.
+    #[pyo3(get)]
+    mu_d: f64,
+    /// Name of the law, if it has one.
+    #[pyo3(get)]
+    law: Option<String>,
+    /// Slip-weakening distance d_c [m], or None (weakening at once on the first slip).
+    #[pyo3(get)]
+    slip_distance: Option<f64>,
+    /// F_S: the largest tangential force [N].
+    #[pyo3(get)]
+    static_force: f64,
+    /// F_S / N.
+    #[pyo3(get)]
+    static_coefficient: f64,
+    /// F_S / (mu_d N).
+    #[pyo3(get)]
+    friction_drop: f64,
+    /// The rigid displacement δ at F_S [m], or None when F_S is the steady sliding force (δ → ∞).
+    #[pyo3(get)]
+    peak_displacement: Option<f64>,
+    /// At the peak: points stuck below their bound, …
+    #[pyo3(get)]
+    stuck: ClassShare,
+    /// … points on their bound that never slipped, …
+    #[pyo3(get)]
+    critical: ClassShare,
+    /// … and points that slipped before it.
+    #[pyo3(get)]
+    slipped: ClassShare,
+    /// The static coefficient of equal load sharing (``onset``) on the same pressure.
+    #[pyo3(get)]
+    equal_sharing_static_coefficient: f64,
+    /// The friction drop of equal load sharing on the same pressure.
+    #[pyo3(get)]
+    equal_sharing_friction_drop: f64,
+    /// Shear traction along x [Pa] at the peak, float64 (ny, nx).
+    #[pyo3(get)]
+    shear_x: Py<PyArray2<f64>>,
+    /// Shear traction along y [Pa] at the peak, float64 (ny, nx).
+    #[pyo3(get)]
+    shear_y: Py<PyArray2<f64>>,
+    /// Class of each pixel at the peak, int8 (ny, nx): 0 no contact, 1 slipped, 2 critical,
+    /// 3 stuck.
+    #[pyo3(get)]
+    classes: Py<PyArray2<i8>>,
+    /// Displacement steps, tangential solves and their conjugate-gradient iterations.
+    #[pyo3(get)]
+    steps: usize,
+    #[pyo3(get)]
+    solves: usize,
+    #[pyo3(get)]
+    iterations: usize,
+    /// Wall-clock time [s].
+    #[pyo3(get)]
+    seconds: f64,
+    points: Vec<SlidePoint>,
+}
+
+#[pymethods]
+impl Slide {
+    /// The friction–displacement path, as curve.csv: a dict of arrays ``displacement`` (δ [m],
+    /// increasing; a cascade of slips at one δ adds entries at that δ as the force falls),
+    /// ``force`` (F [N]), ``coefficient`` (F / N), ``stick_points`` and ``slip_points``.
+    #[getter]
+    fn curve<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let column = |f: fn(&SlidePoint) -> f64| -> Vec<f64> { self.points.iter().map(f).collect() };
+        let dict = PyDict::new(py);
+        dict.set_item("displacement", column(|p| p.displacement_m).into_pyarray(py))?;
+        dict.set_item("force", column(|p| p.force_n).into_pyarray(py))?;
+        let n = self.load;
+        dict.set_item(
+            "coefficient",
+            column(|p| p.force_n).into_iter().map(|f| f / n).collect::<Vec<_>>().into_pyarray(py),
+        )?;
+        dict.set_item(
+            "stick_points",
+            self.points.iter().map(|p| p.stick_points as u64).collect::<Vec<_>>().into_pyarray(py),
+        )?;
+        dict.set_item(
+            "slip_points",
+            self.points.iter().map(|p| p.slip_points as u64).collect::<Vec<_>>().into_pyarray(py),
+        )?;
+        Ok(dict)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<Slide {} contact points: static coefficient {}, friction drop {} (equal sharing {})>",
+            self.contact_points, self.static_coefficient, self.friction_drop, self.equal_sharing_friction_drop
+        )
+    }
+}
+
+/// A partial-slip state at an imposed tangential force (``slide(tangential_force=Q)``).
+#[pyclass(frozen, get_all, module = "asperity")]
+struct PartialSlip {
+    /// Normal load N [N].
+    load: f64,
+    /// The Coulomb coefficient μ = mu_s of the ramp.
+    mu: f64,
+    /// The tangential force reached [N].
+    tangential_force: f64,
+    /// The rigid displacement δ that carries it [m].
+    displacement: f64,
+    stick_points: usize,
+    slip_points: usize,
+    /// Shear tractions [Pa] and classes (1 slipping, 3 stuck), (ny, nx) as ``Slide``'s.
+    shear_x: Py<PyArray2<f64>>,
+    shear_y: Py<PyArray2<f64>>,
+    classes: Py<PyArray2<i8>>,
+    /// Tangential solves, their iterations, and the wall-clock time [s].
+    solves: usize,
+    iterations: usize,
+    seconds: f64,
+}
+
+#[pymethods]
+impl PartialSlip {
+    fn __repr__(&self) -> String {
+        format!(
+            "<PartialSlip Q {:e} N at δ {:e} m: {} stuck, {} slipping>",
+            self.tangential_force, self.displacement, self.stick_points, self.slip_points
+        )
+    }
+}
+
+/// The onset of sliding with elastic sharing between the contact points, as ``asperity
+/// slide``: the body is displaced rigidly along x and the shear tractions of the contact
+/// points of ``solution`` (a ContactSolution, elastic or plastic) follow from the elastic
+/// half-space of its bodies and boundary, with a local law that has memory: mu_s until a point
+/// first slips, then mu_d (at once, or linearly over an accumulated slip ``slip_distance`` [m]).
+/// The normal pressure stays fixed (normal and tangential problems uncoupled).
+///
+/// The law: ``mu_s`` and ``mu_d`` (dimensionless, with ``law`` as its name), or a preset
+/// ``law``. ``tangential_force`` [N] (default None): instead of the path to sliding, the
+/// partial-slip state at that force under Coulomb friction at mu_s (a ``PartialSlip``).
+/// ``tolerance`` (default 1e-6): of the tangential solve, below 1e-2; ``max_iter`` (default
+/// 20000): iterations of one tangential solve. Returns a ``Slide`` (static coefficient,
+/// friction drop, the equal-sharing values on the same pressure, the curve, the shear maps).
+/// The GIL is released while it runs; Ctrl-C is seen once it has finished.
+#[pyfunction]
+#[pyo3(signature = (solution, *, mu_s = None, mu_d = None, law = None, slip_distance = None, tangential_force = None,
+                    tolerance = TangentialOptions::default().tolerance,
+                    max_iter = TangentialOptions::default().max_iterations),
+       text_signature = "(solution, *, mu_s=None, mu_d=None, law=None, slip_distance=None, tangential_force=None, \
+                         tolerance=1e-6, max_iter=20000)")]
+#[allow(clippy::too_many_arguments)]
+fn slide(
+    py: Python<'_>,
+    solution: &ContactSolution,
+    mu_s: Option<f64>,
+    mu_d: Option<f64>,
+    law: Option<&str>,
+    slip_distance: Option<f64>,
+    tangential_force: Option<f64>,
+    tolerance: f64,
+    max_iter: usize,
+) -> PyResult<Py<PyAny>> {
+    let base = friction_law(py, mu_s, mu_d, law)?;
+    let weakening = match slip_distance {
+        Some(dc) if !(dc > 0.0 && dc.is_finite()) => {
+            return Err(invalid("slip_distance", format!("must be positive and finite, got {dc:e} m")))
+        }
+        Some(_) if tangential_force.is_some() => {
+            return Err(invalid("slip_distance", "not used with tangential_force (a Coulomb ramp at mu_s)"))
+        }
+        Some(dc) => Weakening::Linear(dc),
+        None => Weakening::Instant,
+    };
+    let options = TangentialOptions { tolerance, max_iterations: max_iter };
+    options.check().map_err(error)?;
+    let load = solution.load;
+    if let Some(q) = tangential_force {
+        if !(q > 0.0 && q.is_finite() && q < base.mu_s * load) {
+            return Err(invalid(
+                "tangential_force",
+                format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {q:e} N", base.mu_s * load),
+            ));
+        }
+    }
+    let pressure: Vec<f64> = solution.pressure.bind(py).readonly().as_array().iter().copied().collect();
+    let shape = solution.pressure.bind(py).readonly().as_array().dim();
+    let boundary = if solution.boundary == Boundary::Free.name() { Boundary::Free } else { Boundary::Periodic };
+    if boundary == Boundary::Periodic && pressure.iter().all(|p| *p > 0.0) {
+        return Err(invalid(
+            "solution",
+            format!(
+                "at {load:e} N every point of the periodic window touches (full contact): the periodic half-space \
+                 has no stiffness for a uniform shift, so there is no sliding onset to find; lower the load or \
+                 solve with boundary=\"free\""
+            ),
+        ));
+    }
+    let compliance = ShearCompliance::of(&solution.bodies);
+    let law = SlipLaw { mu_s: base.mu_s, mu_d: base.mu_d, weakening };
+    let size = solution.physical_size;
+    let names = [("--mu-s", "mu_s"), ("--mu-d", "mu_d"), ("--tangential-force", "tangential_force")];
+    let start = Instant::now();
+    if let Some(q) = tangential_force {
+        let (solver, (state, work)) = py
+            .detach(|| {
+                let mut solver = TangentialSolver::new(&pressure, shape, size, compliance, boundary, options)?;
+                let ramp = ramp_force(&mut solver, law.mu_s, q)?;
+                Ok((solver, ramp))
+            })
+            .map_err(|e| error_naming(e, &names))?;
+        let (sx, sy, classes) = shear_maps(&solver, &state);
+        let partial = PartialSlip {
+            load,
+            mu: law.mu_s,
+            tangential_force: state.point.force_n,
+            displacement: state.point.displacement_m,
+            stick_points: state.point.stick_points,
+            slip_points: state.point.slip_points,
+            shear_x: sx.into_pyarray(py).unbind(),
+            shear_y: sy.into_pyarray(py).unbind(),
+            classes: classes.into_pyarray(py).unbind(),
+            solves: work.solves,
+            iterations: work.iterations,
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        return Ok(Py::new(py, partial)?.into_any());
+    }
+    let (solver, onset, equal) = py
+        .detach(|| {
+            let mut solver = TangentialSolver::new(&pressure, shape, size, compliance, boundary, options)?;
+            let onset = elastic_onset(&mut solver, &law, |_| {})?;
+            let map = Array2::from_shape_vec(shape, pressure.clone()).expect("the pressure's shape");
+            let loads = ElementLoads::from_pressure(&map, solver.pixel_area())?;
+            let equal = CoreOnset::new(&loads, &FrictionLaw::new(law.mu_s, law.mu_d)?);
+            Ok((solver, onset, equal))
+        })
+        .map_err(|e| error_naming(e, &names))?;
+    let (sx, sy, classes) = shear_maps(&solver, &onset.peak);
+    let result = Slide {
+        load,
+        contact_points: solver.points().len(),
+        mu_s: law.mu_s,
+        mu_d: law.mu_d,
+        law: base.name.clone(),
+        slip_distance,
+        static_force: onset.static_force,
+        static_coefficient: onset.static_coefficient(),
+        friction_drop: onset.friction_drop(),
+        peak_displacement: Some(onset.peak.point.displacement_m).filter(|d| d.is_finite()),
+        stuck: onset.stuck.into(),
+        critical: onset.critical.into(),
+        slipped: onset.slipped.into(),
+        equal_sharing_static_coefficient: equal.static_coefficient(),
+        equal_sharing_friction_drop: equal.friction_drop(),
+        shear_x: sx.into_pyarray(py).unbind(),
+        shear_y: sy.into_pyarray(py).unbind(),
+        classes: classes.into_pyarray(py).unbind(),
+        steps: onset.work.steps,
+        solves: onset.work.solves,
+        iterations: onset.work.iterations,
+        seconds: start.elapsed().as_secs_f64(),
+        points: onset.curve,
+    };
+    Ok(Py::new(py, result)?.into_any())
 }
 
 /// The slide-hold-slide analysis as JSON ({"cycles", "groups", "skipped"}); see
@@ -916,6 +1479,10 @@ fn _run_study(
             (None, None) => Ok((StudyConfig::default_study(), "the default study".to_string())),
         })
         .map_err(error)?;
+    // The study's own words (its keys), as the command line warns.
+    for w in config.warnings() {
+        warn(py, &format!("{origin}: {w}"), 2)?;
+    }
     let config = if quick { config.quick() } else { config };
     let study = py.detach(|| Study::prepare(config, &origin)).map_err(error)?;
     // Read before any solve, as the command line does: a bad experiments file costs nothing.
@@ -1005,6 +1572,9 @@ fn _run_study(
         }
     })?;
     let outcome = outcome.map_err(error)?;
+    for w in &outcome.warnings {
+        warn(py, w, 2)?;
+    }
     py.detach(|| asperity::report::write(&out, &outcome, &experiments)).map_err(error)?;
     serde_json::to_string(&outcome.rows).map_err(|e| invalid("study", e.to_string()))
 }
@@ -1023,12 +1593,15 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<ContactSolution>()?;
     m.add_class::<Onset>()?;
     m.add_class::<ClassShare>()?;
+    m.add_class::<Slide>()?;
+    m.add_class::<PartialSlip>()?;
     m.add_function(wrap_pyfunction!(read_topography, m)?)?;
     m.add_function(wrap_pyfunction!(compound, m)?)?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(psd, m)?)?;
     m.add_function(wrap_pyfunction!(contact, m)?)?;
     m.add_function(wrap_pyfunction!(onset, m)?)?;
+    m.add_function(wrap_pyfunction!(slide, m)?)?;
     m.add_function(wrap_pyfunction!(_analyse_shs, m)?)?;
     m.add_function(wrap_pyfunction!(_run_study, m)?)?;
     Ok(())

@@ -4,8 +4,12 @@ The comparisons with the command line run the `asperity` binary: $ASPERITY_CLI, 
 target/release/asperity of this checkout (`.ci/test` builds it first and sets the variable).
 """
 
+import ast
+import inspect
 import json
 import math
+import re
+import warnings
 import os
 import signal
 import subprocess
@@ -195,6 +199,8 @@ def raises(call, *fragments):
         call()
     message = str(e.value)
     assert "\n" not in message and len(message) < 400, message
+    # In Python's words: argument names, never the command line's options.
+    assert not re.search(r"--[a-z]", message), message
     for f in fragments:
         assert f in message, message
     assert isinstance(e.value, ValueError)
@@ -219,30 +225,33 @@ def test_every_bad_input_raises_asperity_error(tmp_path):
     raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, seed=0), "rms")
     raises(lambda: ap.generate(size=1e-6, grid=8, hurst=1.5, rms=1e-9, seed=0))
     raises(lambda: ap.psd(t, window="kaiser"), "kaiser")
-    raises(lambda: ap.contact(t, loads=[1e-3, -1.0]), "--load", "-1")
-    raises(lambda: ap.contact(t, loads=[]), "--load")
+    raises(lambda: ap.contact(t, loads=[1e-3, -1.0]), "loads: ", "-1")
+    raises(lambda: ap.contact(t, loads=[]), "loads: ")
     raises(lambda: ap.contact(t, loads=1e-3, youngs=0.0), "Young")
     raises(lambda: ap.contact(t, loads=1e-3, poisson=0.5), "Poisson")
-    raises(lambda: ap.contact(t, loads=1e-3, youngs2=1e9), "--youngs2/--poisson2")
+    raises(lambda: ap.contact(t, loads=1e-3, youngs2=1e9), "youngs2/poisson2: ")
     raises(lambda: ap.contact(t, loads=1e-3, boundary="open"), "open")
-    raises(lambda: ap.contact(t, loads=1e-3, tolerance=0.0), "--tolerance")
-    raises(lambda: ap.contact(t, loads=1e-3, tolerance=1e-14, max_iter=2), "did not converge")
+    raises(lambda: ap.contact(t, loads=1e-3, tolerance=0.0), "tolerance: ")
+    raises(lambda: ap.contact(t, loads=1e-3, tolerance=1e-14, max_iter=2), "did not converge", "raise max_iter")
+    raises(lambda: ap.contact(t, loads=1e-3, plastic=True), "plastic: needs hardness")
+    raises(lambda: ap.contact(t, loads=1e-3, hardness=-1.0), "hardness: must be positive")
+    raises(lambda: ap.contact(t, loads=0.11, hardness=1e8, plastic=True), "hardness: ", "cannot carry")
     nan = np.array(t.heights)
     nan[3, 4] = np.nan
     raises(lambda: ap.contact(ap.Topography(nan, t.physical_size), loads=1e-3), "1 heights are missing")
     raises(lambda: ap.onset(np.zeros((3, 3)), mu_s=0.6, mu_d=0.4), "no contact")
     raises(lambda: ap.onset(np.array([[1.0, -2.0]]), mu_s=0.6, mu_d=0.4), "row 0, column 1")
     raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.4, mu_d=0.6), "mu")
-    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6), "--mu-d")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6), "mu_s: needs mu_d too")
     raises(lambda: ap.onset(np.ones((2, 2))), "local friction law")
     raises(lambda: ap.onset(np.ones((2, 2)), law="hold 1 year"), "hold 1 year")
-    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4, pixel_area=0.0), "--pixel-area")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4, pixel_area=0.0), "pixel_area: ")
     raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4).stress_ratio(2.0), "(0, 1]")
     raises(lambda: ap.onset(np.ones((2, 2)), mu_s=0.6, mu_d=0.4).curve("sideways"), "sideways")
     raises(lambda: ap.analyse_shs([0, 1, 1], [0, 0, 0], [1, 1, 1]), "time")
     raises(lambda: ap.analyse_shs(np.arange(100.0), np.ones(100), np.ones(100)), "trace")
-    raises(lambda: ap.analyse_shs([0, 1], [0, 0], [1, 1], speed=-1), "--speed")
-    raises(lambda: ap.run_study({"loads": {"min": "1 GPa"}}, out=tmp_path / "s"), "study dict", "loads.min")
+    raises(lambda: ap.analyse_shs([0, 1], [0, 0], [1, 1], speed=-1), "speed: ")
+    raises(lambda: ap.run_study({"loads": {"min": "1 mm"}}, out=tmp_path / "s"), "study dict", "loads.min")
     raises(lambda: ap.run_study(tmp_path / "none.toml", out=tmp_path / "s"), "none.toml")
     (tmp_path / "full").mkdir()
     (tmp_path / "full" / "mine.txt").write_text("a user's file")
@@ -254,23 +263,23 @@ def test_the_command_lines_checks_apply(tmp_path):
     # What the command line refuses, the package refuses with the same library check.
     t = rough_ball(grid=32)
     nan = float("nan")
-    raises(lambda: t.crop(x=(nan, 1e-6)), "--crop", "x0 = NaN", "finite lengths ≥ 0")
-    raises(lambda: t.crop(x=(-1e-6, 5e-6)), "--crop", "x0 = -1e-6 m")
-    raises(lambda: t.crop(y=(1e-6, float("inf"))), "--crop", "y1 = inf")
+    raises(lambda: t.crop(x=(nan, 1e-6)), "crop: ", "x0 = NaN", "finite lengths ≥ 0")
+    raises(lambda: t.crop(x=(-1e-6, 5e-6)), "crop: ", "x0 = -1e-6 m")
+    raises(lambda: t.crop(y=(1e-6, float("inf"))), "crop: ", "y1 = inf")
     raises(lambda: t.crop(columns=(-1, 5)), "columns", "pixel indices ≥ 0")
     assert t.crop(x=(0.0, 10e-6)).shape == (32, 11)
     # The point limit, before anything is allocated: 2^40 points would kill the interpreter.
-    raises(lambda: ap.generate(size=1e-6, grid=(2**20, 2**20), hurst=0.8, rms=1e-9, seed=0), "--grid", "--max-points")
+    raises(lambda: ap.generate(size=1e-6, grid=(2**20, 2**20), hurst=0.8, rms=1e-9, seed=0), "grid: ", "max_points")
     raises(lambda: ap.generate(size=1e-6, grid=64, hurst=0.8, rms=1e-9, seed=0, max_points=1000), "4096 points")
     raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=0, max_points=3), "max_points")
     raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=0, max_points=-5), "max_points", "'-5'")
-    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=-1), "--seed", "'-1' is not a whole")
-    raises(lambda: t.resample(1e-9, max_points=10000), "--pixel-size", "over the limit of 10000 points")
+    raises(lambda: ap.generate(size=1e-6, grid=8, hurst=0.8, rms=1e-9, seed=-1), "seed: ", "'-1' is not a whole")
+    raises(lambda: t.resample(1e-9, max_points=10000), "pixel_size: ", "over the limit of 10000 points")
     np.save(tmp_path / "h.npy", np.zeros((64, 64)))
     raises(lambda: ap.read_topography(tmp_path / "h.npy", size=1e-6, max_points=1000), "h.npy", "1000 points")
     assert ap.read_topography(tmp_path / "h.npy", size=1e-6, max_points=4096).shape == (64, 64)
     # Every load is checked as the command line checks it: 1e120 N on 31 µm is no pressure.
-    raises(lambda: ap.contact(t, loads=[1e-3, 1e120]), "--load", "not representable")
+    raises(lambda: ap.contact(t, loads=[1e-3, 1e120]), "loads: ", "not representable")
     # A file's content is quoted with its control characters escaped, on one line.
     (tmp_path / "t.txt").write_bytes(b"1 2\n3 4\x1b[2J\rX\n")
     message = raises(lambda: ap.read_topography(tmp_path / "t.txt"), "t.txt", "\\x1b[2J")
@@ -440,3 +449,161 @@ def test_ctrl_c_stops_a_long_solve():
     assert "interrupted after" in out
     # Stopped within a few iterations of the signal, not at the end of 20000 iterations.
     assert time.perf_counter() - sent < 30
+
+
+# --- plausibility, warnings, hardness, elastic sharing (the command line's, in Python) -----------
+
+
+def test_implausible_values_are_refused_with_the_unit_meant():
+    t = rough_ball(grid=32)
+    message = raises(lambda: ap.contact(t, loads=1e-3, youngs=130), "youngs=130: 130 Pa is not a solid's Young's modulus")
+    assert message.endswith("did you mean 1.3e11 (130 GPa)?"), message
+    raises(lambda: ap.contact(t, loads=1e-3, hardness=12), "hardness=12: ", "did you mean 1.2e10 (12 GPa)?")
+    raises(lambda: ap.contact(t, loads=1e3), "loads=1000: ", "no contact of this kind is pressed that hard")
+    raises(lambda: ap.generate(size=31.13, grid=8, seed=0, sphere_radius=1e3), "size=31.13: ", "3.113e-5 (31.13 µm)?")
+    raises(lambda: ap.Topography(np.zeros((2, 2)), physical_size=31.13), "physical_size=31.13: ")
+    raises(lambda: ap.onset(np.ones((2, 2)), mu_s=60, mu_d=40), "mu_s=60: a friction coefficient of 60 is above 10")
+    raises(lambda: t.resample(20.0), "pixel_size=20: ", "did you mean 2e-8 (20 nm)?")
+    raises(lambda: t.add_cap(1.5e4), "radius=15000: ")
+
+
+def test_a_heavy_load_warns_through_the_warnings_module():
+    # 1 N on 31 µm of silicon (1 mN meant) is 7e-3 E*: the command line warns, so does Python.
+    t = rough_ball(grid=32)
+    with pytest.warns(UserWarning) as caught:
+        (s,) = ap.contact(t, loads=1.0)
+    said = [str(w.message) for w in caught]
+    assert said[0].startswith("loads=1: 1 N on the 31.13 µm × 31.13 µm window is a mean pressure of"), said
+    assert said[0].endswith("did you mean 0.001 (1 mN)?"), said
+    assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
+    assert s.warnings == said
+    # A contact cut by the window names Python's remedies.
+    assert any("of the load sits within 2 % of the window's edges" in w and 'boundary="free"' in w for w in said), said
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning):
+            ap.contact(t, loads=1.0)
+        (quiet,) = ap.contact(t, loads=1e-4)  # the default range: nothing to say
+    assert quiet.warnings == []
+
+
+def test_hardness_and_plastic_match_the_command_line(tmp_path):
+    t = rough_ball(grid=(64, 48))
+    np.save(tmp_path / "h.npy", np.asarray(t.heights))
+    lx, ly = t.physical_size
+    loads = [1e-2, 1e-3]
+    run_cli("contact", tmp_path / "h.npy", "--size", f"{lx!r},{ly!r}", *(f"--load={l!r}" for l in loads),
+            "--hardness", "0.3GPa", "--plastic", "--fields", "--out", tmp_path / "out")
+    record = json.loads((tmp_path / "out" / "contact.json").read_text())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sols = ap.contact(t, loads=loads, hardness=0.3e9, plastic=True)
+    assert len(caught) == len(record["warnings"]) and len(caught) > 0, (record["warnings"], caught)
+    for k, (s, entry) in enumerate(zip(sols, record["loads"])):
+        assert np.array_equal(np.load(tmp_path / "out" / f"pressure-{k:03}.npy"), s.pressure)
+        assert np.array_equal(np.load(tmp_path / "out" / f"displacement-{k:03}.npy"), s.displacement)
+        assert s.max_pressure == entry["max_pressure_pa"] <= 0.3e9
+        assert s.edge_load_fraction == entry["edge_load_fraction"]
+        assert s.load_above_hardness_fraction == entry["load_above_hardness_fraction"]
+        assert s.operator_applications == entry["operator_applications"]
+        assert (s.hardness, s.plastic, s.effective_modulus) == (0.3e9, True, record["effective_modulus_pa"])
+    assert sols[0].load_above_hardness_fraction > 0  # 10 mN on this ball reaches 0.3 GPa
+    # The warnings of a load name it as the command line does.
+    assert any(w.startswith("at 10 mN: ") for w in sols[0].warnings), sols[0].warnings
+
+
+def test_slide_matches_the_command_line(tmp_path):
+    t = rough_ball(grid=48)
+    np.save(tmp_path / "h.npy", np.asarray(t.heights))
+    lx, ly = t.physical_size
+    run_cli("contact", tmp_path / "h.npy", "--size", f"{lx!r},{ly!r}", "--load", "1e-3", "--out", tmp_path / "c")
+    run_cli("slide", tmp_path / "c", "--mu-s", 0.6, "--mu-d", 0.4, "--out", tmp_path / "s")
+    record = json.loads((tmp_path / "s" / "slide.json").read_text())
+    (s,) = ap.contact(t, loads=1e-3)
+    sl = ap.slide(s, mu_s=0.6, mu_d=0.4)
+    assert sl.static_coefficient == record["static_coefficient"]
+    assert sl.friction_drop == record["friction_drop"]
+    assert sl.static_force == record["static_force_n"]
+    assert sl.peak_displacement == record["peak_displacement_m"]
+    assert sl.equal_sharing_friction_drop == record["equal_sharing"]["friction_drop"]
+    assert sl.equal_sharing_friction_drop == ap.onset(s, mu_s=0.6, mu_d=0.4).friction_drop
+    assert (sl.stuck.count, sl.critical.count, sl.slipped.count) == (
+        record["stuck"]["count"], record["critical"]["count"], record["slipped"]["count"])
+    assert np.array_equal(np.load(tmp_path / "s" / "shear_x.npy"), sl.shear_x)
+    assert np.array_equal(np.load(tmp_path / "s" / "classes.npy"), sl.classes)
+    curve = np.loadtxt(tmp_path / "s" / "curve.csv", delimiter=",", skiprows=1)
+    assert np.array_equal(curve[:, 1], sl.curve["force"])
+    assert sl.curve["force"].max() == pytest.approx(sl.static_force, rel=1e-15)
+    # The partial-slip state at an imposed force, as --tangential-force.
+    q = 0.5 * 0.6 * s.load
+    run_cli("slide", tmp_path / "c", "--mu-s", 0.6, "--mu-d", 0.4, "--tangential-force", repr(q), "--out", tmp_path / "q")
+    ramp = json.loads((tmp_path / "q" / "slide.json").read_text())
+    partial = ap.slide(s, mu_s=0.6, mu_d=0.4, tangential_force=q)
+    assert (partial.tangential_force, partial.displacement) == (ramp["tangential_force_n"], ramp["displacement_m"])
+    assert (partial.stick_points, partial.slip_points) == (ramp["stick_points"], ramp["slip_points"])
+    raises(lambda: ap.slide(s, mu_s=0.6, mu_d=0.4, tangential_force=s.load), "tangential_force: must lie in")
+    raises(lambda: ap.slide(s, mu_s=0.6, mu_d=0.4, slip_distance=-1.0), "slip_distance: ")
+    raises(lambda: ap.slide(s, mu_s=0.6), "mu_s: needs mu_d too")
+
+
+def test_a_scan_solved_with_a_hardness_slides_and_plots(tmp_path):
+    # The notebook a user writes: read a scan, level it, add the ball's curvature, solve with a
+    # hardness, slide with elastic sharing, plot (when matplotlib is there: `pip install .[plot]`).
+    scan = ap.read_topography(ROOT / "tests" / "data" / "si-ball-roughness.gwy")
+    assert scan.height_unit == "m" and scan.shape == (200, 160)
+    ball = scan.detrend("plane").add_cap(1.5e-3)
+    assert not ball.periodic
+    (s,) = ap.contact(ball, loads=1e-4, hardness=12e9, plastic=True)
+    assert s.max_pressure <= 12e9 and s.contact_points > 10 and s.warnings == []
+    sl = ap.slide(s, mu_s=0.6, mu_d=0.4)
+    assert 1.0 < sl.friction_drop < 0.6 / 0.4
+    assert sl.classes[s.pressure == 0].max() == 0 and sl.classes.max() > 0
+    try:
+        import matplotlib
+    except ImportError:
+        return
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a, b) = plt.subplots(1, 2)
+    a.imshow(s.pressure / 1e9)
+    b.plot(sl.curve["displacement"] * 1e9, sl.curve["coefficient"])
+    fig.savefig(tmp_path / "slide.png")
+    plt.close(fig)
+    assert (tmp_path / "slide.png").stat().st_size > 0
+
+
+def test_signatures_show_their_defaults_and_the_stub_matches():
+    assert inspect.signature(ap.contact).parameters["youngs"].default == 130e9
+    assert inspect.signature(ap.contact).parameters["tolerance"].default == 1e-10
+    assert inspect.signature(ap.slide).parameters["max_iter"].default == 20000
+    stub = ast.parse((Path(ap.__file__).parent / "_asperity.pyi").read_text())
+    from asperity import _asperity
+
+    for node in stub.body:
+        if isinstance(node, ast.FunctionDef):  # the overloads of slide have its parameters
+            function = getattr(_asperity, node.name)
+            stubbed = [a.arg for a in node.args.posonlyargs + node.args.args + node.args.kwonlyargs]
+            assert stubbed == list(inspect.signature(function).parameters), node.name
+        elif isinstance(node, ast.ClassDef):
+            cls = getattr(_asperity, node.name)
+            for member in node.body:
+                name = getattr(member, "name", None) or getattr(getattr(member, "target", None), "id", None)
+                if name and not name.startswith("__"):
+                    assert hasattr(cls, name), f"{node.name}.{name}"
+    public = {n for n in dir(_asperity) if not n.startswith("__")}
+    stubbed = {getattr(n, "name", None) for n in stub.body} | {
+        t.id for n in stub.body if isinstance(n, ast.AnnAssign) for t in [n.target]
+    }
+    assert public <= stubbed, public - stubbed
+
+
+def test_statistics_are_surface_topographys():
+    # SurfaceTopography 1.27.1 on the same file: rms_gradient, rms_curvature_from_area.
+    t = ap.read_topography(ROOT / "tests" / "data" / "si-ball-roughness.gwy")
+    s = t.statistics()
+    assert s["rms_height"] == pytest.approx(1.2078773492359754e-08, rel=1e-9)
+    assert s["rms_gradient"] == pytest.approx(0.06727190036769483, rel=1e-9)
+    assert s["rms_slope_from_profile"] == pytest.approx(0.0482823519044096, rel=1e-9)
+    assert s["rms_curvature_from_area"] == pytest.approx(304481.4766922735, rel=1e-9)
+    assert s["rms_curvature_from_profile"] == pytest.approx(378573.9694702846, rel=1e-9)

@@ -8,6 +8,7 @@ use std::time::Instant;
 use clap::Args;
 
 use asperity::error::escaped;
+use asperity::quantity::{show, FORCE};
 use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
 use asperity::study::shard::Shard;
@@ -183,7 +184,63 @@ pub fn run(args: RunArgs) -> Result<()> {
     if !figures.is_empty() {
         super::message(&format!("wrote {} figures and {dir}/index.html", figures.len()));
     }
-    Ok(())
+    super::print(&drop_summary(&outcome.rows))
+}
+
+/// The loads the run's closing summary shows [N]: 0.1, 1, 10 and 100 mN, the paper's decades.
+const SUMMARY_LOADS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
+
+/// The results table in brief: per law (and sharing, and plastic solve where there is one),
+/// the range of the friction drop over the topographies at each of [`SUMMARY_LOADS`] the study
+/// solved ("–" for a load it did not).
+fn drop_summary(rows: &[asperity::study::Row]) -> String {
+    use std::fmt::Write;
+    let mut groups: Vec<(String, &str, bool)> = Vec::new();
+    for r in rows {
+        let key = (r.law.clone(), r.sharing.name(), r.plastic);
+        if !groups.contains(&key) {
+            groups.push(key);
+        }
+    }
+    let plastic = rows.iter().any(|r| r.plastic);
+    let label = |(law, sharing, p): &(String, &str, bool)| {
+        format!(
+            "{law}, {sharing} sharing{}",
+            if plastic {
+                if *p {
+                    ", plastic"
+                } else {
+                    ", elastic"
+                }
+            } else {
+                ""
+            }
+        )
+    };
+    let width = groups.iter().map(|g| label(g).chars().count()).max().unwrap_or(0).max(20);
+    let mut s = format!("{:<width$}", "friction drop, min–max");
+    for load in SUMMARY_LOADS {
+        let _ = write!(s, " {:>15}", show(load, &FORCE));
+    }
+    s.push('\n');
+    for group in &groups {
+        let _ = write!(s, "{:<width$}", label(group));
+        for load in SUMMARY_LOADS {
+            let drops: Vec<f64> = rows
+                .iter()
+                .filter(|r| (r.law.as_str(), r.sharing.name(), r.plastic) == (group.0.as_str(), group.1, group.2))
+                .filter(|r| (r.load_n - load).abs() <= 1e-9 * load)
+                .map(|r| r.friction_drop)
+                .collect();
+            let cell = match (drops.iter().copied().reduce(f64::min), drops.iter().copied().reduce(f64::max)) {
+                (Some(lo), Some(hi)) => format!("{lo:.4}–{hi:.4}"),
+                _ => "–".to_string(),
+            };
+            let _ = write!(s, " {cell:>15}");
+        }
+        s.push('\n');
+    }
+    s
 }
 
 /// The study of a study file (or the default), at the --quick scale if asked, with the

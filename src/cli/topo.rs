@@ -9,7 +9,9 @@ use serde::Serialize;
 use asperity::error::escaped;
 use asperity::topography::io;
 use asperity::topography::profile::Profile;
-use asperity::topography::stats::{profile_height, profile_rms_slope};
+use asperity::topography::stats::{
+    profile_height, profile_rms_curvature, profile_rms_slope, slope_curvature, SlopeCurvature,
+};
 use asperity::topography::AnyTopography;
 
 use super::{topo_tools, ReadArgs};
@@ -57,8 +59,12 @@ struct InfoArgs {
     /// missing_points. When the height unit is unknown (or not a length) the statistics are
     /// mean, rms, min, max in the values as stored. A line profile: kind ("profile"), points,
     /// uniform, length_m and step_m [m] (length and step as stored when the positions' unit is
-    /// unknown), position_unit, the heights as for a map and rms_slope [1] (null unless both
-    /// units are known), with SurfaceTopography's definitions for line scans.
+    /// unknown), position_unit, the heights as for a map, rms_slope [1] and
+    /// rms_curvature_per_m [1/m] (null unless both units are known), with SurfaceTopography's
+    /// definitions for line scans. A map in metres with a size and no missing point adds
+    /// SurfaceTopography's rms_gradient [1] (√⟨|∇h|²⟩), rms_slope_from_profile [1] (along x),
+    /// rms_curvature_from_area_per_m [1/m] (half the Laplacian) and
+    /// rms_curvature_from_profile_per_m [1/m] (along x); see the README for the differences.
     #[arg(long)]
     json: bool,
 }
@@ -80,6 +86,9 @@ struct Info {
     metres: Option<MetreStats>,
     #[serde(flatten)]
     as_stored: Option<StoredStats>,
+    /// `None` without metres, a size, or with a missing point.
+    #[serde(flatten)]
+    slope_curvature: Option<SlopeCurvature>,
     missing_points: usize,
 }
 
@@ -124,6 +133,8 @@ struct ProfileInfo {
     as_stored: Option<StoredStats>,
     /// [1]; `None` unless both units are known.
     rms_slope: Option<f64>,
+    /// [1/m]; `None` unless both units are known.
+    rms_curvature_per_m: Option<f64>,
     missing_points: usize,
 }
 
@@ -174,6 +185,7 @@ fn info(args: InfoArgs) -> Result<()> {
             min: stats.as_ref().map(|s| s.min),
             max: stats.as_ref().map(|s| s.max),
         }),
+        slope_curvature: topo.height_unit_known.then(|| slope_curvature(&topo).ok()).flatten(),
         missing_points: topo.missing_points(),
     };
     if args.json {
@@ -263,6 +275,10 @@ fn profile_info(args: InfoArgs, p: &Profile, channels: Vec<String>) -> Result<()
         metres: stats(true).map(|(mean_m, rms_m, min_m, max_m)| MetreStats { mean_m, rms_m, min_m, max_m }),
         as_stored: stats(false).map(|(mean, rms, min, max)| StoredStats { mean, rms, min, max }),
         rms_slope: (p.position_unit_known && p.height_unit_known).then(|| profile_rms_slope(p).ok()).flatten(),
+        rms_curvature_per_m: (p.position_unit_known && p.height_unit_known)
+            .then(|| profile_rms_curvature(p).ok())
+            .flatten(),
+
         missing_points: p.missing_points(),
     };
     if args.json {
@@ -336,6 +352,13 @@ fn summary(info: &Info) -> String {
         }
         _ => s += "heights      none defined\n",
     }
+    if let Some(g) = &info.slope_curvature {
+        s += &format!("rms slope    {:.4} (gradient; {:.4} along x)\n", g.rms_gradient, g.rms_slope_from_profile);
+        s += &format!(
+            "rms curv.    {:.4e} 1/m (half the Laplacian; {:.4e} 1/m along x)\n",
+            g.rms_curvature_from_area_per_m, g.rms_curvature_from_profile_per_m
+        );
+    }
     s += &format!("missing      {} of {total} points\n", info.missing_points);
     s
 }
@@ -391,6 +414,9 @@ fn profile_summary(info: &ProfileInfo) -> String {
         }
         None => "rms slope    unknown: needs the units of the positions and the heights\n".into(),
     };
+    if let Some(c) = info.rms_curvature_per_m {
+        s += &format!("rms curv.    {c:.4e} 1/m\n");
+    }
     s += &format!("missing      {} of {} points\n", info.missing_points, info.points);
     s
 }

@@ -172,6 +172,114 @@ pub fn psd(topo: &Topography, window: Window) -> Result<Psd> {
     Ok(Psd { q, c, modes })
 }
 
+/// RMS slopes and curvatures of a map, as SurfaceTopography 1.27 defines them (its default
+/// finite differences, "linear" interpolation), with x along a row and y along a column:
+///
+/// - the first derivatives are forward differences, ∂h/∂x = (h(i+1, j) − h(i, j))/dx and
+///   ∂h/∂y = (h(i, j+1) − h(i, j))/dy, taken where both exist (i < nx − 1, j < ny − 1);
+/// - the second derivatives are central, ∂²h/∂x² = (h(i+1, j) − 2h(i, j) + h(i−1, j))/dx²
+///   and likewise along y, taken where both exist (0 < i < nx − 1, 0 < j < ny − 1);
+/// - a periodic map takes every point, its neighbours across the edges.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SlopeCurvature {
+    /// RMS gradient √⟨(∂h/∂x)² + (∂h/∂y)²⟩ [1] (SurfaceTopography's `rms_gradient`).
+    pub rms_gradient: f64,
+    /// RMS slope along x √⟨(∂h/∂x)²⟩ [1] (`rms_slope_from_profile`, Rdq).
+    pub rms_slope_from_profile: f64,
+    /// RMS curvature √⟨(∇²h / 2)²⟩ [1/m], half the Laplacian: the mean curvature
+    /// (`rms_curvature_from_area`).
+    pub rms_curvature_from_area_per_m: f64,
+    /// RMS curvature along x √⟨(∂²h/∂x²)²⟩ [1/m] (`rms_curvature_from_profile`, Rddq).
+    pub rms_curvature_from_profile_per_m: f64,
+}
+
+/// [`SlopeCurvature`] of a map in metres with a physical size, every point defined and at
+/// least 3 × 3 points (2 × 2 when periodic).
+pub fn slope_curvature(topo: &Topography) -> Result<SlopeCurvature> {
+    let (dx, dy) = topo.pixel_size("the RMS slope and curvature")?;
+    refuse_missing(topo)?;
+    let h = &topo.heights;
+    let (ny, nx) = h.dim();
+    let periodic = topo.periodic;
+    let least = if periodic { 2 } else { 3 };
+    if nx < least || ny < least {
+        return Err(
+            topo.error(format!("a {ny}×{nx} grid is too small for a curvature: at least {least}×{least} points"))
+        );
+    }
+    // Indices where a stencil reaching `before` points back and `after` forward stays inside.
+    let range = |n: usize, before: usize, after: usize| if periodic { 0..n } else { before..n - after };
+    let at = |j: usize, i: usize, dj: isize, di: isize| {
+        h[((j as isize + dj).rem_euclid(ny as isize) as usize, (i as isize + di).rem_euclid(nx as isize) as usize)]
+    };
+    let mean = |sum: f64, count: usize| sum / count as f64;
+    let (mut gx2, mut gy2, mut count) = (0.0, 0.0, 0usize);
+    for j in range(ny, 0, 1) {
+        for i in range(nx, 0, 1) {
+            let c = h[(j, i)];
+            gx2 += ((at(j, i, 0, 1) - c) / dx).powi(2);
+            gy2 += ((at(j, i, 1, 0) - c) / dy).powi(2);
+            count += 1;
+        }
+    }
+    let (gradient, slope_x) = (mean(gx2 + gy2, count).sqrt(), mean(gx2, count).sqrt());
+    let (mut lap2, mut cx2, mut count) = (0.0, 0.0, 0usize);
+    for j in range(ny, 1, 1) {
+        for i in range(nx, 1, 1) {
+            let c = h[(j, i)];
+            let cx = (at(j, i, 0, 1) - 2.0 * c + at(j, i, 0, -1)) / (dx * dx);
+            let cy = (at(j, i, 1, 0) - 2.0 * c + at(j, i, -1, 0)) / (dy * dy);
+            lap2 += (cx + cy).powi(2);
+            cx2 += cx * cx;
+            count += 1;
+        }
+    }
+    Ok(SlopeCurvature {
+        rms_gradient: gradient,
+        rms_slope_from_profile: slope_x,
+        rms_curvature_from_area_per_m: mean(lap2, count).sqrt() / 2.0,
+        rms_curvature_from_profile_per_m: mean(cx2, count).sqrt(),
+    })
+}
+
+/// RMS curvature (Rddq) of a line profile [1/m, or as stored when the units differ], as
+/// SurfaceTopography's `Rddq`: of a uniform profile √⟨((h_i+1 − 2h_i + h_i−1)/dx²)²⟩ over the
+/// points whose two neighbours are defined; of a non-uniform one the second derivative
+/// h″_i = 2((h_i+1 − h_i)/Δx₊ + (h_i−1 − h_i)/Δx₋)/(Δx₊ + Δx₋) at the inner points,
+/// √(∫ h″² dx / (x_n−2 − x_1)) by the trapezoidal rule between them, which needs every point
+/// defined.
+pub fn profile_rms_curvature(p: &Profile) -> Result<f64> {
+    let h = p.heights();
+    if let Some(dx) = p.step() {
+        let (mut sum, mut count) = (0.0, 0usize);
+        for w in h.windows(3).filter(|w| w.iter().all(|h| !h.is_nan())) {
+            sum += ((w[2] - 2.0 * w[1] + w[0]) / (dx * dx)).powi(2);
+            count += 1;
+        }
+        if count == 0 {
+            return Err(p.error("the RMS curvature needs three neighbouring defined points"));
+        }
+        return Ok((sum / count as f64).sqrt());
+    }
+    refuse_missing_nonuniform(p)?;
+    let x = p.positions();
+    if x.len() < 4 {
+        return Err(p.error("the RMS curvature of a non-uniform profile needs at least 4 points"));
+    }
+    let second: Vec<f64> = x
+        .windows(3)
+        .zip(h.windows(3))
+        .map(|(x, h)| {
+            let (plus, minus) = (x[2] - x[1], x[1] - x[0]);
+            2.0 * ((h[2] - h[1]) / plus + (h[0] - h[1]) / minus) / (plus + minus)
+        })
+        .collect();
+    let inner = &x[1..x.len() - 1];
+    let integral: f64 =
+        inner.windows(2).zip(second.windows(2)).map(|(x, c)| (x[1] - x[0]) * (c[0] * c[0] + c[1] * c[1]) / 2.0).sum();
+    Ok((integral / (inner[inner.len() - 1] - inner[0])).sqrt())
+}
+
 /// The mean and the RMS height about it (Rq) of a line profile [m, or as stored], as
 /// SurfaceTopography's `mean` and `Rq`: over the defined points of a uniform profile; over the
 /// length of a non-uniform one, the profile linear between its points (so ⟨h⟩ = Σ Δx (h_i +
@@ -297,6 +405,28 @@ pub(crate) mod tests {
         let sxy: f64 = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
         let sxx: f64 = pts.iter().map(|(x, _)| (x - mx).powi(2)).sum();
         sxy / sxx
+    }
+
+    #[test]
+    fn slope_and_curvature_of_a_periodic_sine_are_the_finite_differences_closed_forms() {
+        // h = a sin(2πi/n) along x: the forward difference has ⟨(Δh/dx)²⟩ = 2 (a/dx)² sin²(π/n),
+        // the central second difference ⟨(Δ²h/dx²)²⟩ = 8 (a/dx²)² sin⁴(π/n).
+        let (n, a, l) = (16usize, 3e-9, 8e-6);
+        let dx = l / n as f64;
+        let sine = Array2::from_shape_fn((4, n), |(_, i)| a * (2.0 * PI * i as f64 / n as f64).sin());
+        let g = slope_curvature(&map(sine.clone(), (l, l), true)).unwrap();
+        let s = (PI / n as f64).sin();
+        let slope = (2.0f64).sqrt() * a / dx * s;
+        let curvature = (8.0f64).sqrt() * a / (dx * dx) * s * s;
+        assert!((g.rms_gradient / slope - 1.0).abs() < 1e-12, "{g:?}");
+        assert!((g.rms_slope_from_profile / slope - 1.0).abs() < 1e-12, "{g:?}");
+        assert!((g.rms_curvature_from_profile_per_m / curvature - 1.0).abs() < 1e-12, "{g:?}");
+        assert!((g.rms_curvature_from_area_per_m / (curvature / 2.0) - 1.0).abs() < 1e-12, "{g:?}");
+        // Not periodic, the differences stay inside: a plane has no curvature.
+        let plane = Array2::from_shape_fn((5, 6), |(j, i)| 1e-9 * (2.0 * i as f64 + j as f64));
+        let g = slope_curvature(&map(plane, (6e-6, 5e-6), false)).unwrap();
+        assert!((g.rms_gradient - 1e-3 * 5f64.sqrt()).abs() < 1e-15, "{g:?}");
+        assert!(g.rms_curvature_from_area_per_m.abs() < 1e-3, "{g:?}");
     }
 
     fn map(heights: Array2<f64>, size: (f64, f64), periodic: bool) -> Topography {
