@@ -175,8 +175,8 @@ fn the_stylus_profile_printed_to_six_decimals_is_uniform() {
 #[test]
 fn a_gwyddion_file_of_another_project_reads_as_its_tests_assert() {
     let path = common::sample("gwyfile-test.gwy");
-    let e = read(&path, &ReadOptions::default()).map(|_| ()).unwrap_err().to_string();
-    assert!(!e.contains('\n') && e.contains("gwyfile-test.gwy"), "{e}");
+    let bare = read(&path, &ReadOptions::default()).unwrap();
+    assert_eq!((bare.physical_size, bare.height_unit_known), (None, false));
     let options = ReadOptions { physical_size: Some((1e-6, 1e-6)), height_unit: Some("m".into()), ..Default::default() };
     let t = read(&path, &options).unwrap();
     assert_eq!((t.ny(), t.nx()), (128, 128));
