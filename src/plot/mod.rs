@@ -7,6 +7,7 @@
 //! [`study::render`] draws a numerical study's figures, movies and report.
 
 mod coefficients;
+mod convergence;
 mod figure;
 mod histograms;
 mod maps;
@@ -20,6 +21,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
+pub use convergence::{sharing_convergence, ConvergencePoint};
 pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Grid, Marker, Panel, Series, Shape};
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;

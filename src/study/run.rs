@@ -104,6 +104,8 @@ pub struct Study {
     /// (topography index, coarsening, the topography resampled) for the resolution figure.
     coarse: Vec<(usize, usize, Topography)>,
     laws: Vec<FrictionLaw>,
+    /// Each law's slip weakening under elastic sharing ([`super::config::ModelSpec::weakening`]).
+    weakenings: Vec<Weakening>,
     /// The hold time [s] of each law, where known.
     hold_times: Vec<Option<f64>>,
     /// Loads [N], ascending.
@@ -254,12 +256,15 @@ impl Study {
                 .map_err(|r| here(Error::invalid("grid", r)))?;
             topographies.push((name, topo));
         }
-        let (mut laws, mut hold_times) = (Vec::new(), Vec::new());
+        let (mut laws, mut hold_times, mut weakenings) = (Vec::new(), Vec::new(), Vec::new());
         for spec in &config.laws {
             let name = spec.name();
-            for (law, hold) in resolve_law(spec).map_err(|e| at(&format!("law \"{name}\""), e))? {
+            let here = |e| at(&format!("law \"{name}\""), e);
+            let weakening = config.model.weakening(spec).map_err(here)?;
+            for (law, hold) in resolve_law(spec).map_err(here)? {
                 laws.push(law);
                 hold_times.push(hold);
+                weakenings.push(weakening.clone());
             }
         }
         let mut coarse = Vec::new();
@@ -291,6 +296,7 @@ impl Study {
             topographies,
             coarse,
             laws,
+            weakenings,
             hold_times,
             loads,
             wait: false,
@@ -967,8 +973,7 @@ impl Study {
                 tangential = Some(solver);
             }
             let start = std::time::Instant::now();
-            // The paper's law: mu_d at once on the first slip, as equal sharing has it.
-            let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
+            let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() };
             let onset = elastic_onset(tangential.as_mut().expect("built above"), &slip, |_| {})
                 .map_err(|e| failed(&format!("elastic sharing, law \"{law_label}\""), e))?;
             let seconds = start.elapsed().as_secs_f64();
