@@ -12,8 +12,8 @@ use asperity::contact::{
     self, Boundary, ContactSolver, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
-    elastic_onset, law_from_curve, parse_curve, ramp_force, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork,
-    SlipLaw, Snapshot, Weakening, SLIDE_LEVELS,
+    elastic_onset, ramp_force, slip_curve_file, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork, SlipLaw,
+    Snapshot, Weakening, SLIDE_LEVELS,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -345,7 +345,7 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
             if !(unit > 0.0 && unit.is_finite()) {
                 return Err(Error::invalid("--curve-unit", format!("must be a positive length, got {unit} m")));
             }
-            Weakening::Curve(curve_after_peak(path, unit)?)
+            Weakening::Curve(slip_curve_file(path, unit)?)
         }
         (None, Some(dc)) => {
             if !(dc > 0.0 && dc.is_finite()) {
@@ -356,32 +356,6 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
         (None, None) => Weakening::Instant,
     };
     Ok(SlipLaw { mu_s: base.mu_s, mu_d: base.mu_d, weakening })
-}
-
-/// μ(slip) from a friction curve: the points from its peak on, slip measured from the peak.
-fn curve_after_peak(path: &Path, unit: f64) -> Result<Vec<(f64, f64)>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let points = parse_curve(&text).map_err(|r| Error::file(path, r))?;
-    // Validated by the law already read from the same file; the peak as it defines it.
-    law_from_curve(&points, None).map_err(|_| Error::file(path, "no sliding after the friction peak"))?;
-    let peak = points.iter().enumerate().fold(0, |best, (i, p)| if p.1 > points[best].1 { i } else { best });
-    let x0 = points[peak].0;
-    let mut out: Vec<(f64, f64)> = Vec::with_capacity(points.len() - peak);
-    for &(x, mu) in &points[peak..] {
-        if mu <= 0.0 {
-            return Err(Error::file(
-                path,
-                format!("friction coefficient {mu} at displacement {x} after the peak is not positive"),
-            ));
-        }
-        let s = (x - x0) * unit;
-        match out.last_mut() {
-            // Repeated displacements: keep the last value.
-            Some(last) if last.0 == s => last.1 = mu,
-            _ => out.push((s, mu)),
-        }
-    }
-    Ok(out)
 }
 
 fn law_report(args: &SlideArgs, law: &SlipLaw) -> LawReport {

@@ -123,6 +123,35 @@ impl FrictionLaw {
     }
 }
 
+/// μ(slip) past the peak of the measured friction curve in the file at `path` (CSV, see
+/// [`parse_curve`]) whose displacements are in units of `unit` [m]: the points from its peak
+/// on, slip [m] counted from the peak, as [`crate::friction::Weakening::Curve`] follows them
+/// (the curve's own slip-weakening distance). Content errors name the file.
+pub fn slip_curve_file(path: &Path, unit: f64) -> Result<Vec<(f64, f64)>> {
+    let text = crate::limits::Limits::default().read_text(path)?;
+    let points = parse_curve(&text).map_err(|r| Error::file(path, r))?;
+    // The peak as the law read from the same curve defines it.
+    law_from_curve(&points, None).map_err(|_| Error::file(path, "no sliding after the friction peak"))?;
+    let peak = points.iter().enumerate().fold(0, |best, (i, p)| if p.1 > points[best].1 { i } else { best });
+    let x0 = points[peak].0;
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(points.len() - peak);
+    for &(x, mu) in &points[peak..] {
+        if mu <= 0.0 {
+            return Err(Error::file(
+                path,
+                format!("friction coefficient {mu} at displacement {x} after the peak is not positive"),
+            ));
+        }
+        let s = (x - x0) * unit;
+        match out.last_mut() {
+            // Repeated displacements: keep the last value.
+            Some(last) if last.0 == s => last.1 = mu,
+            _ => out.push((s, mu)),
+        }
+    }
+    Ok(out)
+}
+
 /// Why a curve gives no law: its content, or the averaging window chosen for it.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CurveError {

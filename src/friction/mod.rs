@@ -19,5 +19,5 @@ pub use elastic::{
     elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideWork, SlipLaw, Snapshot,
     Weakening, SLIDE_LEVELS,
 };
-pub use law::{law_from_curve, parse_curve, CurveError, FrictionLaw, PRESETS};
+pub use law::{law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};

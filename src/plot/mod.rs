@@ -8,6 +8,7 @@
 //! slide-hold-slide trace with what [`crate::shs`] found in it.
 
 mod coefficients;
+mod convergence;
 mod figure;
 mod histograms;
 mod maps;
@@ -22,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
+pub use convergence::{sharing_convergence, ConvergencePoint};
 pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Grid, Marker, Panel, Series, Shape};
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;

@@ -232,8 +232,12 @@ fn limits(w: &mut String) {
          stuck elements (a fibre bundle with equal load sharing), as the paper argues for patches far apart \
          beside their deformation; it may fail at high loads where patches come close. A study listing \
          <code>sharing = [\"elastic\"]</code> under <code>[model]</code> lifts this: the tangential force is then \
-         shared through the elastic half-space (the body displaced rigidly along x); it keeps the other limits \
-         below (the same pressure maps and contact area, no partial slip inside an element).</li>\n\
+         shared through the elastic half-space (the body displaced rigidly along x), each element's coefficient \
+         falling from μ<sub>s</sub> to μ<sub>d</sub> over the slip-weakening distance <code>slip_distance</code> \
+         (2 nm by default: with an instant drop the onset has no length of its own and moves with the pixel). It \
+         changes only how the tangential force is shared: the normal pressure stays the elastic normal solution \
+         (no normal–tangential coupling, exact for similar materials such as Si on Si), and it keeps the other \
+         limits below (the same pressure maps and contact area, no partial slip inside an element).</li>\n\
          <li>No Mindlin tangential compliance: an element is stuck or slipping, with no partial slip inside a \
          patch.</li>\n\
          <li>The contact area and the normal pressure stay fixed during sliding.</li>\n\

@@ -106,6 +106,8 @@ pub struct Study {
     /// (topography index, coarsening, the topography resampled) for the resolution figure.
     coarse: Vec<(usize, usize, Topography)>,
     laws: Vec<FrictionLaw>,
+    /// Each law's slip weakening under elastic sharing ([`super::config::ModelSpec::weakening`]).
+    weakenings: Vec<Weakening>,
     /// The hold time [s] of each law, where known.
     hold_times: Vec<Option<f64>>,
     /// Loads [N], ascending.
@@ -355,12 +357,15 @@ impl Study {
                 .map_err(|r| here(Error::invalid("grid", r)))?;
             topographies.push((name, topo));
         }
-        let (mut laws, mut hold_times) = (Vec::new(), Vec::new());
+        let (mut laws, mut hold_times, mut weakenings) = (Vec::new(), Vec::new(), Vec::new());
         for spec in &config.laws {
             let name = spec.name();
-            for (law, hold) in resolve_law(spec).map_err(|e| at(&format!("law \"{name}\""), e))? {
+            let here = |e| at(&format!("law \"{name}\""), e);
+            let weakening = config.model.weakening(spec).map_err(here)?;
+            for (law, hold) in resolve_law(spec).map_err(here)? {
                 laws.push(law);
                 hold_times.push(hold);
+                weakenings.push(weakening.clone());
             }
         }
         let mut coarse = Vec::new();
@@ -392,6 +397,7 @@ impl Study {
             topographies,
             coarse,
             laws,
+            weakenings,
             hold_times,
             loads,
             wait: false,
@@ -1127,8 +1133,8 @@ impl Study {
             options,
         )
         .map_err(failed)?;
-        // The paper's law: mu_d at once on the first slip, as equal sharing has it.
-        let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
+        // mu_s to mu_d over the model's slip-weakening distance (or the law's measured curve).
+        let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() };
         let onset = elastic_onset(&mut solver, &slip, |_| {}).map_err(failed)?;
         drop(solver);
         let seconds = start.elapsed().as_secs_f64();
