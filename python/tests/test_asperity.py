@@ -426,8 +426,10 @@ def test_solves_release_the_gil():
 def test_ctrl_c_stops_a_long_solve():
     # A solve that cannot converge (tolerance 1e-300) would run 20000 iterations (minutes).
     script = textwrap.dedent("""
-        import sys, time
+        import signal, sys, time
         import asperity as ap
+        # Python's own handler, also where the test runs with SIGINT ignored (a background job).
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         t = ap.generate(size=31.13e-6, grid=512, hurst=0.8, rms=22e-9, rolloff=5e-6,
                         sphere_radius=1.5e-3, seed=1)
         print("solving", flush=True)
