@@ -51,6 +51,10 @@ fn panels(points: &[ConvergencePoint], mu_d: f64) -> Vec<Panel> {
     let weakenings = sorted(points.iter().map(|p| p.slip_distance_m).collect());
     let pixels = sorted(points.iter().map(|p| p.pixel_size_m * 1e9).collect());
     let (x0, x1) = (pixels.first().copied().unwrap_or(1.0) / 1.25, pixels.last().copied().unwrap_or(1.0) * 1.25);
+    // Room above the data for the legend (upper right), so that it covers no point.
+    let drops = sorted(points.iter().map(|p| p.friction_drop).collect());
+    let (lo, hi) = (drops.first().copied().unwrap_or(1.0), drops.last().copied().unwrap_or(1.0));
+    let (y0, y1) = (lo - 0.05 * (hi - lo), hi + 0.8 * (hi - lo));
     loads
         .iter()
         .map(|&load| {
@@ -58,7 +62,7 @@ fn panels(points: &[ConvergencePoint], mu_d: f64) -> Vec<Panel> {
             let elements = sorted(at_load.iter().map(|p| p.contact_points as f64).collect());
             let mut panel = Panel::new(
                 Axis::new("pixel size", "nm").log().range(x0, x1),
-                Axis::dimensionless(&format!("friction drop F_S/(μ^D N) = μ_S/{}", tick_label(&mu_d))),
+                Axis::dimensionless(&format!("friction drop F_S/(μ^D N) = μ_S/{}", tick_label(&mu_d))).range(y0, y1),
             )
             .title(format!(
                 "{} mN: {}–{} elements",
