@@ -186,7 +186,8 @@ pub fn run(args: ContactArgs) -> Result<()> {
         (args.cap_radius.is_none(), "a cap (--cap-radius)"),
     ]
     .into_iter()
-    .filter_map(|(left, remedy)| left.then(|| remedy.to_string()))
+    .filter(|(left, _)| *left)
+    .map(|(_, remedy)| remedy.to_string())
     .collect();
     for index in order {
         let load = args.load[index];

@@ -484,7 +484,6 @@ impl GpuSolver {
         let (n, nx, gx) = self.dims();
         let mut staged = self.kt.slice_mut(..n as usize);
         self.stream.memcpy_htod(pressure, &mut staged).map_err(|e| gpu_error("copy to the GPU", e))?;
-        drop(staged);
         let to = 1i32;
         let mut b = self.stream.launch_builder(&self.kernels.window_copy);
         b.arg(&self.kt).arg(&mut self.p).arg(&n).arg(&nx).arg(&gx).arg(&to);
@@ -664,7 +663,6 @@ impl GpuSolver {
         // SAFETY: window points read; NB·4 partials written.
         Self::launched(unsafe { b.launch(Self::reduction()) })?;
         drop(b);
-        drop(mean);
         self.finish(4, 0, Slot::Residual)
     }
 
@@ -679,7 +677,6 @@ impl GpuSolver {
         // SAFETY: window points read and t written; NB·3 partials written.
         Self::launched(unsafe { b.launch(Self::reduction()) })?;
         drop(b);
-        drop(mean);
         self.finish(3, 0, Slot::Direction)
     }
 
@@ -700,7 +697,6 @@ impl GpuSolver {
         // SAFETY: window points of p read and written; NB·4 partials written.
         Self::launched(unsafe { b.launch(Self::reduction()) })?;
         drop(b);
-        drop((mean, dir, curv));
         self.finish(4, 0, Slot::Update)
     }
 }

@@ -648,7 +648,8 @@ impl StudyConfig {
             (!capped, "a cap (cap = { radius_m = … })"),
         ]
         .into_iter()
-        .filter_map(|(left, remedy)| left.then(|| remedy.to_string()))
+        .filter(|(left, _)| *left)
+        .map(|(_, remedy)| remedy.to_string())
         .collect()
     }
 

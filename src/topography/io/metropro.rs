@@ -79,7 +79,7 @@ impl Format for MetroPro {
             }
         })?;
         let pixel = f64::from(h.lateral_res);
-        let physical_size = (pixel.is_finite() && pixel > 0.0).then(|| (nx as f64 * pixel, ny as f64 * pixel));
+        let physical_size = (pixel.is_finite() && pixel > 0.0).then_some((nx as f64 * pixel, ny as f64 * pixel));
         Ok(vec![Channel { name: "Default".into(), data, physical_size, unit: Some("m".into()), is_height: true }])
     }
 }

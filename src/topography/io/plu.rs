@@ -48,7 +48,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     }
     let layers = usize::from(bytes[489]);
     let images = usize::from(bytes[492]);
-    let physical = |n: usize, d: f64| (d.is_finite() && d > 0.0).then(|| n as f64 * d * 1e-6);
+    let physical = |n: usize, d: f64| (d.is_finite() && d > 0.0).then_some(n as f64 * d * 1e-6);
     let stored = Stored { sample: Sample::F32, endian: Endian::Little, bottom_first: false };
 
     let mut offset = HEADER;
