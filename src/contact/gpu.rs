@@ -25,7 +25,7 @@ use cudarc::driver::{CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr
 use cudarc::nvrtc::{compile_ptx_with_opts, CompileOptions, Ptx};
 
 use super::influence::{free_coefficients, Boundary};
-use super::solver::{Iterations, SolveReport, SolverOptions, STALL};
+use super::solver::{Iterations, Scales, SolveReport, SolverOptions, STALL};
 use crate::error::{Error, Result};
 use crate::limits::{check_memory, gib, grid_memory};
 
@@ -567,20 +567,9 @@ impl GpuSolver {
         let (ny, nx) = (self.ny, self.nx);
         let n = ny * nx;
         let hard = self.cap();
-        let p_mean = load / (self.size.0 * self.size.1);
-        if hard <= p_mean {
-            return Err(Error::invalid(
-                "--hardness",
-                format!(
-                    "{hard:.4e} Pa is not above the mean pressure N/(Lx·Ly) = {p_mean:.4e} Pa: the window cannot \
-                     carry {load:e} N"
-                ),
-            ));
-        }
-        let total = p_mean * n as f64;
-        let norm = n as f64 * p_mean * if self.h_rms > 0.0 { self.h_rms } else { 1.0 };
-        let spacing = (self.size.0 / nx as f64).min(self.size.1 / ny as f64);
-        let fallback_step = 2.0 * spacing / (self.e_star * std::f64::consts::PI);
+        let Scales { p_mean, total, norm, stiffness } =
+            Scales::of(hard, load, self.size, (ny, nx), self.e_star, self.h_rms)?;
+        let fallback_step = 1.0 / stiffness;
         let (nn, nxx, gx) = self.dims();
         {
             let value = if self.warm { -1.0 } else { p_mean };

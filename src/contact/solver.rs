@@ -41,6 +41,8 @@ use crate::limits::{check_memory, grid_memory, CONTACT_BYTES_PER_POINT};
 
 mod saturated;
 
+pub(crate) use saturated::Scales;
+
 /// Iterations without a new best residual after which the conjugate gradient restarts.
 pub(crate) const STALL: usize = 50;
 

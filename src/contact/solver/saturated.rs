@@ -42,20 +42,8 @@ impl CpuSolver {
         let start = Instant::now();
         let (ny, nx) = (self.ny, self.nx);
         let n = ny * nx;
-        let p_mean = load / (self.size.0 * self.size.1);
-        if hardness <= p_mean {
-            return Err(Error::invalid(
-                "--hardness",
-                format!(
-                    "{hardness:.4e} Pa is not above the mean pressure N/(Lx·Ly) = {p_mean:.4e} Pa: the window cannot \
-                     carry {load:e} N"
-                ),
-            ));
-        }
-        let total = p_mean * n as f64;
-        let norm = n as f64 * p_mean * if self.h_rms > 0.0 { self.h_rms } else { 1.0 };
-        let spacing = (self.size.0 / nx as f64).min(self.size.1 / ny as f64);
-        let stiffness = self.e_star * std::f64::consts::PI / (2.0 * spacing);
+        let Scales { p_mean, total, norm, stiffness } =
+            Scales::of(hardness, load, self.size, (ny, nx), self.e_star, self.h_rms)?;
 
         let mut p = large_buffer(n, 0.0);
         if self.warm && self.contact.len() > 0 {
@@ -190,6 +178,51 @@ impl CpuSolver {
             operator_applications: applications,
             seconds: start.elapsed().as_secs_f64(),
             hardness: Some(hardness),
+        })
+    }
+}
+
+/// The scales of a capped solve at one load, shared by the CPU and the GPU iteration.
+pub(crate) struct Scales {
+    /// Mean pressure N / (Lx·Ly) [Pa].
+    pub p_mean: f64,
+    /// The load as a sum of pixel pressures, p̄·n [Pa].
+    pub total: f64,
+    /// The residual's normalisation n·p̄·h_rms (h_rms taken as 1 on a flat surface).
+    pub norm: f64,
+    /// The finest mode's stiffness E*π/(2·spacing) [Pa/m]: its inverse is the step taken when
+    /// the search direction gives none.
+    pub stiffness: f64,
+}
+
+impl Scales {
+    /// An error naming `--hardness` unless `hardness` [Pa] is above the mean pressure of `load`
+    /// [N] on a window of `size` [m] and (ny, nx) points.
+    pub(crate) fn of(
+        hardness: f64,
+        load: f64,
+        size: (f64, f64),
+        (ny, nx): (usize, usize),
+        e_star: f64,
+        h_rms: f64,
+    ) -> Result<Self> {
+        let n = (ny * nx) as f64;
+        let p_mean = load / (size.0 * size.1);
+        if hardness <= p_mean {
+            return Err(Error::invalid(
+                "--hardness",
+                format!(
+                    "{hardness:.4e} Pa is not above the mean pressure N/(Lx·Ly) = {p_mean:.4e} Pa: the window cannot \
+                     carry {load:e} N"
+                ),
+            ));
+        }
+        let spacing = (size.0 / nx as f64).min(size.1 / ny as f64);
+        Ok(Scales {
+            p_mean,
+            total: p_mean * n,
+            norm: n * p_mean * if h_rms > 0.0 { h_rms } else { 1.0 },
+            stiffness: e_star * std::f64::consts::PI / (2.0 * spacing),
         })
     }
 }
