@@ -41,6 +41,8 @@ use crate::limits::{check_memory, grid_memory, CONTACT_BYTES_PER_POINT};
 
 mod saturated;
 
+// The GPU iteration shares the capped solve's scales.
+#[cfg(feature = "gpu")]
 pub(crate) use saturated::Scales;
 
 /// Iterations without a new best residual after which the conjugate gradient restarts.
