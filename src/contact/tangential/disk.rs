@@ -30,8 +30,9 @@ pub(super) fn cut_onto_disks(traction: &mut [[f64; 2]], bound: &[f64]) -> Vec<(u
 /// displacement does not follow it.
 const ROUND_OFF: f64 = 1e-12;
 
-/// Project every traction onto its disk |q_i| ≤ g_i; whether any changed.
-pub(super) fn project(traction: &mut [[f64; 2]], bound: &[f64]) -> bool {
+/// Project every traction onto its disk |q_i| ≤ g_i; the norm of the changes [Pa] (0 when
+/// none changed).
+pub(super) fn project(traction: &mut [[f64; 2]], bound: &[f64]) -> f64 {
     traction
         .par_iter_mut()
         .zip(bound.par_iter())
@@ -39,14 +40,16 @@ pub(super) fn project(traction: &mut [[f64; 2]], bound: &[f64]) -> bool {
         .map(|(q, g)| {
             let qn = magnitude(*q);
             if qn > *g {
+                let cut = qn - g;
                 let s = g / qn;
                 *q = [q[0] * s, q[1] * s];
-                true
+                cut * cut
             } else {
-                false
+                0.0
             }
         })
-        .reduce(|| false, |a, b| a || b)
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// A traction within this fraction of its bound is on it.

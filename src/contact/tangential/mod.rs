@@ -40,7 +40,11 @@
 //! projected gradient (FISTA with adaptive restart), slower but sure to converge.
 //!
 //! Convergence: the projected gradient's norm relative to the target's, both over the contact
-//! points, below the tolerance, on a displacement that is exact (recomputed from scratch).
+//! points, below the tolerance, on a displacement that is exact (recomputed from scratch), or
+//! that was updated step by step and is known to be near enough to K q that the residual on
+//! K q is below the tolerance too: a conjugate gradient step misses the turned tractions'
+//! return onto their bounds (a change c of the traction that moves u by at most ‖K‖‖c‖) and
+//! carries the step's round-off.
 //! Solves at a tolerance of 1e-6 or above apply K in single precision (and go on in double
 //! should they stall); tighter ones in double throughout. Where a solve changes the traction
 //! at a few points only (the bounds a slip cascade lowers), its displacement follows them
