@@ -7,7 +7,7 @@ use super::disk::{
     cut_onto_disks, dot, feasible_step, gradient_parts, magnitude, onto_disk, project, reduced_free_gradient,
     tangent_if_held, turning, ON_BOUND,
 };
-use super::{TangentialReport, TangentialSolver, CHUNK};
+use super::{TangentialOptions, TangentialReport, TangentialSolver, CHUNK};
 use crate::contact::solver::Iterations;
 use crate::error::Result;
 
@@ -62,7 +62,7 @@ impl TangentialSolver {
         }
         // The fixed step ᾱ ∈ (0, 2/‖K‖] of the expansion steps; not needed without bounds.
         let step = if bound.iter().all(|g| g.is_infinite()) { 0.0 } else { 1.9 / self.lipschitz(&mut applications) };
-        let mut count = Iterations::new("tangential solver", self.options.max_iterations, tolerance, STALL);
+        let mut count = Iterations::new("tangential solver", TangentialOptions { tolerance, ..self.options }, STALL);
         let mut exact = true;
         // Whether the search direction starts afresh from the free gradient.
         let mut restart = true;
@@ -479,7 +479,6 @@ impl TangentialSolver {
 #[cfg(test)]
 mod tests {
     use super::super::operator::{NearInverse, ShearOperator};
-    use super::super::TangentialOptions;
     use super::*;
     use crate::contact::influence::{Boundary, ShearCompliance};
 
