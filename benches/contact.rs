@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use asperity::contact::{Boundary, ContactSolver, Material, SolverOptions};
+use asperity::contact::{Boundary, ContactSolver, Convergence, Material, SolverOptions};
 use asperity::fft::Fft2;
 use ndarray::Array2;
 use ndarray_npy::{read_npy, write_npy};
@@ -30,7 +30,8 @@ fn main() {
     let (ny, nx) = surface.dim();
     let heights = surface.as_slice().expect("standard layout");
     let e_star = Material::SILICON.plane_strain_modulus();
-    let options = SolverOptions { tolerance, max_iterations: 100_000, ..Default::default() };
+    let convergence = Convergence { tolerance, max_iterations: 100_000 };
+    let options = SolverOptions { convergence, ..Default::default() };
     let solver = || ContactSolver::new(heights, (ny, nx), (size, size), e_star, Boundary::Periodic, options).unwrap();
 
     // The FFT pair of the grid: forward and inverse of one field, median of 21.

@@ -4,7 +4,7 @@
 //! pressure. `cargo run --release --example calibrate -- H ROLLOFF CUTOFF RMS [LOAD…]`
 //! (lengths in m, loads in N).
 
-use asperity::contact::{patches, Boundary, ContactSolver, SolverOptions};
+use asperity::contact::{patches, Boundary, ContactSolver, Convergence, SolverOptions};
 use asperity::topography::resample::compound;
 use asperity::topography::stats::{height_stats, rms_slope};
 use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
@@ -40,7 +40,8 @@ fn main() -> asperity::Result<()> {
         let shape = topo.heights.dim();
         let h = topo.heights.as_standard_layout();
         let e_star = 130e9 / (1.0 - 0.26 * 0.26);
-        let opts = SolverOptions { tolerance: 1e-8, max_iterations: 20000, ..Default::default() };
+        let convergence = Convergence { tolerance: 1e-8, max_iterations: 20000 };
+        let opts = SolverOptions { convergence, ..Default::default() };
         let mut solver = ContactSolver::new(h.as_slice().unwrap(), shape, size, e_star, Boundary::Periodic, opts)?;
         let dx = size.0 / shape.1 as f64;
         for &load in &loads {

@@ -10,7 +10,7 @@ use std::io::Write;
 use std::process::Command;
 use std::time::Instant;
 
-use asperity::contact::{Boundary, ContactSolver, Device, Material, SolverOptions};
+use asperity::contact::{Boundary, ContactSolver, Convergence, Device, Material, SolverOptions};
 use asperity::limits::Limits;
 use asperity::topography::synth::SyntheticSurface;
 
@@ -37,7 +37,8 @@ fn main() {
         let heights: Vec<f64> =
             surface.generate_within(&Limits { max_points: 1 << 31 }).expect("surface").heights.iter().copied().collect();
         eprintln!("{n}²: surface in {:.1} s", started.elapsed().as_secs_f64());
-        let options = SolverOptions { tolerance: 1e-10, ..Default::default() };
+        let convergence = Convergence { tolerance: 1e-10, ..SolverOptions::default().convergence };
+        let options = SolverOptions { convergence, ..Default::default() };
         let cpu = (n <= cpu_up_to).then(|| {
             let mut s = ContactSolver::new(&heights, (n, n), surface.size, e_star, Boundary::Periodic, options).unwrap();
             let r = s.solve(load, |_, _| ()).unwrap();

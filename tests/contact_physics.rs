@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use asperity::contact::{full_contact_load, Boundary, ContactSolver, SolverOptions};
+use asperity::contact::{full_contact_load, Boundary, ContactSolver, Convergence, SolverOptions};
 use ndarray::Array2;
 use ndarray_npy::read_npy;
 
@@ -175,7 +175,8 @@ fn warm_start_gives_the_cold_answer() {
 #[test]
 fn non_convergence_is_an_error() {
     let h = sinusoid(64, 20e-9);
-    let options = SolverOptions { tolerance: 1e-12, max_iterations: 2, ..Default::default() };
+    let convergence = Convergence { tolerance: 1e-12, max_iterations: 2 };
+    let options = SolverOptions { convergence, ..Default::default() };
     let mut s = ContactSolver::new(&h, (2, 64), (10e-6, 0.3e-6), E_STAR, Boundary::Periodic, options).unwrap();
     let err = s.solve(1e-9, |_, _| {}).unwrap_err().to_string();
     assert!(err.contains("did not converge") && err.contains("2 iterations"), "{err}");

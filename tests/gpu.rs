@@ -7,7 +7,7 @@
 //! and passes; `tools/gpu-check.sh` runs them where there is one.
 #![cfg(feature = "gpu")]
 
-use asperity::contact::{Boundary, ContactSolver, Device, SolverOptions};
+use asperity::contact::{Boundary, ContactSolver, Convergence, Device, SolverOptions};
 use asperity::topography::synth::SyntheticSurface;
 
 const E_STAR: f64 = 1.394e11;
@@ -20,7 +20,8 @@ fn ball(nx: usize, ny: usize, seed: u64) -> (Vec<f64>, (f64, f64)) {
 
 /// A GPU solver, or None (with a one-line note) where this machine has no usable GPU.
 fn gpu(heights: &[f64], shape: (usize, usize), size: (f64, f64), boundary: Boundary, tolerance: f64) -> Option<ContactSolver> {
-    let options = SolverOptions { tolerance, device: Device::Gpu, ..Default::default() };
+    let convergence = Convergence { tolerance, ..SolverOptions::default().convergence };
+    let options = SolverOptions { convergence, device: Device::Gpu };
     match ContactSolver::new(heights, shape, size, E_STAR, boundary, options) {
         Ok(s) => Some(s),
         Err(e) if e.to_string().contains("was not found") || e.to_string().contains("no CUDA device") => {
@@ -32,7 +33,8 @@ fn gpu(heights: &[f64], shape: (usize, usize), size: (f64, f64), boundary: Bound
 }
 
 fn cpu(heights: &[f64], shape: (usize, usize), size: (f64, f64), boundary: Boundary, tolerance: f64) -> ContactSolver {
-    let options = SolverOptions { tolerance, ..Default::default() };
+    let convergence = Convergence { tolerance, ..SolverOptions::default().convergence };
+    let options = SolverOptions { convergence, ..Default::default() };
     ContactSolver::new(heights, shape, size, E_STAR, boundary, options).unwrap()
 }
 

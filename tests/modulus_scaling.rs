@@ -2,13 +2,14 @@
 //! modulus E* at load N is E*/E*₀ times the pressure for E*₀ at N·E*₀/E*, so the drop (a ratio
 //! of forces) is drop(N; E*) = drop(N·E*₀/E*; E*₀). Checked here against direct solves.
 
-use asperity::contact::{Boundary, ContactSolver, Material, SolverOptions};
+use asperity::contact::{Boundary, ContactSolver, Convergence, Material, SolverOptions};
 use asperity::friction::{ElementLoads, FrictionLaw, Onset};
 use asperity::topography::synth::SyntheticSurface;
 use ndarray::Array2;
 
 fn solve(heights: &[f64], size: (f64, f64), e_star: f64, load: f64) -> Array2<f64> {
-    let options = SolverOptions { tolerance: 1e-12, max_iterations: 20_000, ..Default::default() };
+    let convergence = Convergence { tolerance: 1e-12, max_iterations: 20_000 };
+    let options = SolverOptions { convergence, ..Default::default() };
     let mut solver = ContactSolver::new(heights, (128, 128), size, e_star, Boundary::Periodic, options).unwrap();
     solver.solve(load, |_, _| ()).unwrap();
     Array2::from_shape_vec((128, 128), solver.pressure().to_vec()).unwrap()

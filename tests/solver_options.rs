@@ -1,29 +1,31 @@
 //! The solvers' options as the library checks them, for every caller (CLI, study, Python):
 //! a tolerance that the starting guess passes is refused, and a cold start iterates.
 
-use asperity::contact::{Boundary, ContactSolver, SolverOptions, TangentialOptions};
+use asperity::contact::{Boundary, ContactSolver, Convergence, ShearCompliance, SolverOptions, TangentialSolver};
 
 const E_STAR: f64 = 1.5e11;
 
-/// A tolerance of 1e-2 or more, or no iteration, is refused by the options' check, by the
-/// contact solver built with them and by the tangential options (issue 33 G: `contact
-/// --tolerance 1` returned the uniform start after 0 iterations, contact fraction 1.0 where
-/// the solution's is 0.047).
+/// A tolerance of 1e-2 or more, or no iteration, is refused by the convergence check, and so
+/// by the contact and the tangential solvers built with it (issue 33 G: `contact --tolerance
+/// 1` returned the uniform start after 0 iterations, contact fraction 1.0 where the solution's
+/// is 0.047).
 #[test]
 fn tolerances_the_start_passes_are_refused() {
     for tolerance in [1.0, 0.5, 1e-2, 0.0, -1e-6, f64::NAN, f64::INFINITY] {
-        let e = SolverOptions { tolerance, max_iterations: 10, ..Default::default() }.check().unwrap_err().to_string();
-        assert!(e.starts_with("--tolerance: must lie in (0, 0.01)"), "{tolerance}: {e}");
-        let e = TangentialOptions { tolerance, max_iterations: 10 }.check().unwrap_err().to_string();
+        let e = Convergence { tolerance, max_iterations: 10 }.check().unwrap_err().to_string();
         assert!(e.starts_with("--tolerance: must lie in (0, 0.01)"), "{tolerance}: {e}");
     }
-    assert!(SolverOptions { tolerance: 9e-3, max_iterations: 1, ..Default::default() }.check().is_ok());
-    assert!(TangentialOptions { tolerance: 9e-3, max_iterations: 1 }.check().is_ok());
-    let e = SolverOptions { tolerance: 1e-8, max_iterations: 0, ..Default::default() }.check().unwrap_err().to_string();
+    assert!(Convergence { tolerance: 9e-3, max_iterations: 1 }.check().is_ok());
+    let e = Convergence { tolerance: 1e-8, max_iterations: 0 }.check().unwrap_err().to_string();
     assert_eq!(e, "--max-iter: must be at least 1");
     let h = vec![0.0; 16];
-    let options = SolverOptions { tolerance: 1.0, max_iterations: 100, ..Default::default() };
+    let convergence = Convergence { tolerance: 1.0, max_iterations: 100 };
+    let options = SolverOptions { convergence, ..Default::default() };
     let e = ContactSolver::new(&h, (4, 4), (1e-6, 1e-6), E_STAR, Boundary::Periodic, options).err().unwrap();
+    assert!(e.to_string().starts_with("--tolerance: must lie in (0, 0.01), got 1"), "{e}");
+    let c = ShearCompliance { a: 1.0 / 50e9, b: 0.26 / 50e9 };
+    let p = vec![1e9; 16];
+    let e = TangentialSolver::new(&p, (4, 4), (1e-6, 1e-6), c, Boundary::Periodic, convergence).err().unwrap();
     assert!(e.to_string().starts_with("--tolerance: must lie in (0, 0.01), got 1"), "{e}");
 }
 
@@ -32,7 +34,8 @@ fn tolerances_the_start_passes_are_refused() {
 #[test]
 fn a_cold_start_iterates() {
     let h = vec![0.0; 64];
-    let options = SolverOptions { tolerance: 1e-8, max_iterations: 100, ..Default::default() };
+    let convergence = Convergence { tolerance: 1e-8, max_iterations: 100 };
+    let options = SolverOptions { convergence, ..Default::default() };
     let mut s = ContactSolver::new(&h, (8, 8), (1e-6, 1e-6), E_STAR, Boundary::Periodic, options).unwrap();
     let report = s.solve(1e-3, |_, _| {}).unwrap();
     assert!(report.iterations >= 1 && report.residual <= 1e-8, "{report:?}");

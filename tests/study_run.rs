@@ -1,7 +1,7 @@
 //! A small study end to end: the results table against the contact solver and the stick-slip
 //! model run directly, the files a run leaves, and how a run treats a DIR it finds.
 
-use asperity::contact::{self, Boundary, ContactSolver, Material, SolverOptions};
+use asperity::contact::{self, Boundary, ContactSolver, Convergence, Material, SolverOptions};
 use asperity::friction::{ElementLoads, FrictionLaw, Onset};
 use asperity::study::config::StudyConfig;
 use asperity::study::run::{Progress, Study};
@@ -69,7 +69,8 @@ fn direct_rows() -> Vec<Row> {
     let ball_2 = surface(2, 22e-9, cap).generate().unwrap();
     let laws = [FrictionLaw::preset("hold 100 s").unwrap(), FrictionLaw::new(0.9, 0.3).unwrap().named("strong")];
     let e_star = Material::SILICON.plane_strain_modulus();
-    let options = SolverOptions { tolerance: 1e-8, max_iterations: 20_000, ..Default::default() };
+    let convergence = Convergence { tolerance: 1e-8, max_iterations: 20_000 };
+    let options = SolverOptions { convergence, ..Default::default() };
     let mut rows = Vec::new();
     for (name, topo) in [("ball-1", ball_1), ("ball-2", ball_2)] {
         let size = topo.physical_size.unwrap();

@@ -17,8 +17,8 @@ use std::time::{Duration, Instant};
 use std::ffi::CString;
 
 use asperity::contact::{
-    self as core_contact, Boundary, ContactSolver, Device, Material, ShearCompliance, SolverOptions, TangentialOptions,
-    TangentialSolver,
+    self as core_contact, Boundary, ContactSolver, Convergence, Device, Material, ShearCompliance, SolverOptions,
+    TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
     elastic_onset, ramp_force, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading, Onset as CoreOnset,
@@ -707,8 +707,8 @@ struct Solved {
 #[pyfunction]
 #[pyo3(signature = (topography, loads, *, youngs = Material::SILICON.youngs, poisson = Material::SILICON.poisson,
                     youngs2 = None, poisson2 = None, hardness = None, plastic = false, boundary = "periodic",
-                    tolerance = SolverOptions::default().tolerance,
-                    max_iter = SolverOptions::default().max_iterations, device = "cpu"),
+                    tolerance = SolverOptions::default().convergence.tolerance,
+                    max_iter = SolverOptions::default().convergence.max_iterations, device = "cpu"),
        text_signature = "(topography, loads, *, youngs=130e9, poisson=0.26, youngs2=None, poisson2=None, \
                          hardness=None, plastic=False, boundary='periodic', tolerance=1e-10, max_iter=20000, \
                          device='cpu')")]
@@ -763,8 +763,8 @@ fn contact(
         "gpu" => return Err(invalid("device", Device::UNAVAILABLE)),
         other => return Err(invalid("device", format!("'{other}' is not cpu or gpu"))),
     };
-    let options = SolverOptions { tolerance, max_iterations: max_iter, device };
-    options.check().map_err(error)?;
+    let options = SolverOptions { convergence: Convergence { tolerance, max_iterations: max_iter }, device };
+    options.convergence.check().map_err(error)?;
     let surface = &topography.inner;
     let size = core_contact::contact_size(surface).map_err(error)?;
     if plastic && hardness.is_none() {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use serde::Serialize;
 
-use asperity::contact::{self, ContactSolver, SolverOptions};
+use asperity::contact::{self, ContactSolver, Convergence, SolverOptions};
 use asperity::output::{self, StagedDir};
 use asperity::plausible::{self, Spelling};
 use asperity::quantity::{show, FORCE, PRESSURE};
@@ -66,7 +66,7 @@ pub struct ContactArgs {
     #[arg(long, value_name = "T", default_value = "1e-10")]
     tolerance: f64,
     /// Iteration limit per load; a solve that has not converged by then is an error.
-    #[arg(long, value_name = "K", default_value_t = SolverOptions::default().max_iterations, value_parser = super::count::<usize>)]
+    #[arg(long, value_name = "K", default_value_t = SolverOptions::default().convergence.max_iterations, value_parser = super::count::<usize>)]
     max_iter: usize,
     #[command(flatten)]
     device: super::DeviceArgs,
@@ -135,9 +135,11 @@ pub fn run(args: ContactArgs) -> Result<()> {
     if let Some(r) = args.cap_radius {
         super::judge("--cap-radius", plausible::radius(r, Spelling::CommandLine))?;
     }
-    let options =
-        SolverOptions { tolerance: args.tolerance, max_iterations: args.max_iter, device: args.device.device };
-    options.check()?;
+    let options = SolverOptions {
+        convergence: Convergence { tolerance: args.tolerance, max_iterations: args.max_iter },
+        device: args.device.device,
+    };
+    options.convergence.check()?;
     let path = &args.read.file;
     let mut surface = prepare(&args)?;
     let size = contact::contact_size(&surface)?;

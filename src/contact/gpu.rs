@@ -582,8 +582,7 @@ impl GpuSolver {
         let sums = self.sums_of_p()?;
         self.restore_load(sums, total)?;
 
-        let mut iterations =
-            Iterations::new("contact solver", self.options.max_iterations, self.options.tolerance, STALL);
+        let mut iterations = Iterations::new("contact solver", self.options.convergence, STALL);
         let mut applications = 1.0;
         let (mut conjugate, mut gap_norm_old) = (false, 1.0);
         let residual = loop {
@@ -596,7 +595,7 @@ impl GpuSolver {
             if iterations.done() > 0 && !progress(iterations.done(), residual) {
                 return Err(Error::Interrupted { what: format!("contact solve at {load} N") });
             }
-            if residual <= self.options.tolerance {
+            if residual <= self.options.convergence.tolerance {
                 break residual;
             }
             if iterations.next(residual)? {

@@ -17,7 +17,9 @@ pub mod solver;
 pub mod tangential;
 
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
-pub use solver::{check_load, check_solve_memory, ContactSolver, Device, Proceed, SolveReport, SolverOptions};
+pub use solver::{
+    check_load, check_solve_memory, ContactSolver, Convergence, Device, Proceed, SolveReport, SolverOptions,
+};
 pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 
 use crate::error::{Error, Result};

@@ -55,8 +55,7 @@ const SUMS: usize = 10;
 /// when its residual stalls (no new best for more than `stall` iterations).
 pub(crate) struct Iterations {
     solver: &'static str,
-    max_iterations: usize,
-    tolerance: f64,
+    convergence: Convergence,
     stall: usize,
     done: usize,
     best: f64,
@@ -64,9 +63,9 @@ pub(crate) struct Iterations {
 }
 
 impl Iterations {
-    /// `solver` names the solver in its errors; `tolerance` is the residual it aims at.
-    pub(crate) fn new(solver: &'static str, max_iterations: usize, tolerance: f64, stall: usize) -> Self {
-        Iterations { solver, max_iterations, tolerance, stall, done: 0, best: f64::INFINITY, best_at: 0 }
+    /// `solver` names the solver in its errors; `convergence` holds the residual it aims at.
+    pub(crate) fn new(solver: &'static str, convergence: Convergence, stall: usize) -> Self {
+        Iterations { solver, convergence, stall, done: 0, best: f64::INFINITY, best_at: 0 }
     }
 
     /// Iterations done.
@@ -84,12 +83,12 @@ impl Iterations {
                 format!("broke down at iteration {} (non-finite residual)", self.done),
             ));
         }
-        if self.done == self.max_iterations {
+        if self.done == self.convergence.max_iterations {
             return Err(Error::NotConverged {
                 solver: self.solver,
                 iterations: self.done,
                 residual,
-                tolerance: self.tolerance,
+                tolerance: self.convergence.tolerance,
             });
         }
         self.done += 1;
@@ -155,13 +154,24 @@ impl Proceed for ControlFlow<()> {
     }
 }
 
-/// Solver settings.
+/// When an iterative solve has converged and when it gives up: the settings the normal solve
+/// ([`SolverOptions`]) and the tangential one ([`TangentialOptions`](super::TangentialOptions))
+/// share. The default is the tangential solve's; the normal solve's is [`SolverOptions`]'s.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct SolverOptions {
-    /// Residual at which a solve has converged (see the module documentation).
+pub struct Convergence {
+    /// Residual at which a solve has converged: for the normal solve see the module
+    /// documentation, for the tangential one the relative norm of its projected gradient.
     pub tolerance: f64,
     /// Iterations after which a solve that has not converged is an error.
     pub max_iterations: usize,
+}
+
+/// Settings of the normal solve.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SolverOptions {
+    /// Its convergence (default: tolerance 1e-10, 20 000 iterations).
+    #[serde(flatten)]
+    pub convergence: Convergence,
     /// Where the normal solves run.
     #[serde(default, skip_serializing_if = "Device::is_cpu")]
     pub device: Device,
@@ -169,7 +179,7 @@ pub struct SolverOptions {
 
 impl Default for SolverOptions {
     fn default() -> Self {
-        SolverOptions { tolerance: 1e-10, max_iterations: 20_000, device: Device::Cpu }
+        SolverOptions { convergence: Convergence { tolerance: 1e-10, max_iterations: 20_000 }, device: Device::Cpu }
     }
 }
 
@@ -211,28 +221,25 @@ impl Device {
 /// fraction is 0.047): at 1 it was returned as the solution, in full contact.
 pub const MAX_TOLERANCE: f64 = 1e-2;
 
-impl SolverOptions {
+impl Convergence {
     /// An error naming `--tolerance` or `--max-iter` unless the tolerance lies in
-    /// (0, [`MAX_TOLERANCE`]) and at least one iteration is allowed.
+    /// (0, [`MAX_TOLERANCE`]) (near 1 a solve's untouched start passes as its solution) and at
+    /// least one iteration is allowed.
     pub fn check(&self) -> Result<()> {
-        check_tolerance(self.tolerance, self.max_iterations)
+        let Convergence { tolerance, max_iterations } = *self;
+        if !(tolerance > 0.0 && tolerance < MAX_TOLERANCE) {
+            return Err(Error::invalid(
+                "--tolerance",
+                format!(
+                    "must lie in (0, {MAX_TOLERANCE}), got {tolerance} (from {MAX_TOLERANCE} on the starting guess can pass as the solution)"
+                ),
+            ));
+        }
+        if max_iterations == 0 {
+            return Err(Error::invalid("--max-iter", "must be at least 1"));
+        }
+        Ok(())
     }
-}
-
-/// The check of [`SolverOptions::check`], which the tangential solver's options share.
-pub(crate) fn check_tolerance(tolerance: f64, max_iterations: usize) -> Result<()> {
-    if !(tolerance > 0.0 && tolerance < MAX_TOLERANCE) {
-        return Err(Error::invalid(
-            "--tolerance",
-            format!(
-                "must lie in (0, {MAX_TOLERANCE}), got {tolerance} (from {MAX_TOLERANCE} on the starting guess can pass as the solution)"
-            ),
-        ));
-    }
-    if max_iterations == 0 {
-        return Err(Error::invalid("--max-iter", "must be at least 1"));
-    }
-    Ok(())
 }
 
 /// What one solve reports besides its fields.
@@ -496,7 +503,7 @@ impl ContactSolver {
         if !(e_star > 0.0 && e_star.is_finite()) {
             return Err(Error::invalid("effective modulus", format!("must be positive and finite, got {e_star} Pa")));
         }
-        options.check()?;
+        options.convergence.check()?;
         let n = ny * nx;
         let mean = heights.iter().sum::<f64>() / n as f64;
         let h_rms = (heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n as f64).sqrt();
@@ -798,13 +805,12 @@ impl CpuSolver {
         // Whether `residual` was measured on a displacement recomputed from scratch.
         let mut exact = true;
         let mut applications = 1.0;
-        let mut iterations =
-            Iterations::new("contact solver", self.options.max_iterations, self.options.tolerance, STALL);
+        let mut iterations = Iterations::new("contact solver", self.options.convergence, STALL);
         let mut conjugate = false;
         let mut gap_norm_old = 1.0;
         loop {
             // A cold start iterates at least once: its uniform guess is no solution.
-            if residual <= self.options.tolerance && (iterations.done() > 0 || !cold) {
+            if residual <= self.options.convergence.tolerance && (iterations.done() > 0 || !cold) {
                 if exact {
                     break;
                 }
@@ -834,7 +840,7 @@ impl CpuSolver {
                 self.materialise();
                 (shifts, residual) = self.refresh(p_mean, norm);
                 applications += 1.0;
-                if residual > self.options.tolerance {
+                if residual > self.options.convergence.tolerance {
                     self.let_in_penetrating(&shifts, p_mean);
                     (shifts, residual) = self.refresh(p_mean, norm);
                     applications += 1.0;

@@ -58,7 +58,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use super::{FigureKind, Sharing};
-use crate::contact::{Boundary, Device, Material, SolverOptions};
+use crate::contact::{Boundary, Convergence, Device, Material};
 use crate::error::{Error, Result};
 use crate::friction::{slip_curve_file, FrictionLaw, Weakening};
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
@@ -701,8 +701,7 @@ impl StudyConfig {
         }
 
         let c = &self.contact;
-        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations, device: c.device };
-        if let Err(e) = options.check() {
+        if let Err(e) = (Convergence { tolerance: c.tolerance, max_iterations: c.max_iterations }).check() {
             let field = if matches!(&e, Error::Invalid { option, .. } if option == "--max-iter") {
                 "max_iterations"
             } else {

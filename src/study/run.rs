@@ -69,7 +69,7 @@ use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::shard::{self, Piece, Shard};
 use super::{FigureKind, MapSnapshot, Records, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N};
 use crate::contact::{
-    self, ContactSolver, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
+    self, ContactSolver, Convergence, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use crate::error::{Error, Result};
 use crate::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
@@ -940,7 +940,10 @@ impl Study {
         let pixel = (size.0 / shape.1 as f64, size.1 / shape.0 as f64);
         let c = &self.config.contact;
         let heights = topo.heights.as_standard_layout();
-        let options = SolverOptions { tolerance: c.tolerance, max_iterations: c.max_iterations, device: c.device };
+        let options = SolverOptions {
+            convergence: Convergence { tolerance: c.tolerance, max_iterations: c.max_iterations },
+            device: c.device,
+        };
         let mut solver = ContactSolver::new(
             heights.as_slice().expect("standard layout"),
             shape,

@@ -58,8 +58,7 @@ impl CpuSolver {
         self.operator.apply(&p, &mut self.displacement);
         restore_load(&mut p, hardness, total, nx, &self.displacement, h);
 
-        let mut iterations =
-            Iterations::new("contact solver", self.options.max_iterations, self.options.tolerance, STALL);
+        let mut iterations = Iterations::new("contact solver", self.options.convergence, STALL);
         let mut applications = 0.0;
         let (mut conjugate, mut gap_norm_old) = (false, 1.0);
         let residual = loop {
@@ -90,7 +89,7 @@ impl CpuSolver {
             if iterations.done() > 0 && !progress(iterations.done(), residual) {
                 return Err(Self::interrupted(load));
             }
-            if residual <= self.options.tolerance {
+            if residual <= self.options.convergence.tolerance {
                 break residual;
             }
             if iterations.next(residual).inspect_err(|_| self.warm = false)? {

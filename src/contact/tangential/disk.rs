@@ -141,4 +141,3 @@ pub(super) fn tangent_if_held(p: [f64; 2], q: [f64; 2], g: f64) -> [f64; 2] {
     let radial = dot(p, n);
     [p[0] - radial * n[0], p[1] - radial * n[1]]
 }
-

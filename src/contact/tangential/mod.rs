@@ -61,6 +61,7 @@ mod mprgp;
 mod operator;
 
 use super::influence::{Boundary, ShearCompliance};
+use super::solver::Convergence;
 use crate::error::{Error, Result};
 use disk::cut_onto_disks;
 pub(crate) use disk::magnitude;
@@ -69,30 +70,18 @@ use operator::{dense_is_cheaper, NearInverse, ShearOperator};
 /// Contact points per parallel task: below this, threads cost more than they save.
 const CHUNK: usize = 4096;
 
-/// Settings of the tangential solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TangentialOptions {
-    /// Relative norm of the projected gradient at convergence. The default 1e-6 moves the
-    /// sliding onset's F_S by 6e-8 (256², 10 mN) and 2e-8 (1500², 0.1 mN) against 1e-8, with
-    /// the same classes at the peak, for 0.52–0.53 of the iterations; 1e-5 moves it by 2e-6 and
-    /// changes the path's history (other cascades).
-    pub tolerance: f64,
-    /// Iterations after which a solve that has not converged is an error.
-    pub max_iterations: usize,
-}
+/// Settings of the tangential solve: its convergence alone, the type the normal solve's
+/// [`SolverOptions`](super::SolverOptions) hold theirs in.
+pub type TangentialOptions = Convergence;
 
-impl Default for TangentialOptions {
+/// The tangential solve's settings (the normal solve's are [`SolverOptions`](super::SolverOptions)'s).
+/// The tolerance, the relative norm of the projected gradient, 1e-6: it moves the sliding
+/// onset's F_S by 6e-8 (256², 10 mN) and 2e-8 (1500², 0.1 mN) against 1e-8, with the same
+/// classes at the peak, for 0.52–0.53 of the iterations; 1e-5 moves it by 2e-6 and changes the
+/// path's history (other cascades).
+impl Default for Convergence {
     fn default() -> Self {
-        TangentialOptions { tolerance: 1e-6, max_iterations: 20_000 }
-    }
-}
-
-impl TangentialOptions {
-    /// An error naming `--tolerance` or `--max-iter` unless the tolerance lies in
-    /// (0, [`MAX_TOLERANCE`](super::solver::MAX_TOLERANCE)) (at 1 the untouched start, q = 0,
-    /// has converged already) and at least one iteration is allowed.
-    pub fn check(&self) -> Result<()> {
-        super::solver::check_tolerance(self.tolerance, self.max_iterations)
+        Convergence { tolerance: 1e-6, max_iterations: 20_000 }
     }
 }
 
@@ -285,7 +274,6 @@ impl TangentialSolver {
     fn refresh(&mut self) {
         self.operator.apply(&self.traction, &mut self.displacement);
     }
-
 
     /// Make the displacement follow the traction's `cuts`: point by point when that is cheaper
     /// than an application, else (or when `refresh`) from scratch.

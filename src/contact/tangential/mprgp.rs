@@ -7,7 +7,7 @@ use super::disk::{
     cut_onto_disks, dot, feasible_step, gradient_parts, magnitude, onto_disk, project, reduced_free_gradient,
     tangent_if_held, turning, ON_BOUND,
 };
-use super::{TangentialReport, TangentialSolver, CHUNK};
+use super::{TangentialOptions, TangentialReport, TangentialSolver, CHUNK};
 use crate::contact::solver::Iterations;
 use crate::error::Result;
 
@@ -68,7 +68,7 @@ impl TangentialSolver {
         }
         // The fixed step ᾱ ∈ (0, 2/‖K‖] of the expansion steps; not needed without bounds.
         let step = if bound.iter().all(|g| g.is_infinite()) { 0.0 } else { 1.9 / self.lipschitz(&mut applications) };
-        let mut count = Iterations::new("tangential solver", self.options.max_iterations, tolerance, STALL);
+        let mut count = Iterations::new("tangential solver", TangentialOptions { tolerance, ..self.options }, STALL);
         // How far [m] the displacement may be from K q: 0 just after it was recomputed; the
         // conjugate gradient steps add what they do not follow (see `drift`).
         let mut drift = 0.0;
@@ -497,7 +497,6 @@ impl TangentialSolver {
 #[cfg(test)]
 mod tests {
     use super::super::operator::{NearInverse, ShearOperator};
-    use super::super::TangentialOptions;
     use super::*;
     use crate::contact::influence::{Boundary, ShearCompliance};
 
