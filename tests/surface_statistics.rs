@@ -76,3 +76,39 @@ fn topo_info_reports_them() {
     assert!(text.contains("rms slope    0.0673 (gradient; 0.0483 along x)"), "{text}");
     assert!(text.contains("rms curv.    3.0448e5 1/m (half the Laplacian; 3.7857e5 1/m along x)"), "{text}");
 }
+
+/// `topo info --psd-fit --json` of `file`: its `psd_fit`.
+fn psd_fit(file: &Path) -> serde_json::Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["topo", "info", "--psd-fit", "--json"])
+        .arg(file)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_str::<serde_json::Value>(&String::from_utf8(o.stdout).unwrap()).unwrap()["psd_fit"].clone()
+}
+
+#[test]
+fn topo_info_fits_the_psd() {
+    // A generated surface written as .gsf reads back as a non-periodic map: the Hann window
+    // and its scatter (≈ 0.07 decades), from 3 × 2π/L.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("rough.gsf");
+    let o = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["topo", "generate", "--size", "10um", "--grid", "512", "--hurst", "0.6", "--rms", "10nm"])
+        .args(["--rolloff", "1um", "--seed", "4"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let fit = psd_fit(&file);
+    let h = fit["hurst"].as_f64().unwrap_or_else(|| panic!("{fit}"));
+    let lambda = fit["rolloff_wavelength_m"].as_f64().unwrap_or_else(|| panic!("{fit}"));
+    println!("generated: H {h}, λ_r {lambda}: {fit}");
+    assert!((h - 0.6).abs() < 0.05 && (lambda / 1e-6 - 1.0).abs() < 0.15, "{fit}");
+    assert_eq!(fit["psd_unit"], "m4");
+    // The vendored ball: a short cut-off at λ ≈ 0.38 µm inside the window, no power law.
+    let fit = psd_fit(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/si-ball-roughness.gwy"));
+    println!("ball: {fit}");
+    assert!(fit["hurst"].is_null() && fit["refusal"].as_str().unwrap().contains("not a power law"), "{fit}");
+}

@@ -35,6 +35,7 @@ from ._asperity import (
     Error,
     Onset,
     PartialSlip,
+    Profile,
     Slide,
     Topography,
     __version__,
@@ -51,6 +52,7 @@ from . import _asperity
 __all__ = [
     "Error",
     "Topography",
+    "Profile",
     "ContactSolution",
     "Onset",
     "ClassShare",

@@ -70,6 +70,41 @@ class Topography:
         """SurfaceTopography's mean, rms_height [m], rms_gradient, rms_slope_from_profile [1],
         rms_curvature_from_area, rms_curvature_from_profile [1/m]."""
 
+class Profile:
+    """A line profile: heights [m] along x at increasing positions [m] (as stored when the file
+    states no unit and none was given)."""
+
+    @property
+    def positions(self) -> npt.NDArray[np.float64]:
+        """Positions along x [m], the first 0: a float64 copy."""
+    @property
+    def heights(self) -> npt.NDArray[np.float64]:
+        """Heights [m], NaN where missing: a float64 copy."""
+    @property
+    def points(self) -> int:
+        """Number of points."""
+    @property
+    def length(self) -> float:
+        """Length [m]: points × step when uniform, else the last position."""
+    @property
+    def step(self) -> Optional[float]:
+        """The step [m] of equally spaced positions; None when they are not."""
+    @property
+    def channel(self) -> str:
+        """The column the heights come from."""
+    @property
+    def height_unit(self) -> Optional[str]:
+        """The heights' unit as the file states it; None when unknown."""
+    @property
+    def file(self) -> Optional[pathlib.Path]:
+        """The file read."""
+    @property
+    def missing_points(self) -> int:
+        """Number of missing (NaN) points."""
+    def statistics(self) -> Dict[str, float]:
+        """SurfaceTopography's mean, rms_height [m] (Rq), rms_slope [1] (Rdq), rms_curvature
+        [1/m] (Rddq) of a line scan."""
+
 class ContactSolution:
     """One load of a contact solve."""
 
@@ -230,7 +265,8 @@ def read_topography(
     height_unit: Optional[str] = None,
     format: Optional[str] = None,
     max_points: Optional[int] = None,
-) -> Topography: ...
+) -> Union[Topography, Profile]:
+    """A Topography (2-D map), or a Profile when the file holds a line profile."""
 def compound(ball: Topography, wafer: Topography) -> Topography: ...
 def generate(
     *,
@@ -248,9 +284,9 @@ def generate(
     max_points: Optional[int] = None,
 ) -> Topography: ...
 def psd(
-    topography: Topography, window: str = "auto"
+    topography: Union[Topography, Profile], window: str = "auto"
 ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """(q [rad/m], C(q) [m⁴])."""
+    """(q [rad/m], C(q) [m⁴]; of a Profile its 1-D spectrum [m³])."""
 def contact(
     topography: Topography,
     loads: Union[float, Sequence[float]],
@@ -274,8 +310,12 @@ def onset(
     mu_s: Optional[float] = None,
     mu_d: Optional[float] = None,
     law: Optional[str] = None,
+    curve: Optional[_Path] = None,
+    window: Optional[Tuple[float, float]] = None,
     pixel_area: Optional[float] = None,
-) -> Onset: ...
+) -> Onset:
+    """curve: CSV of (displacement, friction coefficient): mu_s its peak, mu_d its mean after
+    the peak or over window (start, end) past it, in the curve's displacement unit."""
 @overload
 def slide(
     solution: ContactSolution,
@@ -283,12 +323,16 @@ def slide(
     mu_s: Optional[float] = None,
     mu_d: Optional[float] = None,
     law: Optional[str] = None,
+    curve: Optional[_Path] = None,
+    curve_unit: Optional[float] = None,
+    window: Optional[Tuple[float, float]] = None,
     slip_distance: Optional[float] = None,
     tangential_force: None = None,
     tolerance: float = 1e-6,
     max_iter: int = 20000,
 ) -> Slide:
-    """The onset of sliding with elastic sharing; slip_distance [m]."""
+    """The onset of sliding with elastic sharing; slip_distance [m]; a curve followed past its
+    peak as μ(slip), its displacements in curve_unit [m]."""
 @overload
 def slide(
     solution: ContactSolution,
@@ -296,6 +340,9 @@ def slide(
     mu_s: Optional[float] = None,
     mu_d: Optional[float] = None,
     law: Optional[str] = None,
+    curve: None = None,
+    curve_unit: None = None,
+    window: None = None,
     slip_distance: None = None,
     tangential_force: float,
     tolerance: float = 1e-6,

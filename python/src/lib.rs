@@ -21,8 +21,8 @@ use asperity::contact::{
     TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
-    elastic_onset, ramp_force, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading, Onset as CoreOnset,
-    SlidePoint, SlipLaw, Snapshot, Weakening,
+    elastic_onset, ramp_force, slip_curve_file, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading,
+    Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening,
 };
 use asperity::limits::Limits;
 use asperity::plausible::{self, Spelling, Verdict};
@@ -33,10 +33,11 @@ use asperity::study::run::{Progress, Study};
 use asperity::topography::detrend::Detrend;
 use asperity::topography::missing::fill_missing;
 use asperity::topography::prepare::Preparation;
+use asperity::topography::profile::Profile as CoreProfile;
 use asperity::topography::resample::{self, CropWindow};
 use asperity::topography::stats::{self, Window};
 use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, SyntheticSurface};
-use asperity::topography::{io, Provenance, Topography as CoreTopography};
+use asperity::topography::{io, AnyTopography, Provenance, Topography as CoreTopography};
 use ndarray::{Array2, ArrayView2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::{PyUserWarning, PyValueError};
@@ -470,11 +471,13 @@ impl Topography {
 }
 
 /// Read a topography file in any format asperity reads (detected from its content and
-/// extension; ``format`` overrides). ``channel``: name or 0-based index (default: the first
-/// height channel). ``size``: the physical size [m], needed for a bare array (.npy), checked
-/// against a size the file states. ``height_unit``: unit of a file that states none.
-/// ``max_points``: the largest grid read (default 2^28), the file read only up to 128 bytes a
-/// point.
+/// extension; ``format`` overrides): a ``Topography`` (a 2-D map), or a ``Profile`` when the
+/// file holds a line profile (a stylus scan, a two-column table), as ``asperity topo info``
+/// tells them apart. ``channel``: name or 0-based index (default: the first height channel).
+/// ``size``: the physical size [m], needed for a bare array (.npy), checked against a size the
+/// file states. ``height_unit``: unit of a file that states none (of a profile's positions and
+/// heights). ``max_points``: the largest grid read (default 2^28), the file read only up to
+/// 128 bytes a point.
 #[pyfunction]
 #[pyo3(signature = (path, channel = None, *, size = None, height_unit = None, format = None, max_points = None))]
 fn read_topography(
@@ -485,7 +488,7 @@ fn read_topography(
     height_unit: Option<String>,
     format: Option<String>,
     max_points: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Topography> {
+) -> PyResult<Py<PyAny>> {
     let options = io::ReadOptions {
         format,
         channel: channel.map(|c| c.str().map(|s| s.to_string())).transpose()?,
@@ -493,8 +496,115 @@ fn read_topography(
         height_unit,
         limits: limits(max_points)?,
     };
-    let (inner, channels) = py.detach(|| io::read_listing(&path, &options)).map_err(error)?;
-    Ok(Topography { inner, channels })
+    let (any, channels) = py.detach(|| io::read_any(&path, &options)).map_err(error)?;
+    Ok(match any {
+        AnyTopography::Map(inner) => Py::new(py, Topography { inner, channels })?.into_any(),
+        AnyTopography::Profile(inner) => Py::new(py, Profile { inner })?.into_any(),
+    })
+}
+
+/// A line profile: heights along x at increasing positions, both in metres (as stored when
+/// the file states no unit and none was given: ``height_unit`` is then None). Its statistics
+/// and spectrum are SurfaceTopography's for line scans; what needs a 2-D map (contact) does
+/// not take it.
+#[pyclass(frozen, module = "asperity")]
+struct Profile {
+    inner: CoreProfile,
+}
+
+#[pymethods]
+impl Profile {
+    /// Positions along x [m], the first 0: a float64 copy.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.positions().to_vec().into_pyarray(py)
+    }
+
+    /// Heights [m], NaN where missing: a float64 copy.
+    #[getter]
+    fn heights<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.heights().to_vec().into_pyarray(py)
+    }
+
+    /// Number of points.
+    #[getter]
+    fn points(&self) -> usize {
+        self.inner.points()
+    }
+
+    /// Length [m]: points × step when uniform, else the last position.
+    #[getter]
+    fn length(&self) -> f64 {
+        self.inner.length()
+    }
+
+    /// The step [m] of equally spaced positions; None when they are not.
+    #[getter]
+    fn step(&self) -> Option<f64> {
+        self.inner.step()
+    }
+
+    /// The column the heights come from.
+    #[getter]
+    fn channel(&self) -> String {
+        self.inner.channel.clone()
+    }
+
+    /// The heights' unit as the file states it ("m" when given as ``height_unit``); None when
+    /// unknown.
+    #[getter]
+    fn height_unit(&self) -> Option<String> {
+        match (&self.inner.provenance.height_unit, self.inner.height_unit_known) {
+            (Some(u), _) => Some(u.clone()),
+            (None, true) => Some("m".into()),
+            (None, false) => None,
+        }
+    }
+
+    /// The file read, None for a profile made otherwise.
+    #[getter]
+    fn file(&self) -> Option<PathBuf> {
+        self.inner.provenance.file.clone()
+    }
+
+    /// Number of missing (NaN) points.
+    #[getter]
+    fn missing_points(&self) -> usize {
+        self.inner.missing_points()
+    }
+
+    /// The statistics ``asperity topo info`` reports of a line profile, with
+    /// SurfaceTopography's definitions for line scans, as a dict: ``mean`` and ``rms_height``
+    /// [m] (Rq), ``rms_slope`` [1] (Rdq, forward differences) and ``rms_curvature`` [1/m]
+    /// (Rddq, central differences); of a non-uniform profile along the line between its points.
+    /// Needs the units of the positions and heights.
+    fn statistics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = &self.inner;
+        let ((mean, rms), slope, curvature) = py
+            .detach(|| {
+                p.require_metres()?;
+                Ok((stats::profile_height(p)?, stats::profile_rms_slope(p)?, stats::profile_rms_curvature(p)?))
+            })
+            .map_err(error)?;
+        let dict = PyDict::new(py);
+        dict.set_item("mean", mean)?;
+        dict.set_item("rms_height", rms)?;
+        dict.set_item("rms_slope", slope)?;
+        dict.set_item("rms_curvature", curvature)?;
+        Ok(dict)
+    }
+
+    fn __repr__(&self) -> String {
+        let spacing = match self.inner.step() {
+            Some(step) => format!("step {step:e} m"),
+            None => "non-uniform".into(),
+        };
+        let from = match &self.inner.provenance.file {
+            Some(f) => format!(" from {}", f.display()),
+            None => String::new(),
+        };
+        format!("<Profile {} points, length {:e} m, {spacing}{from}>", self.inner.points(), self.inner.length())
+    }
 }
 
 /// The compound roughness h = h_ball − h_wafer on the ball's grid (the wafer interpolated at
@@ -571,19 +681,30 @@ fn generate(
 /// A 1-D float64 array.
 type Spectrum<'py> = Bound<'py, PyArray1<f64>>;
 
-/// The isotropic power spectral density of a topography (mean removed): ``(q, c)``, the
-/// wavevector |q| [rad/m] and C(q) [m⁴], as ``asperity topo psd``. ``window``: "auto" (Hann
-/// for non-periodic maps, none for periodic ones), "hann" or "none".
+/// The power spectral density (mean removed), as ``asperity topo psd``: of a ``Topography``
+/// the isotropic ``(q, c)``, wavevector |q| [rad/m] and C(q) [m⁴]; of a uniform ``Profile``
+/// its 1-D spectrum, C(q) [m³] at q = 2πk/L. ``window``: "auto" (Hann for non-periodic maps
+/// and for profiles, none for periodic maps), "hann" or "none".
 #[pyfunction]
 #[pyo3(signature = (topography, window = "auto"))]
-fn psd<'py>(py: Python<'py>, topography: &Topography, window: &str) -> PyResult<(Spectrum<'py>, Spectrum<'py>)> {
-    let window = match window {
-        "auto" => Window::default_for(&topography.inner),
-        "hann" => Window::Hann,
-        "none" => Window::None,
+fn psd<'py>(py: Python<'py>, topography: &Bound<'py, PyAny>, window: &str) -> PyResult<(Spectrum<'py>, Spectrum<'py>)> {
+    let chosen = match window {
+        "auto" => None,
+        "hann" => Some(Window::Hann),
+        "none" => Some(Window::None),
         other => return Err(invalid("window", format!("'{other}' is not auto, hann or none"))),
     };
-    let spectrum = py.detach(|| stats::psd(&topography.inner, window)).map_err(error)?;
+    let spectrum = if let Ok(t) = topography.cast::<Topography>() {
+        let t = &t.get().inner;
+        py.detach(|| stats::psd(t, chosen.unwrap_or_else(|| Window::default_for(t))))
+    } else if let Ok(p) = topography.cast::<Profile>() {
+        let p = &p.get().inner;
+        // A measured profile does not repeat across its ends.
+        py.detach(|| p.require_metres().and_then(|_| stats::profile_psd(p, chosen.unwrap_or(Window::Hann))))
+    } else {
+        return Err(invalid("topography", "expected a Topography or a Profile"));
+    }
+    .map_err(error)?;
     Ok((spectrum.q.into_pyarray(py), spectrum.c.into_pyarray(py)))
 }
 
@@ -1052,20 +1173,36 @@ impl Onset {
     }
 }
 
-/// The local law from mu_s/mu_d or a preset name, as ``asperity onset`` takes it: each
-/// coefficient judged ([`plausible::friction_coefficient`]).
-fn friction_law(py: Python<'_>, mu_s: Option<f64>, mu_d: Option<f64>, law: Option<&str>) -> PyResult<FrictionLaw> {
-    let pair = match (mu_s, mu_d, law) {
-        (Some(mu_s), Some(mu_d), _) => {
+/// The local law from mu_s/mu_d, a measured curve (with its averaging window) or a preset
+/// name, as ``asperity onset`` takes it: each coefficient judged
+/// ([`plausible::friction_coefficient`]).
+fn friction_law(
+    py: Python<'_>,
+    mu_s: Option<f64>,
+    mu_d: Option<f64>,
+    law: Option<&str>,
+    curve: Option<&PathBuf>,
+    curve_window: Option<&Bound<'_, PyAny>>,
+) -> PyResult<FrictionLaw> {
+    let curve_window = curve_window.map(|w| range(w, "window")).transpose()?;
+    if curve_window.is_some() && curve.is_none() {
+        return Err(invalid("window", "applies to a curve only"));
+    }
+    let pair = match (mu_s, mu_d, curve, law) {
+        (Some(_), _, Some(_), _) | (_, Some(_), Some(_), _) => {
+            return Err(invalid("curve", "give mu_s and mu_d, or a curve, not both"))
+        }
+        (Some(mu_s), Some(mu_d), None, _) => {
             judge(py, "mu_s", mu_s, plausible::friction_coefficient(mu_s))?;
             judge(py, "mu_d", mu_d, plausible::friction_coefficient(mu_d))?;
             FrictionLaw::new(mu_s, mu_d).map_err(error)?
         }
-        (Some(_), None, _) => return Err(invalid("mu_s", "needs mu_d too")),
-        (None, Some(_), _) => return Err(invalid("mu_d", "needs mu_s too")),
-        (None, None, Some(name)) => return FrictionLaw::preset(name).map_err(error),
-        (None, None, None) => {
-            return Err(invalid("mu_s", "give the local friction law: mu_s and mu_d, or a preset law name"))
+        (Some(_), None, ..) => return Err(invalid("mu_s", "needs mu_d too")),
+        (None, Some(_), ..) => return Err(invalid("mu_d", "needs mu_s too")),
+        (None, None, Some(path), _) => py.detach(|| FrictionLaw::from_curve_file(path, curve_window)).map_err(error)?,
+        (None, None, None, Some(name)) => return FrictionLaw::preset(name).map_err(error),
+        (None, None, None, None) => {
+            return Err(invalid("mu_s", "give the local friction law: mu_s and mu_d, a curve, or a preset law name"))
         }
     };
     Ok(match law {
@@ -1078,11 +1215,16 @@ fn friction_law(py: Python<'_>, mu_s: Option<f64>, mu_d: Option<f64>, law: Optio
 /// ContactSolution, whose physical size it then takes): static and dynamic friction
 /// coefficients, friction drop and the element classes at the critical state.
 ///
-/// The local law is ``mu_s`` and ``mu_d`` (with ``law`` as its name), or a preset ``law``
-/// ("hold 100 s", "hold 10 s": illustrative placeholders). ``physical_size`` (lx, ly) [m] or
+/// The local law is ``mu_s`` and ``mu_d`` (with ``law`` as its name), a measured nanoscale
+/// friction curve ``curve`` (a CSV file of displacement, friction coefficient, as ``asperity
+/// onset --curve`` reads it: mu_s its peak, mu_d its mean after the peak, or over ``window``
+/// (start, end) past the peak, in the curve's displacement unit), or a preset ``law`` ("hold
+/// 100 s", "hold 10 s": illustrative placeholders). ``physical_size`` (lx, ly) [m] or
 /// ``pixel_area`` [m²] give forces in newtons; the coefficients do not need them.
 #[pyfunction]
-#[pyo3(signature = (pressure, physical_size = None, *, mu_s = None, mu_d = None, law = None, pixel_area = None))]
+#[pyo3(signature = (pressure, physical_size = None, *, mu_s = None, mu_d = None, law = None, curve = None,
+                    window = None, pixel_area = None))]
+#[allow(clippy::too_many_arguments)]
 fn onset(
     py: Python<'_>,
     pressure: &Bound<'_, PyAny>,
@@ -1090,15 +1232,17 @@ fn onset(
     mu_s: Option<f64>,
     mu_d: Option<f64>,
     law: Option<&str>,
+    curve: Option<PathBuf>,
+    window: Option<&Bound<'_, PyAny>>,
     pixel_area: Option<f64>,
 ) -> PyResult<Onset> {
-    let law = friction_law(py, mu_s, mu_d, law)?;
+    let law = friction_law(py, mu_s, mu_d, law, curve.as_ref(), window)?;
     let (map, solution_size) = match pressure.cast::<ContactSolution>() {
         Ok(s) => (s.get().pressure.bind(py).readonly(), Some(s.get().physical_size)),
         Err(_) => (float_map(pressure, "pressure")?, None),
     };
     let (ny, nx) = map.as_array().dim();
-    let size = physical_size.map(|s| window(s, "physical_size")).transpose()?.or(solution_size);
+    let size = physical_size.map(|s| crate::window(s, "physical_size")).transpose()?.or(solution_size);
     let area = match (size, pixel_area) {
         (Some(_), Some(_)) => return Err(invalid("pixel_area", "give physical_size or pixel_area, not both")),
         (Some((lx, ly)), None) => Some(lx / nx as f64 * (ly / ny as f64)),
@@ -1281,19 +1425,24 @@ impl PartialSlip {
 /// first slips, then mu_d (at once, or linearly over an accumulated slip ``slip_distance`` [m]).
 /// The normal pressure stays fixed (normal and tangential problems uncoupled).
 ///
-/// The law: ``mu_s`` and ``mu_d`` (dimensionless, with ``law`` as its name), or a preset
-/// ``law``. ``tangential_force`` [N] (default None): instead of the path to sliding, the
+/// The law: ``mu_s`` and ``mu_d`` (dimensionless, with ``law`` as its name), a preset ``law``,
+/// or a measured friction curve ``curve`` (CSV of displacement, friction coefficient, as
+/// ``onset``'s) whose displacement unit ``curve_unit`` [m] (1e-9 for nm) it needs: mu_s is
+/// its peak and past the peak μ follows the curve as a function of each point's accumulated
+/// slip (its own slip weakening; mu_d, for the equal-sharing values, its mean after the peak
+/// or over ``window``). ``tangential_force`` [N] (default None): instead of the path to sliding, the
 /// partial-slip state at that force under Coulomb friction at mu_s (a ``PartialSlip``).
 /// ``tolerance`` (default 1e-6): of the tangential solve, below 1e-2; ``max_iter`` (default
 /// 20000): iterations of one tangential solve. Returns a ``Slide`` (static coefficient,
 /// friction drop, the equal-sharing values on the same pressure, the curve, the shear maps).
 /// The GIL is released while it runs; Ctrl-C is seen once it has finished.
 #[pyfunction]
-#[pyo3(signature = (solution, *, mu_s = None, mu_d = None, law = None, slip_distance = None, tangential_force = None,
+#[pyo3(signature = (solution, *, mu_s = None, mu_d = None, law = None, curve = None, curve_unit = None,
+                    window = None, slip_distance = None, tangential_force = None,
                     tolerance = TangentialOptions::default().tolerance,
                     max_iter = TangentialOptions::default().max_iterations),
-       text_signature = "(solution, *, mu_s=None, mu_d=None, law=None, slip_distance=None, tangential_force=None, \
-                         tolerance=1e-6, max_iter=20000)")]
+       text_signature = "(solution, *, mu_s=None, mu_d=None, law=None, curve=None, curve_unit=None, window=None, \
+                         slip_distance=None, tangential_force=None, tolerance=1e-6, max_iter=20000)")]
 #[allow(clippy::too_many_arguments)]
 fn slide(
     py: Python<'_>,
@@ -1301,21 +1450,40 @@ fn slide(
     mu_s: Option<f64>,
     mu_d: Option<f64>,
     law: Option<&str>,
+    curve: Option<PathBuf>,
+    curve_unit: Option<f64>,
+    window: Option<&Bound<'_, PyAny>>,
     slip_distance: Option<f64>,
     tangential_force: Option<f64>,
     tolerance: f64,
     max_iter: usize,
 ) -> PyResult<Py<PyAny>> {
-    let base = friction_law(py, mu_s, mu_d, law)?;
-    let weakening = match slip_distance {
-        Some(dc) if !(dc > 0.0 && dc.is_finite()) => {
+    let base = friction_law(py, mu_s, mu_d, law, curve.as_ref(), window)?;
+    let curve_weakening = match (&curve, curve_unit) {
+        (None, None) => None,
+        (None, Some(_)) => return Err(invalid("curve_unit", "applies to a curve only")),
+        (Some(_), None) => {
+            return Err(invalid("curve_unit", "a curve needs its displacement unit [m] (1e-9 for nm) to be followed"))
+        }
+        (Some(_), Some(unit)) if !(unit > 0.0 && unit.is_finite()) => {
+            return Err(invalid("curve_unit", format!("must be a positive length, got {unit} m")))
+        }
+        (Some(_), Some(_)) if slip_distance.is_some() || tangential_force.is_some() => {
+            let with = if slip_distance.is_some() { "slip_distance" } else { "tangential_force" };
+            return Err(invalid(with, "not used with a curve, whose own slip weakening it follows"));
+        }
+        (Some(path), Some(unit)) => Some(Weakening::Curve(py.detach(|| slip_curve_file(path, unit)).map_err(error)?)),
+    };
+    let weakening = match (curve_weakening, slip_distance) {
+        (Some(curve), _) => curve,
+        (None, Some(dc)) if !(dc > 0.0 && dc.is_finite()) => {
             return Err(invalid("slip_distance", format!("must be positive and finite, got {dc:e} m")))
         }
-        Some(_) if tangential_force.is_some() => {
+        (None, Some(_)) if tangential_force.is_some() => {
             return Err(invalid("slip_distance", "not used with tangential_force (a Coulomb ramp at mu_s)"))
         }
-        Some(dc) => Weakening::Linear(dc),
-        None => Weakening::Instant,
+        (None, Some(dc)) => Weakening::Linear(dc),
+        (None, None) => Weakening::Instant,
     };
     let options = TangentialOptions { tolerance, max_iterations: max_iter };
     options.check().map_err(error)?;
@@ -1590,6 +1758,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PRESETS", asperity::friction::PRESETS.iter().map(|(n, s, d)| (*n, *s, *d)).collect::<Vec<_>>())?;
     m.add_class::<Topography>()?;
+    m.add_class::<Profile>()?;
     m.add_class::<ContactSolution>()?;
     m.add_class::<Onset>()?;
     m.add_class::<ClassShare>()?;

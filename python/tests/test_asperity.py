@@ -6,6 +6,7 @@ target/release/asperity of this checkout (`.ci/test` builds it first and sets th
 
 import ast
 import inspect
+import io
 import json
 import math
 import re
@@ -609,3 +610,79 @@ def test_statistics_are_surface_topographys():
     assert s["rms_slope_from_profile"] == pytest.approx(0.0482823519044096, rel=1e-9)
     assert s["rms_curvature_from_area"] == pytest.approx(304481.4766922735, rel=1e-9)
     assert s["rms_curvature_from_profile"] == pytest.approx(378573.9694702846, rel=1e-9)
+
+
+# --- measured friction curves and line profiles ---------------------------------------------------
+
+AFM_CURVE = "x_nm,mu\n0,0.1\n10,0.7\n20,0.5\n30,0.4\n40,0.42\n"
+
+
+def test_a_curve_law_is_the_command_lines(tmp_path):
+    # The curve peaks at 0.7; over 5…25 nm past the peak (20, 30 nm) mu_d = 0.45, after it all 0.44.
+    (tmp_path / "afm.csv").write_text(AFM_CURVE)
+    p = np.array([[0.0, 2e8, 0.0], [5e7, 0.0, 1e8], [0.0, 3e8, 0.0]])
+    np.save(tmp_path / "p.npy", p)
+    record = json.loads(run_cli("onset", tmp_path / "p.npy", "--curve", tmp_path / "afm.csv", "--window", "5,25",
+                                "--json"))
+    o = ap.onset(p, mu_s=None, curve=tmp_path / "afm.csv", window=(5, 25))
+    assert (o.mu_s, o.mu_d) == (0.7, pytest.approx(0.45, rel=1e-15))
+    assert (record["law"]["mu_s"], record["law"]["mu_d"]) == (o.mu_s, o.mu_d)
+    assert o.static_coefficient == record["static_coefficient"]
+    assert o.friction_drop == record["friction_drop"]
+    assert ap.onset(p, curve=str(tmp_path / "afm.csv")).mu_d == pytest.approx((0.5 + 0.4 + 0.42) / 3, rel=1e-15)
+    # Errors in Python's words.
+    raises(lambda: ap.onset(p, curve=tmp_path / "afm.csv", window=(25, 5)), "window: ")
+    raises(lambda: ap.onset(p, mu_s=0.6, mu_d=0.4, curve=tmp_path / "afm.csv"), "curve: give mu_s and mu_d")
+    raises(lambda: ap.onset(p, mu_s=0.6, mu_d=0.4, window=(5, 25)), "window: applies to a curve only")
+
+
+def test_slide_follows_a_curve_as_the_command_line(tmp_path):
+    (tmp_path / "afm.csv").write_text(AFM_CURVE)
+    t = rough_ball(grid=32)
+    np.save(tmp_path / "h.npy", np.asarray(t.heights))
+    lx, ly = t.physical_size
+    run_cli("contact", tmp_path / "h.npy", "--size", f"{lx!r},{ly!r}", "--load", "1e-3", "--out", tmp_path / "c")
+    run_cli("slide", tmp_path / "c", "--curve", tmp_path / "afm.csv", "--curve-unit", "1nm", "--out", tmp_path / "s")
+    record = json.loads((tmp_path / "s" / "slide.json").read_text())
+    (s,) = ap.contact(t, loads=1e-3)
+    sl = ap.slide(s, curve=tmp_path / "afm.csv", curve_unit=1e-9)
+    assert sl.mu_s == 0.7
+    assert sl.static_coefficient == record["static_coefficient"]
+    assert sl.friction_drop == record["friction_drop"]
+    raises(lambda: ap.slide(s, curve=tmp_path / "afm.csv"), "curve_unit: a curve needs its displacement unit")
+    raises(lambda: ap.slide(s, curve=tmp_path / "afm.csv", curve_unit=1e-9, slip_distance=1e-9), "slip_distance: ")
+
+
+def test_a_line_profile_reads_as_one_with_surface_topographys_statistics():
+    # SurfaceTopography 1.27.1 on dektak-1.csv (tests/data/manifest.json), in µm.
+    p = ap.read_topography(ROOT / "tests" / "data" / "dektak-1.csv")
+    assert isinstance(p, ap.Profile) and p.points == 9600 and p.step is None
+    assert p.length == pytest.approx(1499.8e-6, rel=1e-12)
+    s = p.statistics()
+    assert s["mean"] == pytest.approx(8.455622958394454e-6, rel=1e-9)
+    assert s["rms_height"] == pytest.approx(4.763596104697675e-6, rel=1e-9)
+    assert s["rms_slope"] == pytest.approx(0.015447980655979321, rel=1e-9)
+    info = json.loads(run_cli("topo", "info", ROOT / "tests" / "data" / "dektak-1.csv", "--json"))
+    assert (s["rms_height"], s["rms_curvature"]) == (info["rms_m"], info["rms_curvature_per_m"])
+    raises(lambda: ap.psd(p), "not uniform")
+    with pytest.raises(TypeError, match="Topography"):
+        ap.contact(p, loads=1e-3)
+    # Without units: refused in Python's words, then given.
+    xy = ROOT / "tests" / "data" / "xy-1.txt"
+    raises(lambda: ap.read_topography(xy).statistics(), "height_unit")
+    s = ap.read_topography(xy, height_unit="um").statistics()
+    assert s["rms_height"] == pytest.approx(3.0585577255814207e-6, rel=1e-9)
+    assert s["rms_slope"] == pytest.approx(0.4382415170673911, rel=1e-9)
+
+
+def test_the_spectrum_of_a_uniform_profile_is_topo_psds(tmp_path):
+    x = np.arange(64) * 0.5e-6
+    h = 1e-8 * np.sin(2 * np.pi * 5 * np.arange(64) / 64)
+    np.savetxt(tmp_path / "p.csv", np.column_stack([x * 1e6, h * 1e6]), delimiter=",", header="x_um,h_um", comments="")
+    p = ap.read_topography(tmp_path / "p.csv")  # the header states µm
+    assert isinstance(p, ap.Profile) and p.height_unit is not None and p.step == pytest.approx(0.5e-6, rel=1e-12)
+    q, c = ap.psd(p)
+    assert q[np.argmax(c)] == pytest.approx(2 * np.pi * 5 / 32e-6, rel=1e-12)
+    cli_q, cli_c = np.loadtxt(io.StringIO(run_cli("topo", "psd", tmp_path / "p.csv")),
+                              delimiter=",", skiprows=1, unpack=True)
+    assert np.allclose(q, cli_q, rtol=1e-15) and np.allclose(c, cli_c, rtol=1e-15)

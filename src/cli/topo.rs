@@ -10,9 +10,10 @@ use asperity::error::escaped;
 use asperity::topography::io;
 use asperity::topography::profile::Profile;
 use asperity::topography::stats::{
-    profile_height, profile_rms_curvature, profile_rms_slope, slope_curvature, SlopeCurvature,
+    fit_psd, profile_height, profile_psd, profile_rms_curvature, profile_rms_slope, psd, psd_fit_window,
+    slope_curvature, PsdFit, SlopeCurvature, SpectrumOf, Window,
 };
-use asperity::topography::AnyTopography;
+use asperity::topography::{AnyTopography, Topography};
 
 use super::{topo_tools, ReadArgs};
 use asperity::Result;
@@ -65,8 +66,133 @@ struct InfoArgs {
     /// SurfaceTopography's rms_gradient [1] (√⟨|∇h|²⟩), rms_slope_from_profile [1] (along x),
     /// rms_curvature_from_area_per_m [1/m] (half the Laplacian) and
     /// rms_curvature_from_profile_per_m [1/m] (along x); see the README for the differences.
+    /// With --psd-fit, psd_fit (see there).
     #[arg(long)]
     json: bool,
+    /// Fit the PSD (as `topo psd` prints it, default window) in log–log, 10 log bins per
+    /// decade weighing the same, from 2π/L (3 × 2π/L under the Hann window) up to π/(2·pixel)
+    /// (the last octave below the Nyquist wavevector is the pixel's and the tip's): a plateau
+    /// C0 below the roll-off q_r, then C = C0 (q/q_r)^s, the roll-off kept by the Bayesian
+    /// information criterion. Of the map as read: level it first (topo convert --detrend plane).
+    /// The Hurst exponent H from s = −2(1+H) for a map, s = −(1+2H) for a line profile;
+    /// refused (with the reason) outside 0 < H ≤ 1, when the power law spans under half a
+    /// decade, or when the residual exceeds 0.1 + twice a random surface's scatter. JSON:
+    /// psd_fit {hurst, refusal, slope, rolloff_q_rad_per_m, rolloff_wavelength_m (null: no
+    /// roll-off in the window), c0 [m⁴ of a map, m³ of a profile: the plateau, or C at the
+    /// window's start without roll-off], psd_unit, power_law_q_rad_per_m, window_q_rad_per_m, bins, rms_residual_log10, expected_scatter_log10 [decades of C]}.
+    /// Needs heights and positions in metres, a size, no missing point, a uniform profile
+    #[arg(long)]
+    psd_fit: bool,
+}
+
+/// What `--psd-fit` adds to `topo info --json`: the fit, or only the reason there is none.
+#[derive(Serialize)]
+struct PsdFitInfo {
+    hurst: Option<f64>,
+    refusal: Option<String>,
+    slope: Option<f64>,
+    rolloff_q_rad_per_m: Option<f64>,
+    rolloff_wavelength_m: Option<f64>,
+    c0: Option<f64>,
+    psd_unit: &'static str,
+    power_law_q_rad_per_m: Option<[f64; 2]>,
+    window_q_rad_per_m: Option<[f64; 2]>,
+    bins: Option<usize>,
+    rms_residual_log10: Option<f64>,
+    expected_scatter_log10: Option<f64>,
+}
+
+impl PsdFitInfo {
+    fn new(fit: std::result::Result<PsdFit, String>, psd_unit: &'static str) -> PsdFitInfo {
+        match fit {
+            Ok(f) => PsdFitInfo {
+                hurst: f.hurst,
+                refusal: f.refusal,
+                slope: Some(f.slope),
+                rolloff_q_rad_per_m: f.rolloff_q,
+                rolloff_wavelength_m: f.rolloff_q.map(|q| 2.0 * std::f64::consts::PI / q),
+                c0: Some(f.c0),
+                psd_unit,
+                power_law_q_rad_per_m: Some([f.power_law_q.0, f.power_law_q.1]),
+                window_q_rad_per_m: Some([f.window_q.0, f.window_q.1]),
+                bins: Some(f.bins),
+                rms_residual_log10: Some(f.rms_residual_log10),
+                expected_scatter_log10: Some(f.expected_scatter_log10),
+            },
+            Err(reason) => PsdFitInfo {
+                hurst: None,
+                refusal: Some(reason),
+                slope: None,
+                rolloff_q_rad_per_m: None,
+                rolloff_wavelength_m: None,
+                c0: None,
+                psd_unit,
+                power_law_q_rad_per_m: None,
+                window_q_rad_per_m: None,
+                bins: None,
+                rms_residual_log10: None,
+                expected_scatter_log10: None,
+            },
+        }
+    }
+
+    /// The fit of a map's isotropic PSD under its default window.
+    fn of_map(topo: &Topography) -> PsdFitInfo {
+        let fit = || -> std::result::Result<PsdFit, String> {
+            if !topo.height_unit_known {
+                return Err("the heights' unit is unknown (give it with --height-unit U)".into());
+            }
+            let window = Window::default_for(topo);
+            let spectrum = psd(topo, window).map_err(|e| e.to_string())?;
+            let ((lx, ly), (dx, dy)) = (
+                topo.physical_size.expect("the PSD needs the size"),
+                topo.pixel_size("the PSD").map_err(|e| e.to_string())?,
+            );
+            fit_psd(&spectrum, SpectrumOf::Map, psd_fit_window(lx.min(ly), dx.max(dy), window))
+        };
+        PsdFitInfo::new(fit(), "m4")
+    }
+
+    /// The fit of a uniform line profile's 1-D PSD under the Hann window.
+    fn of_profile(p: &Profile) -> PsdFitInfo {
+        let fit = || -> std::result::Result<PsdFit, String> {
+            if !(p.height_unit_known && p.position_unit_known) {
+                return Err("needs the units of the positions and the heights".into());
+            }
+            let spectrum = profile_psd(p, Window::Hann).map_err(|e| e.to_string())?;
+            let step = p.step().expect("profile_psd refuses a non-uniform profile");
+            fit_psd(&spectrum, SpectrumOf::Profile, psd_fit_window(step * p.points() as f64, step, Window::Hann))
+        };
+        PsdFitInfo::new(fit(), "m3")
+    }
+
+    /// The readable lines: H, the roll-off, C0, the range and the residual; or the reason.
+    fn summary(&self) -> String {
+        let law = if self.psd_unit == "m4" { "C ∝ q^−2(1+H)" } else { "C ∝ q^−(1+2H), a profile's" };
+        let mut s = match (self.hurst, &self.refusal, self.slope) {
+            (Some(h), _, Some(slope)) => format!("psd fit      H = {h:.3} (slope {slope:.3} of {law})\n"),
+            (None, Some(why), Some(slope)) => format!("psd fit      no Hurst exponent (slope {slope:.3}): {why}\n"),
+            (_, Some(why), None) => return format!("psd fit      none: {why}\n"),
+            _ => return String::new(),
+        };
+        s += &match (self.rolloff_q_rad_per_m, self.rolloff_wavelength_m) {
+            (Some(q), Some(l)) => format!("roll-off     λ_r = {} (q_r = {q:.3e} rad/m)\n", metres(&l)),
+            _ => "roll-off     none in the window: C rises down to its smallest q\n".into(),
+        };
+        let unit = if self.psd_unit == "m4" { "m⁴" } else { "m³" };
+        if let Some(c0) = self.c0 {
+            s += &format!("C0           {c0:.3e} {unit}\n");
+        }
+        if let (Some([a, b]), Some([w0, w1]), Some(n)) =
+            (self.power_law_q_rad_per_m, self.window_q_rad_per_m, self.bins)
+        {
+            s += &format!("power law    q = {a:.3e} … {b:.3e} rad/m; fitted {w0:.3e} … {w1:.3e} rad/m, {n} log bins\n");
+        }
+        if let (Some(r), Some(e)) = (self.rms_residual_log10, self.expected_scatter_log10) {
+            s += &format!("residual     {r:.3} decades of C RMS (a random surface scatters by {e:.3})\n");
+        }
+        s
+    }
 }
 
 /// What `topo info --json` prints for a map.
@@ -90,6 +216,8 @@ struct Info {
     #[serde(flatten)]
     slope_curvature: Option<SlopeCurvature>,
     missing_points: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    psd_fit: Option<PsdFitInfo>,
 }
 
 /// Height statistics in metres (`null` when no point is defined).
@@ -136,6 +264,8 @@ struct ProfileInfo {
     /// [1/m]; `None` unless both units are known.
     rms_curvature_per_m: Option<f64>,
     missing_points: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    psd_fit: Option<PsdFitInfo>,
 }
 
 /// A profile's length and step (`None` when not uniform) [m].
@@ -187,6 +317,7 @@ fn info(args: InfoArgs) -> Result<()> {
         }),
         slope_curvature: topo.height_unit_known.then(|| slope_curvature(&topo).ok()).flatten(),
         missing_points: topo.missing_points(),
+        psd_fit: args.psd_fit.then(|| PsdFitInfo::of_map(&topo)),
     };
     if args.json {
         super::print_json(&info)
@@ -278,8 +409,8 @@ fn profile_info(args: InfoArgs, p: &Profile, channels: Vec<String>) -> Result<()
         rms_curvature_per_m: (p.position_unit_known && p.height_unit_known)
             .then(|| profile_rms_curvature(p).ok())
             .flatten(),
-
         missing_points: p.missing_points(),
+        psd_fit: args.psd_fit.then(|| PsdFitInfo::of_profile(p)),
     };
     if args.json {
         super::print_json(&info)
@@ -360,6 +491,7 @@ fn summary(info: &Info) -> String {
         );
     }
     s += &format!("missing      {} of {total} points\n", info.missing_points);
+    s += &info.psd_fit.as_ref().map_or(String::new(), PsdFitInfo::summary);
     s
 }
 
@@ -418,6 +550,7 @@ fn profile_summary(info: &ProfileInfo) -> String {
         s += &format!("rms curv.    {c:.4e} 1/m\n");
     }
     s += &format!("missing      {} of {} points\n", info.missing_points, info.points);
+    s += &info.psd_fit.as_ref().map_or(String::new(), PsdFitInfo::summary);
     s
 }
 
