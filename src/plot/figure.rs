@@ -384,7 +384,14 @@ impl Panel {
                 let x = chart.backend_coord(&(t / scale, y_range.1)).0 - base.0;
                 area.draw(&PathElement::new(vec![(x, top), (x, top - 8)], axis_style))?;
                 let label = tick_label(&t);
-                typeset(area, &label, (x, top - 8 - style::TICK_LABEL_SIZE as i32 / 2 - 4), style::TICK_LABEL_SIZE, HPos::Center, false)?;
+                typeset(
+                    area,
+                    &label,
+                    (x, top - 8 - style::TICK_LABEL_SIZE as i32 / 2 - 4),
+                    style::TICK_LABEL_SIZE,
+                    HPos::Center,
+                    false,
+                )?;
             }
             typeset(area, &axis.label, (centre_x, top - TOP_AXIS_PX as i32 + 22), size, HPos::Center, false)?;
         }

@@ -431,7 +431,8 @@ mod tests {
 
     /// Every text of `svg` as (y [px], text).
     fn texts(svg: &str) -> Vec<(f64, String)> {
-        svg.split("<text").skip(1)
+        svg.split("<text")
+            .skip(1)
             .map(|t| {
                 let y = t.split(" y=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
                 let text = t.split_once('>').unwrap().1.split("</text>").next().unwrap();
@@ -453,7 +454,10 @@ mod tests {
         assert!(!caption.contains("no length"), "{caption}");
         // The top axis' name above the plotting area, its ticks at 0.5 nm steps up to 1.5 δ_peak.
         let texts = texts(&svg);
-        let name = texts.iter().find(|t| t.1 == "imposed displacement δ [nm]").unwrap_or_else(|| panic!("the top axis is not named: {texts:?}"));
+        let name = texts
+            .iter()
+            .find(|t| t.1 == "imposed displacement δ [nm]")
+            .unwrap_or_else(|| panic!("the top axis is not named: {texts:?}"));
         let title = texts.iter().find(|t| t.1.starts_with("Friction vs displacement")).unwrap();
         assert!(title.0 < name.0, "the title at y = {} px, the top axis' name at {} px", title.0, name.0);
         let ticks: Vec<&str> =
