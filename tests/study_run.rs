@@ -1,8 +1,11 @@
 //! A small study end to end: the results table against the contact solver and the stick-slip
 //! model run directly, the files a run leaves, and how a run treats a DIR it finds.
 
-use asperity::contact::{self, Boundary, ContactSolver, Convergence, Material, SolverOptions};
-use asperity::friction::{ElementLoads, FrictionLaw, Onset};
+use asperity::contact::{
+    self, Boundary, ContactSolver, Convergence, Material, ShearCompliance, SolverOptions, TangentialOptions,
+    TangentialSolver,
+};
+use asperity::friction::{stuck_stiffness, ElementLoads, FrictionLaw, Onset};
 use asperity::study::config::StudyConfig;
 use asperity::study::run::{Progress, Study};
 use asperity::study::{MapSnapshot, Row, FIGURE_LOADS_N};
@@ -207,6 +210,24 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
         let area = snap.pixel_area();
         assert!((full.sum() * area / load - 1.0).abs() < 1e-10);
         assert_eq!(full.iter().filter(|p| **p > 0.0).count(), json[k].contact_points);
+        // The friction curve's snapshot (0.1 mN) holds its contact's stuck stiffness K_t, from
+        // the study's material and boundary on this very map; the others none.
+        if k == 0 {
+            let mut solver = TangentialSolver::new(
+                full.as_slice().unwrap(),
+                (64, 64),
+                (31.13e-6, 31.13e-6),
+                ShearCompliance::of(&[Material::SILICON]),
+                Boundary::Periodic,
+                TangentialOptions::default(),
+            )
+            .unwrap();
+            let want = stuck_stiffness(&mut solver).unwrap();
+            let got = snap.stuck_stiffness.expect("K_t recorded at 0.1 mN");
+            assert!((got / want - 1.0).abs() < 1e-9, "K_t {got} N/m recorded, {want} N/m on the map");
+        } else {
+            assert_eq!(snap.stuck_stiffness, None, "K_t at {load} N");
+        }
     }
     // Nothing left over from the sweep but its records.
     let mut solves: Vec<_> = std::fs::read_dir(out.join("solves/topographies/ball-2"))

@@ -28,7 +28,9 @@ use asperity::Result;
 /// load: contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
 /// element classes with their fractions of N and F_S, solver iterations and seconds), study.toml
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
-/// and 100 mN), pressure/ (every map, if the study asks), figures/ and index.html.
+/// and 100 mN, the 0.1 mN one with its contact's stuck tangential stiffness K_t [N/m], which
+/// gives the friction curve δ in metres), pressure/ (every map, if the study asks), figures/ and
+/// index.html.
 ///
 /// Resumable: finished solves (with elastic sharing, each finished onset too) are kept in
 /// DIR/solves, and running the same study into the same DIR continues where an interrupted run

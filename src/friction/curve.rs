@@ -184,6 +184,12 @@ struct CurveRow {
     stuck: usize,
 }
 
+/// δ = s / k_t [m]: the slider's displacement at which every stuck element carries the shear
+/// `element_shear` s [N], for an element shear stiffness `shear_stiffness` k_t [N/m].
+pub fn displacement(element_shear: f64, shear_stiffness: f64) -> f64 {
+    element_shear / shear_stiffness
+}
+
 /// Write `curves` as one CSV (long format, a block of rows per loading mode) with columns
 /// `mode` ([`Loading::name`]), `delta_over_peak` (δ/δ_peak = s/s*, s* = `critical_shear`
 /// [N]), `delta_m` (δ = s/k_t [m], empty without `shear_stiffness` k_t [N/m]),
@@ -210,7 +216,7 @@ pub fn write_curves_csv(
                 csv.serialize(CurveRow {
                     mode: curve.loading.name(),
                     delta_over_peak: p.element_shear / critical_shear,
-                    delta_m: shear_stiffness.filter(|_| in_newtons).map(|k| p.element_shear / k),
+                    delta_m: shear_stiffness.filter(|_| in_newtons).map(|k| displacement(p.element_shear, k)),
                     element_shear_n: newtons(p.element_shear),
                     force_n: newtons(p.force),
                     coefficient: p.force / curve.normal_force,

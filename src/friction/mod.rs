@@ -13,11 +13,13 @@ mod curve;
 mod elastic;
 mod law;
 mod onset;
+mod stiffness;
 
-pub use curve::{write_curves_csv, Curve, CurvePoint, Loading};
+pub use curve::{displacement, write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
     elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideWork, SlipLaw, Snapshot,
     Weakening, SLIDE_LEVELS,
 };
 pub use law::{law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
+pub use stiffness::{element_stiffness, stuck_stiffness};

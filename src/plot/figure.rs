@@ -264,11 +264,24 @@ pub struct Panel {
     pub legend: Option<SeriesLabelPosition>,
     /// Width [px] kept right of the axes for the legend, when it is drawn beside them.
     pub legend_beside: u32,
+    /// A second x axis along the top: its label, and the factor from the bottom axis' values
+    /// to its own (the same quantity in another unit).
+    pub top: Option<(Axis, f64)>,
 }
+
+/// Height [px] kept above the axes for a top axis: its ticks, their labels and its name.
+const TOP_AXIS_PX: u32 = 90;
 
 impl Panel {
     pub fn new(x: Axis, y: Axis) -> Self {
-        Panel { title: None, x, y, series: Vec::new(), legend: None, legend_beside: 0 }
+        Panel { title: None, x, y, series: Vec::new(), legend: None, legend_beside: 0, top: None }
+    }
+
+    /// A second x axis along the top, `axis` (only its label is used), whose values are the
+    /// bottom axis' times `scale`: the same positions in another unit.
+    pub fn top_axis(mut self, axis: Axis, scale: f64) -> Self {
+        self.top = Some((axis, scale));
+        self
     }
 
     pub fn title(mut self, title: impl Into<String>) -> Self {
@@ -322,12 +335,24 @@ impl Panel {
         X::CoordDescType: ValueFormatter<f64>,
         Y::CoordDescType: ValueFormatter<f64>,
     {
+        // A top axis goes between the title and the axes: the title is then set above the
+        // area the chart is built on (the chart's own caption would sit below its margin).
+        let titled;
+        let area = match (&self.title, &self.top) {
+            (Some(title), Some(_)) => {
+                titled = area.margin(style::MARGIN, 0, 0, 0).titled(title, (style::FONT, style::TITLE_SIZE))?;
+                &titled
+            }
+            _ => area,
+        };
         let mut builder = ChartBuilder::on(area);
         builder.margin(style::MARGIN).margin_right(style::MARGIN + self.beside_width(area)?);
-        builder.x_label_area_size(70).y_label_area_size(105);
-        if let Some(title) = &self.title {
+        if self.top.is_some() {
+            builder.margin_top(TOP_AXIS_PX);
+        } else if let Some(title) = &self.title {
             builder.caption(title, (style::FONT, style::TITLE_SIZE));
         }
+        builder.x_label_area_size(70).y_label_area_size(105);
         let mut chart = builder.build_cartesian_2d(x, y)?;
         chart
             .configure_mesh()
@@ -346,6 +371,30 @@ impl Panel {
         let centre_x = (xr.start + xr.end) / 2 - base.0;
         typeset(area, &self.x.label, (centre_x, height as i32 - 24), size, HPos::Center, false)?;
         typeset(area, &self.y.label, (22, (yr.start + yr.end) / 2 - base.1), size, HPos::Center, true)?;
+        if let Some((axis, scale)) = &self.top {
+            // The top axis: a line along the plotting area, ticks at round values of its own
+            // unit placed through the bottom axis, their labels, its name above them.
+            let (top, left, right) = (yr.start - base.1, xr.start - base.0, xr.end - base.0);
+            let axis_style = BLACK.stroke_width(style::LINE_WIDTH);
+            area.draw(&PathElement::new(vec![(left, top), (right, top)], axis_style))?;
+            let range = chart.x_range();
+            let (lo, hi) = (range.start * scale, range.end * scale);
+            let ticks = if self.x.log { log_ticks(lo, hi) } else { linear_ticks(lo, hi) };
+            for t in ticks {
+                let x = chart.backend_coord(&(t / scale, y_range.1)).0 - base.0;
+                area.draw(&PathElement::new(vec![(x, top), (x, top - 8)], axis_style))?;
+                let label = tick_label(&t);
+                typeset(
+                    area,
+                    &label,
+                    (x, top - 8 - style::TICK_LABEL_SIZE as i32 / 2 - 4),
+                    style::TICK_LABEL_SIZE,
+                    HPos::Center,
+                    false,
+                )?;
+            }
+            typeset(area, &axis.label, (centre_x, top - TOP_AXIS_PX as i32 + 22), size, HPos::Center, false)?;
+        }
 
         let (xa, ya) = (&self.x, &self.y);
         let shown = |&(px, py): &(f64, f64)| xa.shows(px) && ya.shows(py);

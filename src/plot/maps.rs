@@ -950,6 +950,7 @@ mod tests {
             origin: (0, 0),
             grid: (400, 400),
             pixel_size: (pixel, pixel),
+            stuck_stiffness: None,
         };
         let plot = plot_size((CELL, CELL));
         let mut boxes: Vec<View> = patches(&snap).into_iter().map(|p| p.0).collect();

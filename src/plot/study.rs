@@ -17,11 +17,8 @@ use super::shared::{by_load, spread, stem, Drawn, FigureInput, Image, LOAD_COLOU
 use super::{coefficients, histograms};
 use super::{style, tick_label, write_figure, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::error::{Error, Result};
-use crate::friction::{ElementLoads, FrictionLaw, Loading, Onset};
-use crate::study::{law_name, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N};
-
-/// A snapshot stands for a figure load when it lies within half a decade of it.
-const NEAR_DECADES: f64 = 0.5;
+use crate::friction::{displacement, element_stiffness, ElementLoads, FrictionLaw, Loading, Onset};
+use crate::study::{law_name, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N, NEAR_DECADES};
 
 /// Draw the figures of `input.figures` into `dir/figures/` (`<name>.png` + `.svg`, movies as
 /// `.gif`) and write `dir/index.html` showing them with the study's parameters and results.
@@ -337,7 +334,8 @@ fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
 }
 
 /// F/N vs δ/δ_peak at the load nearest 0.1 mN, equal load sharing and rigid displacement
-/// control (Fig. 4a).
+/// control (Fig. 4a); δ in metres along the top where the snapshot records its contact's stuck
+/// stiffness K_t (the elements' k_t = K_t / n).
 fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, String)> {
     let (loads, onset) = onset_of(snap, law)?;
     // Both curves run past the peak into sliding; rigid control may need longer to slip all.
@@ -352,6 +350,24 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
     )
     .title(format!("Friction vs displacement at N = {} ({} elements)", load_label(snap.load_n), onset.elements))
     .legend(LegendPosition::UpperRight);
+    // δ = s / k_t, the elements sharing the stuck contact's K_t equally.
+    let stiffness = snap.stuck_stiffness.map(|contact| (contact, element_stiffness(contact, onset.elements)));
+    let mut length = String::new();
+    if let Some((contact, element)) = stiffness {
+        let peak_m = displacement(onset.critical_shear(), element);
+        let (scale, unit) = super::prefixed(peak_m * end, "m");
+        panel = panel.top_axis(Axis::new("imposed displacement δ", &unit), peak_m * scale);
+        length = format!(
+            "δ_peak = {} {unit} (top axis: δ in {unit}): δ = s/k_t for an element shear s, the n = {} elements \
+             sharing equally the contact's stuck tangential stiffness K_t = {} N/m (the elastic contact's \
+             Cerruti operator on this solve's contact set, every point stuck), k_t = K_t/n = {} N/m each, so \
+             that the curve's first slope is the elastic contact's.",
+            tick_label(&(peak_m * scale)),
+            onset.elements,
+            tick_label(&contact),
+            tick_label(&element)
+        );
+    }
     // The local coefficients in the colours of the classes that sit at them.
     panel.push(Series::line(vec![(0.0, law.mu_s), (end, law.mu_s)], style::CRITICAL).dotted().label("local μ^S"));
     panel.push(Series::line(vec![(0.0, law.mu_d), (end, law.mu_d)], style::PRE_SLIDING).dashed().label("local μ^D"));
@@ -362,16 +378,94 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
             .hollow()
             .label(format!("critical state: F_S/N = {:.4}", peak)),
     );
+    if stiffness.is_none() {
+        length = "The study recorded no stuck stiffness K_t with this snapshot (a run before it did), so δ \
+                  has no length here and is drawn in units of δ_peak (`asperity onset --shear-stiffness` gives \
+                  δ = s/k_t in metres)."
+            .into();
+    }
     let caption = format!(
         "The macroscopic friction coefficient F/N against the imposed displacement δ (in units of δ_peak, the \
          displacement at the peak) at N = {} for the law \"{}\" (the paper's Fig. 4a): the model's equal load \
          sharing (solid), the peak circled (the critical state, F_S/N = {:.4}), and rigid displacement control \
          without redistribution (dashed, blue), which peaks at the same F_S; the local μ_s (brown, dotted) and μ_d \
-         (amber, dashed). The study gives the elements no tangential stiffness k_t, so δ has no length here and \
-         is drawn in units of δ_peak (`asperity onset --shear-stiffness` gives δ = s/k_t in metres).",
+         (amber, dashed). {length}",
         load_label(snap.load_n),
         law_name(law),
         peak
     );
     Ok((Figure::new(panel).with_size(1200, 800), caption))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plot::Draw;
+    use plotters::prelude::{IntoDrawingArea, SVGBackend};
+
+    /// Fig. 4a as SVG text, and its caption, on four elements of 1, 2, 3 and 5 × 10⁻⁷ N.
+    fn drawn(stuck_stiffness: Option<f64>) -> (String, String) {
+        let mut pressure = ndarray::Array2::zeros((4, 4));
+        for (k, p) in [1e9, 2e9, 3e9, 5e9].into_iter().enumerate() {
+            pressure[[1 + k / 2, 1 + k % 2]] = p;
+        }
+        let snap = MapSnapshot {
+            topography: "ball".into(),
+            load_n: 1.1e-6,
+            pressure,
+            origin: (0, 0),
+            grid: (4, 4),
+            pixel_size: (1e-8, 1e-8),
+            stuck_stiffness,
+        };
+        let (figure, caption) = friction_curve(&snap, &FrictionLaw::new(0.6, 0.4).unwrap()).unwrap();
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, figure.size()).into_drawing_area();
+            style::register_fonts();
+            figure.draw(&root).unwrap();
+            root.present().unwrap();
+        }
+        (svg, caption)
+    }
+
+    /// Every text of `svg` as (y [px], text).
+    fn texts(svg: &str) -> Vec<(f64, String)> {
+        svg.split("<text")
+            .skip(1)
+            .map(|t| {
+                let y = t.split(" y=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
+                let text = t.split_once('>').unwrap().1.split("</text>").next().unwrap();
+                (y, text.trim().to_string())
+            })
+            .collect()
+    }
+
+    /// Issue 37: Fig. 4a gave δ in units of δ_peak only. With the contact's K_t recorded it
+    /// reads δ in nm along the top and states δ_peak = n s*/K_t: here the fourth element is the
+    /// critical one (F_k = 2.4, 4, 4.8, 5.4 × 10⁻⁷ N), s* = 0.6 · 5e-7 N = 3e-7 N, and with
+    /// K_t = 1000 N/m over n = 4 elements, k_t = 250 N/m and δ_peak = 4 · 3e-7 / 1000 m = 1.2 nm.
+    #[test]
+    fn the_friction_curve_gives_delta_in_nm() {
+        let (svg, caption) = drawn(Some(1e3));
+        for said in ["δ_peak = 1.2 nm", "n = 4 elements", "K_t = 1000 N/m", "k_t = K_t/n = 250 N/m"] {
+            assert!(caption.contains(said), "no \"{said}\" in: {caption}");
+        }
+        assert!(!caption.contains("no length"), "{caption}");
+        // The top axis' name above the plotting area, its ticks at 0.5 nm steps up to 1.5 δ_peak.
+        let texts = texts(&svg);
+        let name = texts
+            .iter()
+            .find(|t| t.1 == "imposed displacement δ [nm]")
+            .unwrap_or_else(|| panic!("the top axis is not named: {texts:?}"));
+        let title = texts.iter().find(|t| t.1.starts_with("Friction vs displacement")).unwrap();
+        assert!(title.0 < name.0, "the title at y = {} px, the top axis' name at {} px", title.0, name.0);
+        let ticks: Vec<&str> =
+            texts.iter().filter(|t| t.0 > name.0 && t.0 < name.0 + 60.0).map(|t| t.1.as_str()).collect();
+        assert_eq!(ticks, ["0", "0.5", "1", "1.5"], "the top axis' ticks");
+
+        // A snapshot of an earlier run, without K_t: δ/δ_peak only, as said.
+        let (svg, caption) = drawn(None);
+        assert!(!svg.contains("δ [nm]") && caption.contains("δ has no length here"), "{caption}");
+    }
 }

@@ -301,6 +301,11 @@ pub struct MapSnapshot {
     pub grid: (usize, usize),
     /// Pixel size (dx, dy) [m].
     pub pixel_size: (f64, f64),
+    /// The contact's stuck tangential stiffness K_t [N/m] ([`crate::friction::stuck_stiffness`]
+    /// on the solve's contact set), which gives the elements k_t = K_t / n and δ in metres:
+    /// recorded for the snapshot the friction curve (Fig. 4a) draws, the one within
+    /// [`NEAR_DECADES`] of 0.1 mN; `None` for the others and in an earlier run's snapshots.
+    pub stuck_stiffness: Option<f64>,
 }
 
 /// `MapSnapshot` without its array, as stored beside it.
@@ -311,6 +316,9 @@ struct SnapshotMeta {
     origin: (usize, usize),
     grid: (usize, usize),
     pixel_size_m: (f64, f64),
+    /// Absent in the snapshots of runs before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stuck_stiffness_n_per_m: Option<f64>,
 }
 
 impl MapSnapshot {
@@ -342,6 +350,7 @@ impl MapSnapshot {
             origin: (r0, c0),
             grid: (ny, nx),
             pixel_size,
+            stuck_stiffness: None,
         })
     }
 
@@ -359,6 +368,7 @@ impl MapSnapshot {
             origin: self.origin,
             grid: self.grid,
             pixel_size_m: self.pixel_size,
+            stuck_stiffness_n_per_m: self.stuck_stiffness,
         };
         crate::output::write_json(&dir.join(format!("{stem}.json")), &meta)
     }
@@ -378,6 +388,7 @@ impl MapSnapshot {
             origin: meta.origin,
             grid: meta.grid,
             pixel_size: meta.pixel_size_m,
+            stuck_stiffness: meta.stuck_stiffness_n_per_m,
         })
     }
 }
@@ -471,6 +482,9 @@ impl ResolutionRow {
 /// a [`MapSnapshot`] of its first topography at the swept load nearest to each (in log scale).
 pub const FIGURE_LOADS_N: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
+/// A snapshot stands for a figure load when it lies within half a decade of it.
+pub const NEAR_DECADES: f64 = 0.5;
+
 /// What a study records for its figures and report: its rows, maps and parameters as run. The
 /// study writes them and stops; the layer above it draws from them (see [`crate::report`]).
 #[derive(Debug)]
@@ -554,6 +568,12 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         snap.save(dir.path(), "m").unwrap();
         assert_eq!(MapSnapshot::load(dir.path(), "m").unwrap(), snap);
+        // A snapshot without K_t is written as before it was recorded, and such a one loads.
+        let json = std::fs::read_to_string(dir.path().join("m.json")).unwrap();
+        assert!(!json.contains("stuck_stiffness") && json.contains("pixel_size_m"), "{json}");
+        let snap = MapSnapshot { stuck_stiffness: Some(6.2e4), ..snap };
+        snap.save(dir.path(), "k").unwrap();
+        assert_eq!(MapSnapshot::load(dir.path(), "k").unwrap(), snap);
         assert!(MapSnapshot::crop("t", 1.0, &Array2::zeros((3, 3)), (1.0, 1.0), 0).is_none());
     }
 }

@@ -14,7 +14,8 @@
 //! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
 //!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
 //! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
-//!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order);
+//!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order),
+//!   the one the friction curve draws with its contact's stuck tangential stiffness K_t;
 //! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for (a plastic
 //!   sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
 //! - `figures/`, `index.html`: the figures and their report, written by `crate::report` while
@@ -67,12 +68,14 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::shard::{self, Piece, Shard};
-use super::{FigureKind, MapSnapshot, Records, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N};
+use super::{
+    FigureKind, MapSnapshot, Records, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N, NEAR_DECADES,
+};
 use crate::contact::{
     self, ContactSolver, Convergence, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use crate::error::{Error, Result};
-use crate::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
+use crate::friction::{elastic_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use crate::limits::Limits;
 use crate::output::{self, Access, Ledger, Lock};
 use crate::topography::io::{self, ReadOptions};
@@ -1046,8 +1049,22 @@ impl Study {
                 output::write_npy(&maps.join(format!("{k:02}.npy")), &pressure)?;
             }
             if snapshots.contains(&k) {
-                let snap =
+                let mut snap =
                     MapSnapshot::crop(name, load, &pressure, pixel, SNAPSHOT_MARGIN).expect("a load makes contact");
+                if (load / FIGURE_LOADS_N[0]).log10().abs() <= NEAR_DECADES {
+                    // The friction curve's: its elements' k_t, from the stuck contact.
+                    let compliance = ShearCompliance::of(&self.config.bodies());
+                    let mut solver = TangentialSolver::new(
+                        pressure.as_slice().expect("row-major"),
+                        shape,
+                        size,
+                        compliance,
+                        c.boundary,
+                        TangentialOptions::default(),
+                    )
+                    .map_err(context)?;
+                    snap.stuck_stiffness = Some(stuck_stiffness(&mut solver).map_err(context)?);
+                }
                 let dir = dir.join("snapshots");
                 std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
                 snap.save(&dir, &self.snapshot_stem(k))?;
