@@ -21,9 +21,9 @@
 
 use serde::Serialize;
 
-use super::ClassShare;
+use super::{stuck_stiffness, ClassShare};
 use crate::contact::tangential::magnitude;
-use crate::contact::TangentialSolver;
+use crate::contact::{TangentialReport, TangentialSolver};
 use crate::error::{Error, Result};
 
 /// Displacement steps up to the stuck estimate of the peak, μ_s N / k_t (the path's longer
@@ -359,18 +359,21 @@ impl<'a> Path<'a> {
         } else {
             self.solver.solve_after_change(&self.target, &self.bound, tolerance, changed)?
         };
-        self.work.solves += 1;
-        self.work.iterations += report.iterations;
-        self.work.applications += report.applications;
+        self.count(report);
         Ok(())
     }
 
-    /// The fully stuck tangential stiffness k_t = dF/dδ [N/m].
+    fn count(&mut self, report: TangentialReport) {
+        self.work.solves += 1;
+        self.work.iterations += report.iterations;
+        self.work.applications += report.applications;
+    }
+
+    /// The fully stuck tangential stiffness k_t = dF/dδ [N/m] ([`stuck_stiffness`]), its
+    /// solve counted in the path's work; the path's traction is restored.
     fn stuck_stiffness(&mut self) -> Result<f64> {
-        self.target.iter_mut().for_each(|b| *b = [1.0, 0.0]);
-        self.bound.fill(f64::INFINITY);
-        self.solve(self.tolerance, &[])?;
-        let k = self.solver.force()[0];
+        let (k, report) = stuck_stiffness(self.solver)?;
+        self.count(report);
         self.solver.set_traction(&self.state.traction);
         Ok(k)
     }
@@ -818,9 +821,6 @@ pub fn elastic_onset(
     check_scales(option, &traction_scales(law.lowest(), law.mu_s, solver.pressure(), normal_force))?;
     let mut path = Path::new(solver, law);
     let k = path.stuck_stiffness()?;
-    if !(k > 0.0 && k.is_finite()) {
-        return Err(Error::invalid("sliding onset", format!("the stuck tangential stiffness is {k} N/m")));
-    }
     let h0 = law.mu_s * normal_force / k / STEPS as f64;
     let finest = h0 / (REFINE as f64).powi(REFINEMENTS as i32);
     check_scales(

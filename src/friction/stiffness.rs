@@ -8,20 +8,21 @@
 //! elements, k_t = K_t / n ([`element_stiffness`]), so that while all are stuck the model's
 //! force n s = K_t δ rises with the elastic contact's own slope, and δ_peak = n s* / K_t.
 
-use crate::contact::TangentialSolver;
+use crate::contact::{TangentialReport, TangentialSolver};
 use crate::error::{Error, Result};
 
 /// The stuck tangential stiffness K_t = dF/dδ [N/m] of the contact set of `solver`: the force
 /// along x of the solve for a unit displacement along x at every contact point with unbounded
-/// tractions (no point slips). The solver is left holding that traction.
-pub fn stuck_stiffness(solver: &mut TangentialSolver) -> Result<f64> {
+/// tractions (no point slips), with that solve's report (for a caller that counts its work).
+/// The solver is left holding that traction.
+pub fn stuck_stiffness(solver: &mut TangentialSolver) -> Result<(f64, TangentialReport)> {
     let m = solver.points().len();
-    solver.solve(&vec![[1.0, 0.0]; m], &vec![f64::INFINITY; m])?;
+    let report = solver.solve(&vec![[1.0, 0.0]; m], &vec![f64::INFINITY; m])?;
     let k = solver.force()[0];
     if !(k > 0.0 && k.is_finite()) {
-        return Err(Error::invalid("stuck tangential stiffness", format!("the solve gives {k} N/m")));
+        return Err(Error::invalid("sliding onset", format!("the stuck tangential stiffness is {k} N/m")));
     }
-    Ok(k)
+    Ok((k, report))
 }
 
 /// k_t = K_t / n [N/m]: the shear stiffness of each of `elements` elements sharing the
@@ -55,14 +56,14 @@ mod tests {
         let mut solver =
             TangentialSolver::new(&pressure, (n, n), (l, l), compliance, Boundary::Free, TangentialOptions::default())
                 .unwrap();
-        let k = stuck_stiffness(&mut solver).unwrap();
+        let (k, _) = stuck_stiffness(&mut solver).unwrap();
         let dx = l / n as f64;
         let a = (solver.points().len() as f64 / std::f64::consts::PI).sqrt() * dx;
         let mindlin = 8.0 * a / (2.0 * compliance.a - compliance.b);
         eprintln!("K_t {k:.5e} N/m, Mindlin {mindlin:.5e} N/m, ratio {:.4}", k / mindlin);
         assert!((k / mindlin - 1.0).abs() < 0.02, "K_t {k} N/m against Mindlin's {mindlin} N/m");
         // Linear in the displacement: the same stiffness from a solver that starts stuck.
-        assert!((stuck_stiffness(&mut solver).unwrap() / k - 1.0).abs() < 1e-5);
+        assert!((stuck_stiffness(&mut solver).unwrap().0 / k - 1.0).abs() < 1e-5);
     }
 
     /// Four equal elements at the corners of a square share the shear equally by symmetry, as
@@ -86,7 +87,7 @@ mod tests {
             TangentialOptions::default(),
         )
         .unwrap();
-        let k = stuck_stiffness(&mut solver).unwrap();
+        let (k, _) = stuck_stiffness(&mut solver).unwrap();
         let loads = ElementLoads::from_forces(&[1e9 * 1e-14; 4]).unwrap();
         let model = Onset::new(&loads, &FrictionLaw::new(0.6, 0.4).unwrap());
         let delta_peak = displacement(model.critical_shear(), element_stiffness(k, 4));

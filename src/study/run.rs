@@ -1063,7 +1063,7 @@ impl Study {
                         TangentialOptions::default(),
                     )
                     .map_err(context)?;
-                    snap.stuck_stiffness = Some(stuck_stiffness(&mut solver).map_err(context)?);
+                    snap.stuck_stiffness = Some(stuck_stiffness(&mut solver).map_err(context)?.0);
                 }
                 let dir = dir.join("snapshots");
                 std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
