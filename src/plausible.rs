@@ -104,6 +104,15 @@ const ROUGHNESS: Kind = Kind {
     meant: &[("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)],
 };
 
+const SLIP_DISTANCE: Kind = Kind {
+    what: "a slip-weakening distance",
+    dim: &LENGTH,
+    possible: (1e-12, 1e-3),
+    usual: (1e-11, 1e-4),
+    typical: 1e-9,
+    meant: &[("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)],
+};
+
 /// Young's modulus E [Pa] of a body: 1 MPa to 2 TPa (usually 10 MPa to 1.2 TPa, diamond's).
 pub fn modulus(pa: f64, spelling: Spelling) -> Verdict {
     check(&MODULUS, pa, spelling)
@@ -132,6 +141,13 @@ pub fn radius(m: f64, spelling: Spelling) -> Verdict {
 /// An RMS height of roughness [m]: 0.1 pm to 1 cm (usually 1 pm to 100 µm).
 pub fn roughness(m: f64, spelling: Spelling) -> Verdict {
     check(&ROUGHNESS, m, spelling)
+}
+
+/// A slip-weakening distance d_c [m]: 1 pm to 1 mm (usually 10 pm to 100 µm; nanoscale
+/// friction curves weaken over nanometres, rocks over micrometres). Zero (the instant drop) is
+/// the callers' own case.
+pub fn slip_distance(m: f64, spelling: Spelling) -> Verdict {
+    check(&SLIP_DISTANCE, m, spelling)
 }
 
 /// A friction coefficient (dimensionless): at most [`MAX_FRICTION_COEFFICIENT`], unusual above
@@ -260,6 +276,11 @@ mod tests {
         assert!(pixel(20.0, CommandLine).unwrap_err().ends_with("did you mean 20nm?"));
         assert!(hardness(12.0, CommandLine).unwrap_err().ends_with("did you mean 12GPa?"));
         assert!(roughness(22.0, CommandLine).unwrap_err().ends_with("did you mean 22nm?"));
+        let e = slip_distance(2.0, CommandLine).unwrap_err();
+        assert_eq!(e, "2 m is not a slip-weakening distance (1 pm to 1 mm); did you mean 2nm?");
+        assert!(slip_distance(2.0, Python).unwrap_err().ends_with("did you mean 2e-9 (2 nm)?"));
+        assert_eq!(slip_distance(2e-9, StudyFile), Ok(None));
+        assert_eq!(slip_distance(5e-6, CommandLine), Ok(None));
         // Nothing scales a value too small up: no suggestion.
         assert_eq!(pixel(1e-13, CommandLine).unwrap_err(), "0.1 pm is not a pixel size (1 pm to 1 m)");
         assert!(modulus(130.0, CommandLine).unwrap_err().starts_with("130 Pa is not"));

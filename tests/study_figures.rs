@@ -286,7 +286,7 @@ fn every_figure_movie_and_the_report() {
     }
     assert!(html.contains("<th>hold 100 s, elastic sharing</th>"), "the elastic drop in the results table");
     assert!(html.contains("illustrative placeholder") && html.contains("hold 10 s"));
-    for load in ["0.1 mN", "1 mN", "3 mN", "10 mN", "100 mN"] {
+    for load in ["100 µN", "1 mN", "3 mN", "10 mN", "100 mN"] {
         assert!(html.contains(&format!("<tr><td>{load}</td>")), "results row at {load}");
     }
     assert!(!html.contains("not drawn") && !html.contains("http"), "self-contained, everything drawn");

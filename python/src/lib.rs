@@ -71,7 +71,10 @@ fn error_naming(e: asperity::Error, names: &[(&str, &str)]) -> PyErr {
 }
 
 /// Phrases of the library's messages that point at a command line, and what Python calls them.
-const PHRASES: &[(&str, &str)] = &[("asperity topo convert --fill-missing", "Topography.fill_missing()")];
+const PHRASES: &[(&str, &str)] = &[
+    ("asperity topo convert --fill-missing", "Topography.fill_missing()"),
+    ("(displacement_m, or --displacement-column)", "(the displacement_m argument)"),
+];
 
 /// `text` with each command-line option (`--max-iter`, `--height-unit U`) written as the
 /// argument of the same meaning in Python (`max_iter`, `height_unit`): its name with `_` for
@@ -1482,7 +1485,10 @@ fn slide(
         (None, Some(_)) if tangential_force.is_some() => {
             return Err(invalid("slip_distance", "not used with tangential_force (a Coulomb ramp at mu_s)"))
         }
-        (None, Some(dc)) => Weakening::Linear(dc),
+        (None, Some(dc)) => {
+            judge(py, "slip_distance", dc, plausible::slip_distance(dc, Spelling::Python))?;
+            Weakening::Linear(dc)
+        }
         (None, None) => Weakening::Instant,
     };
     let options = TangentialOptions { tolerance, max_iterations: max_iter };
@@ -1653,6 +1659,9 @@ fn _run_study(
     }
     let config = if quick { config.quick() } else { config };
     let study = py.detach(|| Study::prepare(config, &origin)).map_err(error)?;
+    for w in study.warnings() {
+        warn(py, &format!("{origin}: {w}"), 2)?;
+    }
     // Read before any solve, as the command line does: a bad experiments file costs nothing.
     let experiments = asperity::report::experiments(&study).map_err(error)?;
 

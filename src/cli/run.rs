@@ -98,7 +98,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         }
         Progress::Slid { topography, load_n, law, iterations, seconds } => {
             // The bar shows the study's names: escaped, as every message.
-            let what = format!("{} at {load_n:.3e} N: elastic onset of \"{}\"", escaped(topography), escaped(law));
+            let what =
+                format!("{} at {}: elastic onset of \"{}\"", escaped(topography), show(load_n, &FORCE), escaped(law));
             bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
@@ -114,17 +115,18 @@ pub fn run(args: RunArgs) -> Result<()> {
         }
         Progress::Solved { topography, load_n, iterations, .. } => {
             let topography = escaped(topography);
-            bar.set_message(format!("{topography} at {load_n:.3e} N ({iterations} iterations)"));
+            bar.set_message(format!("{topography} at {} ({iterations} iterations)", show(load_n, &FORCE)));
             bar.inc(1);
             let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             let finished = bar.length().is_some_and(|l| bar.position() == l);
             if batch && (last.elapsed() >= super::BATCH_PROGRESS || finished) {
                 *last = Instant::now();
                 super::message(&format!(
-                    "solving: {}/{} after {:.0} s ({topography} at {load_n:.3e} N)",
+                    "solving: {}/{} after {:.0} s ({topography} at {})",
                     bar.position(),
                     bar.length().unwrap_or(0),
-                    start.elapsed().as_secs_f64()
+                    start.elapsed().as_secs_f64(),
+                    show(load_n, &FORCE)
                 ));
             }
         }
@@ -259,7 +261,11 @@ pub fn prepare(path: Option<&Path>, quick: bool, limits: &super::LimitArgs) -> R
     if let Some(limits) = limits.given() {
         config.limits.max_points = limits.max_points;
     }
-    Study::prepare(config, &origin)
+    let study = Study::prepare(config, &origin)?;
+    for w in study.warnings() {
+        super::message(&format!("warning: {origin}: {w}"));
+    }
+    Ok(study)
 }
 
 /// `--shard I/N`.

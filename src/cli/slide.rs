@@ -351,6 +351,7 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
             if !(dc > 0.0 && dc.is_finite()) {
                 return Err(Error::invalid("--slip-distance", format!("must be positive and finite, got {dc:e} m")));
             }
+            super::judge("--slip-distance", plausible::slip_distance(dc, Spelling::CommandLine))?;
             Weakening::Linear(dc)
         }
         (None, None) => Weakening::Instant,

@@ -5,9 +5,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::maps::load_label;
 use super::shared::{by_load, spread, stem, Drawn, FigureInput};
 use crate::error::Result;
+use crate::quantity::{show, FORCE};
 use crate::friction::{FrictionLaw, PRESETS};
 use crate::study::{law_name, FigureKind, Row};
 
@@ -202,7 +202,7 @@ fn results(w: &mut String, input: &FigureInput) {
                 format!("{lo:.0}–{hi:.0}")
             }
         });
-        let _ = write!(w, "<tr><td>{}</td><td>{points}</td>", load_label(load));
+        let _ = write!(w, "<tr><td>{}</td><td>{points}</td>", show(load, &FORCE));
         for (_, groups) in &columns {
             match at(groups).map(|k| &groups[k].1) {
                 Some(rows) => {

@@ -624,6 +624,7 @@ impl StudyConfig {
                 note(format!("{here}.cap.radius_m"), plausible::radius(cap.radius, Spelling::StudyFile));
             }
         }
+        note("model.slip_distance".into(), plausible::slip_distance(self.model.slip_distance.0, Spelling::StudyFile));
         for (i, law) in self.laws.iter().enumerate() {
             for mu in [law.mu_s, law.mu_d].into_iter().flatten() {
                 note(format!("law[{i}]"), plausible::friction_coefficient(mu));
@@ -805,6 +806,9 @@ impl StudyConfig {
         if !(dc >= 0.0 && dc.is_finite()) {
             return at(&[key("model"), key("slip_distance")], format!("{dc} m is not a length ≥ 0 (0: instant drop)"));
         }
+        plausible::slip_distance(dc, Spelling::StudyFile)
+            .map(drop)
+            .or_else(|r| at(&[key("model"), key("slip_distance")], r))?;
 
         Limits::new(self.limits.max_points, "max_points")
             .map_err(|e| (vec![key("limits"), key("max_points")], reason_of(e)))?;

@@ -77,6 +77,7 @@ use crate::contact::{
 use crate::error::{Error, Result};
 use crate::friction::{elastic_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use crate::limits::Limits;
+use crate::plausible::{self, Spelling};
 use crate::output::{self, Access, Ledger, Lock};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
@@ -119,6 +120,8 @@ pub struct Study {
     wait: bool,
     /// Solve only this shard's share, and write no table or figures.
     shard: Option<Shard>,
+    /// Loads that press a read topography's window unusually hard ([`Study::warnings`]).
+    warnings: Vec<String>,
 }
 
 /// The locks a run holds while it works in DIR, and its ledger (none in a DIR an asperity
@@ -384,11 +387,18 @@ impl Study {
             }
         }
         let loads = config.load_values();
-        for (name, topo) in &topographies {
+        let mut warnings = Vec::new();
+        for ((name, topo), spec) in topographies.iter().zip(&config.topographies) {
             let size = topo.physical_size.expect("a built topography has a size");
+            let here = format!("topography \"{name}\": loads");
             for &load in [loads[0], loads[loads.len() - 1]].iter() {
-                contact::check_load(load, size, config.effective_modulus())
-                    .map_err(|e| at(&format!("topography \"{name}\": loads"), e))?;
+                contact::check_load(load, size, config.effective_modulus()).map_err(|e| at(&here, e))?;
+            }
+            // A file's window is known only now (a synthetic one's was judged with the file).
+            match plausible::load(loads[loads.len() - 1], size, config.effective_modulus(), Spelling::StudyFile) {
+                Err(reason) => return Err(Error::invalid(format!("{origin}: {here}"), reason)),
+                Ok(Some(w)) if spec.synthetic.is_none() => warnings.push(format!("{here}: {w}")),
+                Ok(_) => {}
             }
         }
         let mut config = config;
@@ -405,7 +415,14 @@ impl Study {
             loads,
             wait: false,
             shard: None,
+            warnings,
         })
+    }
+
+    /// What the prepared study found unusual once its files were read, in the study file's
+    /// words: its heaviest load pressing a file's window unusually hard (a bare `1` meant in mN).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// When another process works in DIR on the same units, wait for it (`true`) instead of
