@@ -335,22 +335,24 @@ impl Panel {
         X::CoordDescType: ValueFormatter<f64>,
         Y::CoordDescType: ValueFormatter<f64>,
     {
-        // A top axis goes between the title and the axes: the title is then set above the
-        // area the chart is built on (the chart's own caption would sit below its margin).
+        // The title is set above the area the chart is built on, centred on the whole width
+        // (the chart's own caption would be centred left of a legend beside the axes, and sit
+        // below its margin, under a top axis).
         let titled;
-        let area = match (&self.title, &self.top) {
-            (Some(title), Some(_)) => {
-                titled = area.margin(style::MARGIN, 0, 0, 0).titled(title, (style::FONT, style::TITLE_SIZE))?;
+        let area = match &self.title {
+            Some(title) => {
+                let size = title_size(area, title)?;
+                titled = area.margin(style::MARGIN, 0, 0, 0).titled(title, (style::FONT, size))?;
                 &titled
             }
-            _ => area,
+            None => area,
         };
         let mut builder = ChartBuilder::on(area);
         builder.margin(style::MARGIN).margin_right(style::MARGIN + self.beside_width(area)?);
         if self.top.is_some() {
             builder.margin_top(TOP_AXIS_PX);
-        } else if let Some(title) = &self.title {
-            builder.caption(title, (style::FONT, style::TITLE_SIZE));
+        } else if self.title.is_some() {
+            builder.margin_top(0);
         }
         builder.x_label_area_size(70).y_label_area_size(105);
         let mut chart = builder.build_cartesian_2d(x, y)?;
@@ -523,6 +525,17 @@ impl Panel {
         }
         Ok(())
     }
+}
+
+/// The font size [px] of a panel's `title` on `area`: style::TITLE_SIZE, or smaller where the
+/// title would be wider than the area less a margin each side (a long law name), so that no
+/// title runs off the figure (it is centred, and plotters would cut both of its ends).
+fn title_size<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str) -> DrawResult<DB, f64> {
+    let room = area.dim_in_pixel().0 as f64 - 2.0 * style::MARGIN as f64;
+    let font = (style::FONT, style::TITLE_SIZE).into_font();
+    let width = area.estimate_text_size(title, &font.into_text_style(area))?.0 as f64;
+    // The width grows with the size, but in whole pixels per glyph: 2 % to spare.
+    Ok(if width > room { style::TITLE_SIZE * 0.98 * room / width } else { style::TITLE_SIZE })
 }
 
 /// How much of series `s` a legend box `rect` (left, top, right, bottom) would hide, in
@@ -987,6 +1000,46 @@ mod tests {
         let tag = &svg[svg[..at].rfind("<text").unwrap()..at];
         let x: i32 = tag.split("x=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
         assert!(x + width <= 1200, "the entry ends at {} px on a 1200 px figure", x + width);
+    }
+
+    /// A title wider than the figure is set smaller: Fig. 4g's title, with a long law name,
+    /// was cut at both edges of its figure.
+    #[test]
+    fn a_long_title_stays_on_the_figure() {
+        let long = "Force carried per element class at the critical state (a law with a long name, hold \
+                    100 s; mean over 3 topographies)";
+        for (top, beside) in [(false, false), (true, false), (false, true)] {
+            let mut panel = Panel::new(Axis::new("load", "mN").log(), Axis::dimensionless("fraction")).title(long);
+            if top {
+                panel = panel.top_axis(Axis::new("load", "N"), 1e-3);
+            }
+            if beside {
+                panel = panel.legend_beside(330);
+            }
+            panel.push(Series::line(vec![(1e-3, 0.2), (1e2, 0.5)], BLACK));
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (1000, 600)).into_drawing_area();
+                style::register_fonts();
+                Figure::new(panel).with_size(1000, 600).draw(&root).unwrap();
+                root.present().unwrap();
+            }
+            let at = svg.find(long).expect("the title is drawn");
+            let tag = &svg[svg[..at].rfind("<text").unwrap()..at];
+            let attr = |name: &str| -> f64 {
+                tag.split(&format!(" {name}=\"")).nth(1).unwrap().split('"').next().unwrap().parse().unwrap()
+            };
+            let (x, size) = (attr("x"), attr("font-size"));
+            let mut scratch = String::new();
+            let root = SVGBackend::with_string(&mut scratch, (1000, 600)).into_drawing_area();
+            let width =
+                |size: f64| root.estimate_text_size(long, &(style::FONT, size).into_text_style(&root)).unwrap().0;
+            let (full, w) = (width(style::TITLE_SIZE) as f64, width(size) as f64);
+            let drawn = (x - w / 2.0, x + w / 2.0);
+            assert!(full > 1000.0, "the title at full size, {full} px, is wider than the figure");
+            let case = format!("top axis {top}, legend beside {beside}");
+            assert!(drawn.0 >= 0.0 && drawn.1 <= 1000.0, "{case}: the title spans {drawn:?} px");
+        }
     }
 
     #[test]
