@@ -150,7 +150,7 @@ fn refuses_a_missing_law_and_a_bad_slip_distance() {
         (&[][..], "--mu-s"),
         (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "-1nm"][..], "--slip-distance"),
         // Finite but too long to weaken within the path's steps: said so, with what to do.
-        (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "1e300"][..], "give a shorter one"),
+        (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "1e300"][..], "1e300 m is not a slip-weakening distance (1 pm to 1 mm)"),
         (&["--mu-s", "0.3", "--mu-d", "0.4"][..], "--mu-s"),
         // The ramp is under Coulomb friction: a weakening law would do nothing there.
         (
