@@ -11,6 +11,10 @@ use crate::study::MapSnapshot;
 /// Bins of the subcritical ratios of a many-element interface between 0 and mu_s.
 const BINS: usize = 40;
 
+/// The share of a logarithmic axis' height kept free above its tallest bar for the legend
+/// (up to four entries, in a quarter-figure panel of Fig. 4b–e).
+const LEGEND_SHARE: f64 = 0.45;
+
 /// The fraction of the elements at each local stress ratio μ at the critical state, by class:
 /// (class, μ, fraction); subcritical ratios binned (bin centre) when `binned`; subcritical
 /// first, so that the few critical elements are drawn over their neighbours.
@@ -65,9 +69,19 @@ fn panel(title: String, loads: &ElementLoads, law: &FrictionLaw, binned: bool) -
     let onset = Onset::new(loads, law);
     let width = law.mu_s / BINS as f64 * if binned { 0.9 } else { 1.5 };
     let bars = ratios(loads, &onset, binned);
-    // On the logarithmic axis of a many-element interface, bars rise from below the rarest.
+    // On the logarithmic axis of a many-element interface, bars rise from below the rarest;
+    // the axis reaches so far above the tallest bar (or the critical elements' marker, at 2.5
+    // times theirs) that the legend, in the upper left, covers none: the pre-sliding bar at
+    // μ_d can hold nine elements in ten, and a legend over it hid it.
     let least = bars.iter().map(|b| b.2).fold(1.0, f64::min);
-    let (lo, hi) = if binned { (least / 3.0, 4.0) } else { (0.0, 1.25) };
+    let (lo, hi) = if binned {
+        let lo = least / 3.0;
+        let mark = |b: &(ElementClass, f64, f64)| b.2 * if b.0 == ElementClass::Critical { 2.5 } else { 1.0 };
+        let tallest = bars.iter().map(mark).fold(lo, f64::max);
+        (lo, 10f64.powf((tallest.log10() - LEGEND_SHARE * lo.log10()) / (1.0 - LEGEND_SHARE)).max(4.0))
+    } else {
+        (0.0, 1.25)
+    };
     let y = Axis::dimensionless("fraction of the elements").range(lo, hi);
     let mut panel = Panel::new(
         Axis::dimensionless("local stress ratio μ").range(0.0, law.mu_s * 1.12),
@@ -133,4 +147,68 @@ pub(super) fn stress_ratio_histograms(snap: Option<&MapSnapshot>, law: &Friction
     let columns = if n == 4 { 2 } else { n };
     let size = if n == 4 { (1500, 1100) } else { (500 * n as u32, 560) };
     Ok((Grid::new(panels, columns, size), caption))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plot::{Draw, Figure};
+    use plotters::prelude::*;
+
+    /// The fill colour of a class as the SVG writes it.
+    fn hex(c: RGBColor) -> String {
+        format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+    }
+
+    /// Fig. 4e: the legend box covered the pre-sliding bar at μ_d, nine elements in ten.
+    #[test]
+    fn the_legend_covers_no_bar() {
+        let law = FrictionLaw::new(0.6, 0.3).unwrap();
+        // Most elements weak (they slip first, at μ_d), a few strong ones, one the strongest.
+        let mut forces = vec![1.0; 900];
+        forces.extend((0..99).map(|k| 60.0 + 0.3 * k as f64));
+        forces.push(100.0);
+        let loads = ElementLoads::from_forces(&forces).unwrap();
+        let onset = Onset::new(&loads, &law);
+        let pre = ratios(&loads, &onset, true).iter().find(|b| b.0 == ElementClass::PreSliding).map(|b| b.2);
+        assert!(pre.is_some_and(|f| f > 0.5), "pre-sliding fraction {pre:?}");
+        let (w, h) = (750, 550);
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            crate::plot::style::register_fonts();
+            Figure::new(panel("(e) N = 10 mN".into(), &loads, &law, true)).with_size(w, h).draw(&root).unwrap();
+            root.present().unwrap();
+        }
+        let attr = |tag: &str, name: &str| -> String {
+            tag.split(&format!(" {name}=\"")).nth(1).unwrap().split('"').next().unwrap().to_string()
+        };
+        let num = |tag: &str, name: &str| -> f64 { attr(tag, name).parse().unwrap() };
+        // The legend's box: the white, nearly opaque rectangle.
+        let legend = svg
+            .split('<')
+            .find(|t| t.starts_with("rect") && t.contains("fill=\"#FFFFFF\"") && t.contains("opacity=\"0.88"))
+            .expect("a legend box");
+        let (x0, y0) = (num(legend, "x"), num(legend, "y"));
+        let (x1, y1) = (x0 + num(legend, "width"), y0 + num(legend, "height"));
+        let colours: Vec<String> = [style::SUBCRITICAL, style::PRE_SLIDING, style::CRITICAL].map(hex).into();
+        let mut bars = 0;
+        // The bars (and the critical elements' marker), drawn before the legend and its glyphs.
+        let before = &svg[..svg.find(legend).unwrap()];
+        for tag in before.split('<').filter(|t| t.starts_with("polygon")) {
+            if !colours.iter().any(|c| tag.contains(&format!("fill=\"{c}\""))) {
+                continue;
+            }
+            bars += 1;
+            let points: Vec<(f64, f64)> = attr(tag, "points")
+                .split_whitespace()
+                .map(|p| p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap())
+                .collect();
+            let (bx0, bx1) = points.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+            let (by0, by1) = points.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+            let apart = bx1 < x0 || bx0 > x1 || by1 < y0 || by0 > y1;
+            assert!(apart, "bar {bx0}..{bx1} × {by0}..{by1} px under the legend {x0}..{x1} × {y0}..{y1} px");
+        }
+        assert!(bars >= 3, "{bars} bars drawn");
+    }
 }
