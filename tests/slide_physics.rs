@@ -518,9 +518,9 @@ fn the_first_step_leaps_to_the_floor_and_stays_below_it() {
     assert!(onset.static_force >= floor);
     // Step lengths never grow along the path from δ = 0 (the curve's coarse part).
     let coarse: Vec<f64> = onset.curve.iter().map(|c| c.displacement_m).collect();
-    let h0 = 0.6 * onset.normal_force / kt / 16.0;
+    let h0 = 0.6 * onset.normal_force / kt / 64.0;
     assert!(coarse.windows(2).all(|w| w[1] - w[0] <= floor / kt * (1.0 + 1e-9)), "{coarse:?}");
-    assert!(coarse.windows(2).any(|w| (w[1] - w[0] - h0).abs() < 1e-6 * h0), "coarse steps of μ_s N / (16 k_t)");
+    assert!(coarse.windows(2).any(|w| (w[1] - w[0] - h0).abs() < 1e-6 * h0), "coarse steps of μ_s N / (64 k_t)");
 }
 
 #[test]
