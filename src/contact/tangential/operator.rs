@@ -12,8 +12,9 @@ use crate::contact::influence::{Boundary, Offsets, ShearCompliance, TangentialIn
 /// costs about 0.4 of a grid point of an application.
 const PAIRS_PER_POINT: usize = 2;
 
-/// The dense operator's memory limit [bytes]: three coefficients per pair of points.
-const DENSE_BYTES: usize = 256 << 20;
+/// The dense operator's memory limit [bytes]: three coefficients per pair of points, in double
+/// precision and their copy in single (36 bytes a pair).
+const DENSE_BYTES: usize = 384 << 20;
 
 /// Whether K on `m` points costs less as a dense matrix (m² coefficient triples streamed from
 /// memory per application) than through the transforms of a grid of `g` points, within the
@@ -21,7 +22,7 @@ const DENSE_BYTES: usize = 256 << 20;
 /// matrix is 4.7× faster on 292 points and several times slower on 2 500.
 pub(super) fn dense_is_cheaper(m: usize, g: usize) -> bool {
     let g = g as f64;
-    24 * m * m <= DENSE_BYTES && (m * m) as f64 <= 0.4 * g * g.log2()
+    36 * m * m <= DENSE_BYTES && (m * m) as f64 <= 0.4 * g * g.log2()
 }
 
 /// K on the contact points.
@@ -41,8 +42,10 @@ pub(super) enum ShearOperator {
         offsets: Offsets,
         cells: Vec<[i32; 2]>,
     },
-    /// As a dense matrix: the (xx, xy, yy) coefficients of every pair, row-major [m/Pa].
-    Dense { m: usize, coefficients: Vec<[f64; 3]> },
+    /// As a dense matrix: the (xx, xy, yy) coefficients of every pair, row-major [m/Pa]. An
+    /// application streams them from memory: while `in_single` holds it streams their single
+    /// precision copy (made on first use), half the bytes, and sums in double.
+    Dense { m: usize, coefficients: Vec<[f64; 3]>, single: Option<Vec<[f32; 3]>>, in_single: bool },
 }
 
 impl ShearOperator {
@@ -100,13 +103,13 @@ impl ShearOperator {
                     }));
                 }
             }
-            ShearOperator::Dense { m, coefficients: all } => {
+            ShearOperator::Dense { m, coefficients: all, .. } => {
                 for &i in near {
                     coefficients.extend(near.iter().map(|&j| all[i * m + j]));
                 }
             }
         }
-        ShearOperator::Dense { m: n, coefficients }
+        ShearOperator::dense_of(n, coefficients)
     }
 
     /// `out += K Δ` on the contact points, for the changes Δ at a few points (point, Δ):
@@ -130,7 +133,7 @@ impl ShearOperator {
                     }
                 });
             }
-            ShearOperator::Dense { m, coefficients } => {
+            ShearOperator::Dense { m, coefficients, .. } => {
                 let m = *m;
                 out.par_iter_mut().enumerate().with_min_len((CHUNK / changes.len()).max(1)).for_each(|(i, o)| {
                     changes.iter().for_each(|&(j, d)| add(o, coefficients[i * m + j], d));
@@ -140,16 +143,28 @@ impl ShearOperator {
     }
 
     /// Apply K in single precision from now on (`true`) or in double; whether that changed
-    /// anything (a dense operator is always applied in double precision).
+    /// anything.
     pub(super) fn set_single(&mut self, on: bool) -> bool {
-        let ShearOperator::Grid { influence, single, in_single, .. } = self else { return false };
-        if on == *in_single {
-            return false;
+        match self {
+            ShearOperator::Grid { influence, single, in_single, .. } => {
+                if on == *in_single {
+                    return false;
+                }
+                if on && single.is_none() {
+                    *single = Some(Box::new(influence.single()));
+                }
+                *in_single = on;
+            }
+            ShearOperator::Dense { coefficients, single, in_single, .. } => {
+                if on == *in_single {
+                    return false;
+                }
+                if on && single.is_none() {
+                    *single = Some(coefficients.par_iter().map(|k| k.map(|v| v as f32)).collect());
+                }
+                *in_single = on;
+            }
         }
-        if on && single.is_none() {
-            *single = Some(Box::new(influence.single()));
-        }
-        *in_single = on;
         true
     }
 
@@ -169,14 +184,12 @@ impl ShearOperator {
                 }
                 out.par_iter_mut().zip(local.par_iter()).with_min_len(CHUNK).for_each(|(o, &i)| *o = [ox[i], oy[i]]);
             }
-            ShearOperator::Dense { m, coefficients } => {
+            ShearOperator::Dense { m, coefficients, single, in_single } => {
                 let m = *m;
-                out.par_iter_mut().with_min_len((CHUNK / m).max(1)).enumerate().for_each(|(i, o)| {
-                    let row = &coefficients[i * m..(i + 1) * m];
-                    *o = row.iter().zip(v).fold([0.0; 2], |[x, y], (k, v)| {
-                        [x + k[0] * v[0] + k[1] * v[1], y + k[1] * v[0] + k[2] * v[1]]
-                    });
-                });
+                match single.as_ref().filter(|_| *in_single) {
+                    Some(single) => dense_product(m, single, v, out),
+                    None => dense_product(m, coefficients, v, out),
+                }
             }
         }
     }
@@ -207,8 +220,40 @@ impl ShearOperator {
                 coefficients.push(offsets.at(yi - (j / bx) as i64, xi - (j % bx) as i64));
             }
         }
-        ShearOperator::Dense { m, coefficients }
+        ShearOperator::dense_of(m, coefficients)
     }
+
+    /// The dense operator of `m` points with these coefficients, applied in double precision.
+    fn dense_of(m: usize, coefficients: Vec<[f64; 3]>) -> Self {
+        ShearOperator::Dense { m, coefficients, single: None, in_single: false }
+    }
+}
+
+/// Independent partial sums per row of the dense product: one running sum waits on its last
+/// addition at every pair (the product ran at the adder's latency: 74 % of a 512², 10 mN onset
+/// on 984 points was that wait); four keep the multipliers busy.
+const LANES: usize = 4;
+
+/// `out = K v` for the dense matrix of `m` points with `coefficients` (f64, or f32 read as
+/// f64: the sums stay in double precision, the coefficients round to 6e-8 of themselves, and
+/// single precision halves the bytes streamed).
+fn dense_product<T: Copy + Into<f64> + Sync>(m: usize, coefficients: &[[T; 3]], v: &[[f64; 2]], out: &mut [[f64; 2]]) {
+    let add = |[x, y]: [f64; 2], k: &[T; 3], v: &[f64; 2]| {
+        let k = k.map(Into::into);
+        [x + k[0] * v[0] + k[1] * v[1], y + k[1] * v[0] + k[2] * v[1]]
+    };
+    out.par_iter_mut().with_min_len((CHUNK / m).max(1)).enumerate().for_each(|(i, o)| {
+        let row = &coefficients[i * m..(i + 1) * m];
+        let (rows, vs) = (row.chunks_exact(LANES), v.chunks_exact(LANES));
+        let tail = rows.remainder().iter().zip(vs.remainder()).fold([0.0; 2], |s, (k, v)| add(s, k, v));
+        let lanes = rows.zip(vs).fold([[0.0; 2]; LANES], |mut s, (k, v)| {
+            for l in 0..LANES {
+                s[l] = add(s[l], &k[l], &v[l]);
+            }
+            s
+        });
+        *o = lanes.iter().fold(tail, |[x, y], s| [x + s[0], y + s[1]]);
+    });
 }
 
 /// Offsets of K's inverse the preconditioner keeps: |dy|, |dx| ≤ this many pixels. On the
