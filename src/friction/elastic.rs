@@ -63,8 +63,10 @@ const COARSEST: f64 = 1e-4;
 const CASCADE_TOLERANCE: f64 = 10.0;
 /// Steps of a force ramp up to its stuck estimate Q / k_t.
 const RAMP_STEPS: usize = 64;
-/// Steps after which a path that has not reached total sliding is an error.
+/// Steps after which a path that has not reached total sliding is an error: 100 μ_s N / k_t.
 const MAX_STEPS: usize = 100 * STEPS;
+/// Steps after which a force ramp that has not reached its force is an error: 25 Q / k_t.
+const MAX_RAMP_STEPS: usize = 25 * RAMP_STEPS;
 /// Solves of one cascade after which it is an error.
 const MAX_CASCADE: usize = 2000;
 /// A cascade has settled when no bound changes by more than this fraction, plus, for a bound
@@ -936,7 +938,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
     // Step until the force passes `force`, then bisect that last step from the state before it.
     let mut before = path.state.clone();
     let (mut lo, mut hi) = ((0.0, 0.0), (0.0, 0.0));
-    for k in 1..=MAX_STEPS {
+    for k in 1..=MAX_RAMP_STEPS {
         before = path.state.clone();
         lo = hi;
         let point = path.step(h * k as f64, true, &mut none)?.1.expect("a step with its cascade settles");
@@ -957,7 +959,7 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
         }
     }
     if hi.1 < force {
-        return Err(Error::invalid("--tangential-force", format!("not reached after {MAX_STEPS} displacement steps")));
+        return Err(Error::invalid("--tangential-force", format!("not reached after {MAX_RAMP_STEPS} displacement steps")));
     }
     let mut best = hi;
     for round in 0..200 {
