@@ -125,7 +125,7 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
                 }
                 Progress::Solved { .. } => (0, 1),
                 // Equal sharing only: none (the count of events below would show one).
-                Progress::Slid { .. } => (0, 0),
+                Progress::Slid { .. } | Progress::Sliding { .. } => (0, 0),
             })
         })
         .unwrap();

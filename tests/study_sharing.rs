@@ -220,11 +220,23 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
     assert!(parts > 0);
 
     let slid = std::sync::atomic::AtomicUsize::new(0);
-    let count = |event: Progress| {
-        if let Progress::Slid { law, iterations, .. } = event {
+    // Each onset run reports its steps as it goes (their count rising), before it is done.
+    let steps = std::sync::Mutex::new(std::collections::HashMap::new());
+    let count = |event: Progress| match event {
+        Progress::Slid { topography, load_n, law, iterations, .. } => {
             assert!(law.starts_with("hold") && iterations > 0);
+            let key = (topography.to_string(), load_n.to_bits(), law.to_string());
+            assert!(steps.lock().unwrap().get(&key).is_some_and(|s| *s > 0), "{key:?}");
             slid.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         }
+        Progress::Sliding { topography, load_n, law, level, steps: n, solves, largest_drop, .. } => {
+            assert!(level <= asperity::friction::SLIDE_LEVELS && solves >= n);
+            assert!(largest_drop > 0.0 && largest_drop < 0.6 / 0.4 * (1.0 + 1e-9), "{largest_drop}");
+            let key = (topography.to_string(), load_n.to_bits(), law.to_string());
+            let last = steps.lock().unwrap().insert(key, n);
+            assert!(last.is_none_or(|last| n > last), "{last:?} then {n}");
+        }
+        _ => {}
     };
     let outcome = study.run(&out, false, &count).unwrap();
     assert_eq!((outcome.solved, outcome.resumed, outcome.onsets_resumed), (6, 0, parts));
@@ -304,6 +316,7 @@ fn an_elastic_onset_finished_before_a_stop_is_not_run_again() {
             study.run(&out, false, &|event: Progress| match event {
                 Progress::Slid { load_n, law, .. } => slid.lock().unwrap().push((load_n, law.to_string())),
                 Progress::Solved { load_n, .. } => solved.lock().unwrap().push(load_n),
+                Progress::Sliding { .. } => {}
                 Progress::Start { total, done, onsets, onsets_done } => {
                     *start.lock().unwrap() = Some((total, done, onsets, onsets_done))
                 }

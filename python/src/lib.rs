@@ -1674,6 +1674,9 @@ fn _run_study(
             let events = events;
             study.run(&out, fresh, &|event| {
                 let _ = events.send(match event {
+                    // Every step of an onset: the command line's logs show them, a callback
+                    // gets the onset once done.
+                    Progress::Sliding { .. } => return ControlFlow::Continue(()),
                     Progress::Start { total, done, onsets, onsets_done } => {
                         Event::Start { total, done, onsets, onsets_done }
                     }

@@ -8,6 +8,7 @@ use std::time::Instant;
 use clap::Args;
 
 use asperity::error::escaped;
+use asperity::friction::SLIDE_LEVELS;
 use asperity::quantity::{show, FORCE};
 use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
@@ -113,6 +114,32 @@ pub fn run(args: RunArgs) -> Result<()> {
                 ));
             }
         }
+        // An onset under way, once it has taken a second: in a batch log with the other
+        // lines, on the bar as it goes.
+        Progress::Sliding { topography, load_n, law, level, steps, solves, largest_drop, seconds }
+            if seconds >= 1.0 =>
+        {
+            let line = format!(
+                "{} at {}: elastic onset of \"{}\" under way, level {level}/{SLIDE_LEVELS}, {steps} steps, \
+                 {solves} solves, largest force {largest_drop:.4} mu_d N, {seconds:.0} s",
+                escaped(topography),
+                show(load_n, &FORCE),
+                escaped(law)
+            );
+            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+            if !batch {
+                bar.set_message(line);
+            } else if last.elapsed() >= super::BATCH_PROGRESS {
+                *last = Instant::now();
+                super::message(&format!(
+                    "solving: {}/{} after {:.0} s ({line})",
+                    bar.position(),
+                    bar.length().unwrap_or(0),
+                    start.elapsed().as_secs_f64()
+                ));
+            }
+        }
+        Progress::Sliding { .. } => {}
         Progress::Solved { topography, load_n, iterations, .. } => {
             let topography = escaped(topography);
             bar.set_message(format!("{topography} at {} ({iterations} iterations)", show(load_n, &FORCE)));

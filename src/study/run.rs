@@ -77,8 +77,8 @@ use crate::contact::{
 use crate::error::{Error, Result};
 use crate::friction::{elastic_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
 use crate::limits::Limits;
-use crate::plausible::{self, Spelling};
 use crate::output::{self, Access, Ledger, Lock};
+use crate::plausible::{self, Spelling};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
 use crate::topography::resample::resample;
@@ -146,6 +146,21 @@ pub enum Progress<'a> {
     /// recorded (before that solve's `Solved`): its tangential solver iterations and seconds.
     /// Onsets an earlier run recorded are not run again, nor reported.
     Slid { topography: &'a str, load_n: f64, law: &'a str, iterations: usize, seconds: f64 },
+    /// An elastic-sharing onset under way took a displacement step (one may take minutes: a
+    /// log shows it is alive): its refinement `level` (0 on the path from δ = 0, up to
+    /// [`crate::friction::SLIDE_LEVELS`]), its `steps` and tangential `solves` so far, the
+    /// largest force so far over mu_d N, and its `seconds`. The answer is read once the onset
+    /// ends ([`Progress::Slid`]).
+    Sliding {
+        topography: &'a str,
+        load_n: f64,
+        law: &'a str,
+        level: usize,
+        steps: usize,
+        solves: usize,
+        largest_drop: f64,
+        seconds: f64,
+    },
     /// One (topography, load) solve finished.
     Solved { topography: &'a str, load_n: f64, iterations: usize, seconds: f64 },
 }
@@ -1172,7 +1187,20 @@ impl Study {
         .map_err(failed)?;
         // mu_s to mu_d over the model's slip-weakening distance (or the law's measured curve).
         let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() };
-        let onset = elastic_onset(&mut solver, &slip, |_| {}).map_err(failed)?;
+        let normal = solver.normal_force();
+        let onset = elastic_onset(&mut solver, &slip, |p| {
+            (work.progress)(Progress::Sliding {
+                topography: &chain.label,
+                load_n: load,
+                law: &law_label,
+                level: p.level,
+                steps: p.work.steps,
+                solves: p.work.solves,
+                largest_drop: p.largest_force_n / (law.mu_d * normal),
+                seconds: start.elapsed().as_secs_f64(),
+            });
+        })
+        .map_err(failed)?;
         drop(solver);
         let seconds = start.elapsed().as_secs_f64();
         let row = Row::elastic(&chain.name, load, &facts, law, &onset, seconds);
