@@ -191,8 +191,9 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
     };
     let e = study.run(&out, false, &stop).unwrap_err();
     assert!(matches!(e, asperity::Error::Interrupted { .. }), "{e}");
-    // The onsets run in any order, over all threads: each one finished before the stop, or
-    // under way at it, is recorded beside its solve's normal part and map, and no solve is.
+    // The onsets run in any order, over all threads: each one finished before the stop is
+    // recorded beside its solve's normal part and map (one under way at it stops at its next
+    // step, unrecorded), and no solve is.
     let names = |t: &str| {
         let mut n: Vec<String> = std::fs::read_dir(out.join("solves/topographies").join(t))
             .unwrap()
@@ -258,6 +259,44 @@ fn untimed(rows: &[asperity::study::Row]) -> Vec<asperity::study::Row> {
         r.slide_seconds = r.slide_seconds.map(|_| 0.0);
     }
     rows
+}
+
+#[test]
+fn a_break_in_an_onset_under_way_stops_it_there_and_the_run_resumes() {
+    use asperity::study::config::StudyConfig;
+    use asperity::study::run::{Progress, Study};
+    use std::ops::ControlFlow;
+    use std::sync::Mutex;
+
+    let dir = tempfile::tempdir().unwrap();
+    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
+    let config = StudyConfig::parse(&format!("{BALLS}{rest}"), "study.toml").unwrap();
+    let study = Study::prepare(config, "study.toml").unwrap();
+    let whole = study.run(&dir.path().join("whole"), false, &|_: Progress| ()).unwrap();
+    // Stopped at the fifth step of the first onset to get there.
+    let out = dir.path().join("r");
+    let stopped = Mutex::new(None);
+    let stop = |event: Progress| match event {
+        Progress::Sliding { topography, load_n, law, steps, .. } if steps >= 5 => {
+            stopped.lock().unwrap().get_or_insert((topography.to_string(), load_n.to_bits(), law.to_string()));
+            ControlFlow::Break(())
+        }
+        _ => ControlFlow::Continue(()),
+    };
+    let e = study.run(&out, false, &stop).unwrap_err();
+    assert!(matches!(e, asperity::Error::Interrupted { .. }), "{e}");
+    let stopped = stopped.into_inner().unwrap().expect("an onset took 5 steps");
+    // Resumed, it runs that onset again (it was not recorded) and gives the whole run's rows.
+    let slid = Mutex::new(Vec::new());
+    let resumed = study
+        .run(&out, false, &|event: Progress| {
+            if let Progress::Slid { topography, load_n, law, .. } = event {
+                slid.lock().unwrap().push((topography.to_string(), load_n.to_bits(), law.to_string()));
+            }
+        })
+        .unwrap();
+    assert!(slid.into_inner().unwrap().contains(&stopped), "{stopped:?}");
+    assert_eq!(untimed(&resumed.rows), untimed(&whole.rows));
 }
 
 #[test]

@@ -140,7 +140,8 @@ def run_study(
     and how many of each an earlier run did; ``{"event": "solved", "topography", "load_n",
     "iterations", "seconds"}``; and with elastic sharing ``{"event": "slid", "topography",
     "load_n", "law", "iterations", "seconds"}`` per law before its solve's "solved").
-    Ctrl-C stops the run once the solves under way are recorded; running it again resumes.
+    Ctrl-C stops the run once the solves under way are recorded (an elastic onset under way
+    stops at its next step, unrecorded); running it again resumes.
 
     Returns the rows of results.json: one dict per topography × sharing × law × load.
     """

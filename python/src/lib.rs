@@ -1438,7 +1438,8 @@ impl PartialSlip {
 /// ``tolerance`` (default 1e-6): of the tangential solve, below 1e-2; ``max_iter`` (default
 /// 20000): iterations of one tangential solve. Returns a ``Slide`` (static coefficient,
 /// friction drop, the equal-sharing values on the same pressure, the curve, the shear maps).
-/// The GIL is released while it runs; Ctrl-C is seen once it has finished.
+/// The GIL is released while it runs; Ctrl-C stops the path to sliding at its next step (the
+/// partial-slip ramp once it has finished).
 #[pyfunction]
 #[pyo3(signature = (solution, *, mu_s = None, mu_d = None, law = None, curve = None, curve_unit = None,
                     window = None, slip_distance = None, tangential_force = None,
@@ -1545,16 +1546,20 @@ fn slide(
         };
         return Ok(Py::new(py, partial)?.into_any());
     }
+    let mut signals = Signals::new(py)?;
     let (solver, onset, equal) = py
         .detach(|| {
             let mut solver = TangentialSolver::new(&pressure, shape, size, compliance, boundary, options)?;
-            let onset = elastic_onset(&mut solver, &law, |_| {})?;
+            let onset = elastic_onset(&mut solver, &law, |_| signals.check())?;
             let map = Array2::from_shape_vec(shape, pressure.clone()).expect("the pressure's shape");
             let loads = ElementLoads::from_pressure(&map, solver.pixel_area())?;
             let equal = CoreOnset::new(&loads, &FrictionLaw::new(law.mu_s, law.mu_d)?);
             Ok((solver, onset, equal))
         })
-        .map_err(|e| error_naming(e, &names))?;
+        .map_err(|e| match e {
+            asperity::Error::Interrupted { .. } => signals.error(e),
+            e => error_naming(e, &names),
+        })?;
     let (sx, sy, classes) = shear_maps(&solver, &onset.peak);
     let result = Slide {
         load,
@@ -1666,7 +1671,8 @@ fn _run_study(
     let experiments = asperity::report::experiments(&study).map_err(error)?;
 
     // The study runs on its own thread; this one (Python's, where signal handlers run) reports
-    // its progress and looks for Ctrl-C, which stops the run after the solves under way.
+    // its progress and looks for Ctrl-C, which stops the run after the solves under way (an
+    // elastic onset at its next step).
     let stop = AtomicBool::new(false);
     let (events, mut received) = mpsc::channel::<Event>();
     let outcome = std::thread::scope(|scope| -> PyResult<asperity::Result<asperity::study::run::Outcome>> {
@@ -1675,8 +1681,9 @@ fn _run_study(
             study.run(&out, fresh, &|event| {
                 let _ = events.send(match event {
                     // Every step of an onset: the command line's logs show them, a callback
-                    // gets the onset once done.
-                    Progress::Sliding { .. } => return ControlFlow::Continue(()),
+                    // gets the onset once done; Ctrl-C stops it at its next step.
+                    Progress::Sliding { .. } if !stop.load(Ordering::Relaxed) => return ControlFlow::Continue(()),
+                    Progress::Sliding { .. } => return ControlFlow::Break(()),
                     Progress::Start { total, done, onsets, onsets_done } => {
                         Event::Start { total, done, onsets, onsets_done }
                     }

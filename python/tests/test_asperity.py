@@ -454,6 +454,38 @@ def test_ctrl_c_stops_a_long_solve():
     assert time.perf_counter() - sent < 30
 
 
+
+def test_ctrl_c_stops_a_long_slide():
+    # The path to sliding at 512², 100 mN with d_c = 2 nm takes 17 s on 2 cores (hundreds of
+    # steps); Ctrl-C stops it at its next step.
+    script = textwrap.dedent("""
+        import signal, sys, time
+        import asperity as ap
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        t = ap.generate(size=31.13e-6, grid=512, hurst=0.8, rms=21e-9, rolloff=7e-6, cutoff=0.25e-6,
+                        sphere_radius=1.5e-3, seed=1)
+        (s,) = ap.contact(t, loads=0.1)
+        print("sliding", flush=True)
+        start = time.perf_counter()
+        try:
+            ap.slide(s, mu_s=0.6, mu_d=0.4, slip_distance=2e-9)
+        except KeyboardInterrupt:
+            print(f"interrupted after {time.perf_counter() - start:.2f} s", flush=True)
+            sys.exit(0)
+        sys.exit("the slide was not interrupted")
+    """)
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "sliding"
+    time.sleep(1.0)
+    sent = time.perf_counter()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=120)
+    assert child.returncode == 0, out
+    assert "interrupted after" in out
+    # Within a few steps of the signal, not at the end of the path.
+    assert time.perf_counter() - sent < 5
+
+
 # --- plausibility, warnings, hardness, elastic sharing (the command line's, in Python) -----------
 
 

@@ -23,7 +23,7 @@ use serde::Serialize;
 
 use super::{stuck_stiffness, ClassShare};
 use crate::contact::tangential::magnitude;
-use crate::contact::{TangentialReport, TangentialSolver};
+use crate::contact::{Proceed, TangentialReport, TangentialSolver};
 use crate::error::{Error, Result};
 
 /// Displacement steps up to the stuck estimate of the peak, μ_s N / k_t (the path's longer
@@ -658,7 +658,7 @@ impl Steps {
         start: &State,
         h: f64,
         until: Option<RunEnd>,
-        progress: &mut impl FnMut(SlideProgress),
+        progress: &mut impl FnMut(SlideProgress) -> bool,
     ) -> Result<bool> {
         path.go_back(start);
         let tolerance = path.solver.tolerance();
@@ -721,7 +721,9 @@ impl Steps {
             force = settled.force_n;
             let kept = snapshot.map(|s| Box::new((before, s)));
             self.live.push(Step { level, from, to, points, largest, settled, kept });
-            progress(SlideProgress { level, point: settled, largest_force_n: self.largest, work: path.work });
+            if !progress(SlideProgress { level, point: settled, largest_force_n: self.largest, work: path.work }) {
+                return Err(Error::Interrupted { what: "sliding onset".into() });
+            }
             if last {
                 return Ok(false);
             } else if until.is_none() && path.sliding(&settled) {
@@ -815,15 +817,19 @@ fn check_coefficient(law: &SlipLaw, coefficient: f64, peak_displacement: f64) ->
 /// start in steps four times finer, in its place, until the largest force lies in a step of
 /// the finest length, 1/(64·4⁶) of μ_s N / k_t: F_S is the largest
 /// force on the curve, or the sliding force when the path reaches total sliding and no step
-/// (even before its refinement) comes up to it. `progress` hears of every step. An error,
+/// (even before its refinement) comes up to it. `progress` hears of every step and answers
+/// `()`, or a [`ControlFlow`](std::ops::ControlFlow) whose `Break` stops the path there with
+/// [`Error::Interrupted`] (a step at 1500², 100 mN takes seconds, the path a quarter of an
+/// hour). An error,
 /// instead of a result, when the law's tractions, forces or steps leave what the solves
 /// represent, or when F_S / N leaves [mu_d, mu_s] (a measured μ(slip) whose tail falls below
 /// its mean mu_d).
-pub fn elastic_onset(
+pub fn elastic_onset<R: Proceed>(
     solver: &mut TangentialSolver,
     law: &SlipLaw,
-    mut progress: impl FnMut(SlideProgress),
+    mut progress: impl FnMut(SlideProgress) -> R,
 ) -> Result<ElasticOnset> {
+    let mut progress = |p: SlideProgress| progress(p).proceed();
     let area = solver.pixel_area();
     let normal_force = solver.normal_force();
     let option = if law.mu_s == law.mu_d { "--mu-s" } else { "--mu-d" };
@@ -959,7 +965,10 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
         }
     }
     if hi.1 < force {
-        return Err(Error::invalid("--tangential-force", format!("not reached after {MAX_RAMP_STEPS} displacement steps")));
+        return Err(Error::invalid(
+            "--tangential-force",
+            format!("not reached after {MAX_RAMP_STEPS} displacement steps"),
+        ));
     }
     let mut best = hi;
     for round in 0..200 {

@@ -58,7 +58,7 @@ use std::cmp::Reverse;
 use std::collections::hash_map::DefaultHasher;
 use std::collections::{BTreeMap, BinaryHeap};
 use std::hash::{Hash, Hasher};
-use std::ops::Range;
+use std::ops::{ControlFlow, Range};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -149,8 +149,9 @@ pub enum Progress<'a> {
     /// An elastic-sharing onset under way took a displacement step (one may take minutes: a
     /// log shows it is alive): its refinement `level` (0 on the path from δ = 0, up to
     /// [`crate::friction::SLIDE_LEVELS`]), its `steps` and tangential `solves` so far, the
-    /// largest force so far over mu_d N, and its `seconds`. The answer is read once the onset
-    /// ends ([`Progress::Slid`]).
+    /// largest force so far over mu_d N, and its `seconds`. A `Break` stops the onset there
+    /// and the run with [`Error::Interrupted`]; the onset is not recorded (the onsets finished
+    /// are).
     Sliding {
         topography: &'a str,
         load_n: f64,
@@ -1189,7 +1190,7 @@ impl Study {
         let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() };
         let normal = solver.normal_force();
         let onset = elastic_onset(&mut solver, &slip, |p| {
-            (work.progress)(Progress::Sliding {
+            let answer = (work.progress)(Progress::Sliding {
                 topography: &chain.label,
                 load_n: load,
                 law: &law_label,
@@ -1199,8 +1200,20 @@ impl Study {
                 largest_drop: p.largest_force_n / (law.mu_d * normal),
                 seconds: start.elapsed().as_secs_f64(),
             });
-        })
-        .map_err(failed)?;
+            // A Break, or a run another worker stopped, ends the onset at this step.
+            if answer.proceed() && !work.stopped() {
+                ControlFlow::Continue(())
+            } else {
+                ControlFlow::Break(())
+            }
+        });
+        let onset = match onset {
+            Err(Error::Interrupted { .. }) => {
+                work.fail(self.interrupted());
+                return Ok(());
+            }
+            onset => onset.map_err(failed)?,
+        };
         drop(solver);
         let seconds = start.elapsed().as_secs_f64();
         let row = Row::elastic(&chain.name, load, &facts, law, &onset, seconds);
