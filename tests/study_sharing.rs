@@ -160,7 +160,7 @@ fn equal_sharing_alone_is_the_default() {
 #[test]
 fn shards_record_the_elastic_onsets() {
     let dir = tempfile::tempdir().unwrap();
-    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
+    let rest = small_rest();
     std::fs::write(dir.path().join("study.toml"), format!("{BALLS}{rest}")).unwrap();
     for shard in ["1/2", "2/2"] {
         let o = asperity(dir.path(), &["run", "study.toml", "--out", "r", "--shard", shard]);
@@ -176,14 +176,12 @@ fn shards_record_the_elastic_onsets() {
 
 #[test]
 fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
-    use asperity::study::config::StudyConfig;
-    use asperity::study::run::{Progress, Study};
+    use asperity::study::run::Progress;
     use std::ops::ControlFlow;
 
     let dir = tempfile::tempdir().unwrap();
-    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
-    let config = StudyConfig::parse(&format!("{BALLS}{rest}"), "study.toml").unwrap();
-    let study = Study::prepare(config, "study.toml").unwrap();
+    let rest = small_rest();
+    let study = prepared(&format!("{BALLS}{rest}"));
     let out = dir.path().join("r");
     let stop = |event: Progress| match event {
         Progress::Slid { .. } => ControlFlow::Break(()),
@@ -251,6 +249,18 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
     }
 }
 
+/// The study's other sections with 3 mN as the largest load and no resolution figure: a small
+/// study that runs in a second or two.
+fn small_rest() -> String {
+    REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "")
+}
+
+/// The study of `text`, prepared.
+fn prepared(text: &str) -> asperity::study::run::Study {
+    let config = asperity::study::config::StudyConfig::parse(text, "study.toml").unwrap();
+    asperity::study::run::Study::prepare(config, "study.toml").unwrap()
+}
+
 /// The rows without their timings.
 fn untimed(rows: &[asperity::study::Row]) -> Vec<asperity::study::Row> {
     let mut rows = rows.to_vec();
@@ -263,15 +273,13 @@ fn untimed(rows: &[asperity::study::Row]) -> Vec<asperity::study::Row> {
 
 #[test]
 fn a_break_in_an_onset_under_way_stops_it_there_and_the_run_resumes() {
-    use asperity::study::config::StudyConfig;
-    use asperity::study::run::{Progress, Study};
+    use asperity::study::run::Progress;
     use std::ops::ControlFlow;
     use std::sync::Mutex;
 
     let dir = tempfile::tempdir().unwrap();
-    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
-    let config = StudyConfig::parse(&format!("{BALLS}{rest}"), "study.toml").unwrap();
-    let study = Study::prepare(config, "study.toml").unwrap();
+    let rest = small_rest();
+    let study = prepared(&format!("{BALLS}{rest}"));
     let whole = study.run(&dir.path().join("whole"), false, &|_: Progress| ()).unwrap();
     // Stopped at the fifth step of the first onset to get there.
     let out = dir.path().join("r");
@@ -301,8 +309,7 @@ fn a_break_in_an_onset_under_way_stops_it_there_and_the_run_resumes() {
 
 #[test]
 fn an_elastic_onset_finished_before_a_stop_is_not_run_again() {
-    use asperity::study::config::StudyConfig;
-    use asperity::study::run::{Progress, Study};
+    use asperity::study::run::Progress;
     use std::ops::ControlFlow;
     use std::sync::Mutex;
 
@@ -310,9 +317,8 @@ fn an_elastic_onset_finished_before_a_stop_is_not_run_again() {
     // One ball, three loads, two laws; on one thread, so that the stop falls where asked: the
     // sweep solves its loads, then the onsets run, the largest contact set first.
     let ball = BALLS.split("\n[[topography]]").nth(1).unwrap();
-    let rest = REST.replace("\"30 mN\"", "\"3 mN\"").replace(", \"resolution\"", "");
-    let config = StudyConfig::parse(&format!("[[topography]]{ball}{rest}"), "study.toml").unwrap();
-    let study = Study::prepare(config, "study.toml").unwrap();
+    let rest = small_rest();
+    let study = prepared(&format!("[[topography]]{ball}{rest}"));
     let (loads, laws) = (study.loads().to_vec(), study.laws().to_vec());
     assert_eq!((loads.len(), laws.len()), (3, 2));
     let first_law = asperity::study::law_name(&laws[0]);

@@ -84,6 +84,23 @@ pub fn run(args: RunArgs) -> Result<()> {
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
     let batch = !std::io::stderr().is_terminal();
     let last_line = Mutex::new(Instant::now());
+    // A batch log's line: "solving: DONE/ALL after T s (WHAT)", at most every few seconds
+    // unless `always`.
+    let batch_line = |what: &str, always: bool| {
+        if !batch {
+            return;
+        }
+        let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+        if always || last.elapsed() >= super::BATCH_PROGRESS {
+            *last = Instant::now();
+            super::message(&format!(
+                "solving: {}/{} after {:.0} s ({what})",
+                bar.position(),
+                bar.length().unwrap_or(0),
+                start.elapsed().as_secs_f64()
+            ));
+        }
+    };
     let outcome = study.run(&args.out, args.fresh, &|event| match event {
         // The bar counts solves and elastic onsets alike: the onsets take most of the time.
         Progress::Start { total, done, onsets, onsets_done } => {
@@ -103,19 +120,10 @@ pub fn run(args: RunArgs) -> Result<()> {
                 format!("{} at {}: elastic onset of \"{}\"", escaped(topography), show(load_n, &FORCE), escaped(law));
             bar.set_message(format!("{what} ({iterations} iterations, {seconds:.1} s)"));
             bar.inc(1);
-            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
-            if batch && last.elapsed() >= super::BATCH_PROGRESS {
-                *last = Instant::now();
-                super::message(&format!(
-                    "solving: {}/{} after {:.0} s ({what} in {seconds:.1} s)",
-                    bar.position(),
-                    bar.length().unwrap_or(0),
-                    start.elapsed().as_secs_f64()
-                ));
-            }
+            batch_line(&format!("{what} in {seconds:.1} s"), false);
         }
-        // An onset under way, once it has taken a second: in a batch log with the other
-        // lines, on the bar as it goes.
+        // An onset under way, once it has taken a second: on the bar as it goes, in a batch log
+        // with the other lines.
         Progress::Sliding { topography, load_n, law, level, steps, solves, largest_drop, seconds }
             if seconds >= 1.0 =>
         {
@@ -126,17 +134,9 @@ pub fn run(args: RunArgs) -> Result<()> {
                 show(load_n, &FORCE),
                 escaped(law)
             );
-            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+            batch_line(&line, false);
             if !batch {
                 bar.set_message(line);
-            } else if last.elapsed() >= super::BATCH_PROGRESS {
-                *last = Instant::now();
-                super::message(&format!(
-                    "solving: {}/{} after {:.0} s ({line})",
-                    bar.position(),
-                    bar.length().unwrap_or(0),
-                    start.elapsed().as_secs_f64()
-                ));
             }
         }
         Progress::Sliding { .. } => {}
@@ -144,18 +144,8 @@ pub fn run(args: RunArgs) -> Result<()> {
             let topography = escaped(topography);
             bar.set_message(format!("{topography} at {} ({iterations} iterations)", show(load_n, &FORCE)));
             bar.inc(1);
-            let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
             let finished = bar.length().is_some_and(|l| bar.position() == l);
-            if batch && (last.elapsed() >= super::BATCH_PROGRESS || finished) {
-                *last = Instant::now();
-                super::message(&format!(
-                    "solving: {}/{} after {:.0} s ({topography} at {})",
-                    bar.position(),
-                    bar.length().unwrap_or(0),
-                    start.elapsed().as_secs_f64(),
-                    show(load_n, &FORCE)
-                ));
-            }
+            batch_line(&format!("{topography} at {}", show(load_n, &FORCE)), finished);
         }
     })?;
     let figures = asperity::report::write(&args.out, &outcome, &experiments)?;
