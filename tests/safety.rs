@@ -455,33 +455,48 @@ fn fresh_removes_what_runs_wrote_and_nothing_else() {
         b"\"notes.txt\"\n{\"path\":\"snapshots/lab-notes.json\",\"identity\":{\"dev\":1,\"ino\":2,\"len\":4,\"mtime\":[0,0]}}\n",
     )
     .unwrap();
+    // Each of them is where a run writes: refused before anything changes, --fresh or not.
+    let before = files_below(&r);
+    for fresh in [&["--fresh"][..], &[]] {
+        let e = refusal(&run(dir, "renamed.toml", "R", fresh));
+        assert!(e.contains("R/figures/class-map.png: is a file asperity did not write"), "{e}");
+        assert_eq!(files_below(&r), before);
+    }
+    let e = refusal(&run(dir, "study.toml", "R", &[]));
+    assert!(e.contains("where the study writes its results: asperity never writes over one; move it away"), "{e}");
+    // Moved away one by one, each next one is named; the link, then the user's file in place of
+    // an output.
+    let away = dir.join("away");
+    std::fs::create_dir(&away).unwrap();
+    for (i, m) in mine.iter().filter(|m| **m != "notes.txt").enumerate() {
+        std::fs::rename(r.join(m), away.join(i.to_string())).unwrap();
+        let e = refusal(&run(dir, "renamed.toml", "R", &["--fresh"]));
+        assert!(!e.contains(m), "{m}: {e}");
+    }
+    let e = refusal(&run(dir, "renamed.toml", "R", &["--fresh"]));
+    assert!(e.contains("R/pressure/study.lock/00.npy: is a file asperity did not write"), "{e}");
+    std::fs::rename(r.join("pressure/study.lock/00.npy"), away.join("00.npy")).unwrap();
+    let e = refusal(&run(dir, "renamed.toml", "R", &["--fresh"]));
+    assert!(e.contains("R/pressure/study.lock/01.npy: a symbolic link in a folder asperity writes"), "{e}");
+    std::fs::remove_file(r.join("pressure/study.lock/01.npy")).unwrap();
+    assert_eq!(files_below(&away).len(), 6);
+
+    // What is left elsewhere in DIR stays, and is said.
     let o = run(dir, "renamed.toml", "R", &["--fresh"]);
     succeeds(&o);
     let err = stderr(&o);
     let said: Vec<&str> = err.lines().filter(|l| l.starts_with("--fresh")).collect();
-    assert_eq!(said.len(), 1, "{err}");
-    let left: Vec<String> = mine
-        .iter()
-        .chain(&["pressure/study.lock/01.npy", "pressure/study.lock/00.npy"])
-        .map(|m| format!("\"{m}\""))
-        .collect();
-    assert!(said[0].starts_with("--fresh: left 8 file(s) in R that asperity did not write: "), "{}", said[0]);
-    for m in &left {
-        assert!(said[0].contains(m.as_str()), "{m}: {}", said[0]);
-    }
-    for m in mine {
-        assert_eq!(std::fs::read_to_string(r.join(m)).unwrap(), "mine", "{m}");
-    }
-    assert!(std::fs::symlink_metadata(r.join("pressure/study.lock/01.npy")).unwrap().file_type().is_symlink());
+    assert_eq!(said, ["--fresh: left 1 file(s) in R that asperity did not write: \"notes.txt\""], "{err}");
+    assert_eq!(std::fs::read_to_string(r.join("notes.txt")).unwrap(), "mine");
     // The earlier study's files are gone, with the folders they alone were in.
     assert!(!r.join("solves/topographies/study.lock").exists());
-    assert_eq!(std::fs::read_to_string(r.join("pressure/study.lock/00.npy")).unwrap(), "mine");
+    assert!(!r.join("pressure/study.lock").exists());
     succeeds(&run(dir, "renamed.toml", "clean", &[]));
     assert_eq!(table(&r.join("results.csv")), table(&dir.join("clean/results.csv")));
     // Again: what it wrote is recorded, the user's files still are not.
     let o = run(dir, "renamed.toml", "R", &["--fresh"]);
     succeeds(&o);
-    assert!(stderr(&o).contains("--fresh: left 8 file(s)"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--fresh: left 1 file(s)"), "{}", stderr(&o));
 
     // A DIR whose runs kept no record: --fresh refuses, removing nothing; it still resumes.
     std::fs::remove_file(r.join("solves/written.jsonl")).unwrap();
@@ -736,4 +751,122 @@ fn files_follow_the_umask() {
         assert_eq!(mode(&out), folder);
         assert_eq!(mode(&format!("r{umask}/solves")), folder);
     }
+}
+
+#[test]
+fn a_study_never_writes_over_a_users_file_of_a_name_it_writes_fresh_or_not() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    succeeds(&run(dir, "study.toml", "R", &[]));
+    let r = dir.join("R");
+    std::fs::write(r.join("resolution.csv"), "mine").unwrap();
+    // The study now asks for the figure whose table has that name.
+    let study = STUDY.replace("figures = []", "figures = [\"resolution\"]");
+    std::fs::write(dir.join("study.toml"), &study).unwrap();
+    let before = files_below(&r);
+    for fresh in [&["--fresh"][..], &[]] {
+        let o = run(dir, "study.toml", "R", fresh);
+        let e = refusal(&o);
+        assert!(e.contains("R/resolution.csv: is a file asperity did not write"), "{e}");
+        // Refused before solving: nothing solved, nothing changed.
+        assert!(!stderr(&o).contains("solved"), "{}", stderr(&o));
+        assert_eq!(files_below(&r), before);
+        assert_eq!(std::fs::read_to_string(r.join("resolution.csv")).unwrap(), "mine");
+    }
+    // Its own file, rewritten since by the user, is the user's now.
+    std::fs::remove_file(r.join("resolution.csv")).unwrap();
+    let mut results = std::fs::read(r.join("results.json")).unwrap();
+    results.extend_from_slice(b"\n");
+    std::fs::write(r.join("results.json"), &results).unwrap();
+    let e = refusal(&run(dir, "study.toml", "R", &[]));
+    assert!(e.contains("R/results.json: is a file asperity did not write (or one changed since)"), "{e}");
+    assert_eq!(std::fs::read(r.join("results.json")).unwrap(), results);
+}
+
+#[test]
+fn an_input_of_a_study_among_its_outputs_is_refused_before_anything_changes() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    let study = STUDY.replace("figures = []", "figures = []\npressure_maps = true");
+    std::fs::write(dir.join("study.toml"), &study).unwrap();
+    succeeds(&run(dir, "study.toml", "R", &[]));
+    let r = dir.join("R");
+    // A third topography read from the study's own pressure map: --fresh would remove it, a
+    // run rewrite it; also through a hard link.
+    std::fs::hard_link(r.join("pressure/study.lock/00.npy"), dir.join("map.npy")).unwrap();
+    for input in ["R/pressure/study.lock/00.npy", "map.npy"] {
+        let third = format!(
+            "[[topography]]\nname = \"map\"\nfile = \"{input}\"\nsize = [\"1 cm\", \"1 cm\"]\nheight_unit = \"pm\"\n\n"
+        );
+        std::fs::write(dir.join("study.toml"), format!("{third}{study}")).unwrap();
+        let before = files_below(&r);
+        for fresh in [&["--fresh"][..], &[]] {
+            let e = refusal(&run(dir, "study.toml", "R", fresh));
+            assert!(e.contains("R/pressure/study.lock/00.npy: is an input of the study"), "{input}: {e}");
+            assert_eq!(files_below(&r), before);
+        }
+    }
+}
+
+#[test]
+fn slide_and_onset_never_replace_a_curve_they_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    surface(&dir.join("s.npy"), 64);
+    let slide = |extra: &[&str]| {
+        let mut args = vec!["slide", "s.npy", "--size", "10um", "--load", "1mN", "--out", "SL"];
+        args.extend_from_slice(extra);
+        asperity(dir, &args)
+    };
+    succeeds(&slide(&["--mu-s", "0.6", "--mu-d", "0.4"]));
+    let curve = std::fs::read(dir.join("SL/curve.csv")).unwrap();
+    let before = names(&dir.join("SL"));
+    std::os::unix::fs::symlink("SL/curve.csv", dir.join("link.csv")).unwrap();
+    std::fs::hard_link(dir.join("SL/curve.csv"), dir.join("hard.csv")).unwrap();
+    for input in ["SL/curve.csv", "link.csv", "hard.csv"] {
+        let e = refusal(&slide(&["--curve", input, "--curve-unit", "1nm"]));
+        assert!(e.contains("SL holds curve.csv, an input of this command"), "{input}: {e}");
+        assert_eq!(names(&dir.join("SL")), before);
+        assert_eq!(std::fs::read(dir.join("SL/curve.csv")).unwrap(), curve);
+    }
+    // onset reads its curve from its own earlier output.
+    succeeds(&asperity(dir, &["contact", "s.npy", "--size", "10um", "--load", "1mN", "--out", "C"]));
+    succeeds(&asperity(dir, &["onset", "C", "--mu-s", "0.6", "--mu-d", "0.4", "--out", "O"]));
+    std::fs::copy(dir.join("SL/curve.csv"), dir.join("O/curve.csv")).unwrap();
+    let e = refusal(&asperity(dir, &["onset", "C", "--curve", "O/curve.csv", "--out", "O"]));
+    assert!(e.contains("O holds curve.csv, an input of this command"), "{e}");
+    assert!(temporaries(dir).is_empty(), "{:?}", temporaries(dir));
+}
+
+#[test]
+fn an_earlier_output_another_user_may_not_empty_is_refused_before_solving() {
+    // SAFETY: no arguments.
+    if unsafe { libc::geteuid() } != 0 {
+        // Only the superuser can act as another user here; the library's unit test covers a
+        // folder its own user may not write.
+        eprintln!("skipped: needs root to run as another user");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o777)).unwrap();
+    surface(&dir.join("s.npy"), 16);
+    let exe = dir.join("asperity");
+    std::fs::copy(env!("CARGO_BIN_EXE_asperity"), &exe).unwrap();
+    succeeds(&asperity(dir, &["contact", "s.npy", "--size", "1e-6", "--load", "1e-6", "--out", "out"]));
+    let before = std::fs::read(dir.join("out/contact.json")).unwrap();
+    // Another user, who may write in the parent folder but not in the earlier output.
+    let o = Command::new("setpriv")
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+        .arg(&exe)
+        .args(["contact", "s.npy", "--size", "1e-6", "--load", "2e-6", "--out", "out"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let e = refusal(&o);
+    assert!(e.contains("out holds an earlier output this user may not remove (Permission denied"), "{e}");
+    assert_eq!(std::fs::read(dir.join("out/contact.json")).unwrap(), before);
+    let mut left = names(dir);
+    left.retain(|n| n != "asperity");
+    assert_eq!(left, ["out", "s.npy"]);
 }

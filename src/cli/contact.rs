@@ -253,7 +253,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         warnings,
     };
     output::write_json(&out.path("contact.json"), &file)?;
-    let dir = out.commit()?;
+    let dir = super::commit(out)?;
     super::print(&load_table(&file.loads))?;
     super::message(&format!("wrote {}", dir.join("contact.json").display()));
     Ok(())

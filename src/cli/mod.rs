@@ -134,6 +134,16 @@ pub fn message(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "{}", escaped(line));
 }
 
+/// Move a command's finished output folder into place; a file that appeared in the earlier
+/// output meanwhile is said, with where it was kept.
+fn commit(out: asperity::output::StagedDir) -> asperity::error::Result<PathBuf> {
+    let committed = out.commit()?;
+    if let Some((_, line)) = &committed.kept {
+        message(&format!("warning: {line}"));
+    }
+    Ok(committed.dir)
+}
+
 /// Clap's own first line of an error.
 fn first_line(e: &clap::Error) -> String {
     e.render().to_string().lines().next().unwrap_or("error: invalid usage").to_string()

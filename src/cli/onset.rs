@@ -167,7 +167,10 @@ pub fn run(args: Args) -> Result<()> {
         let onset = Onset::new(&loads, &law);
         let report = report(input, &law, &onset)?;
         if let Some(dir) = &args.out {
-            let staged = StagedDir::new(dir, "onset", &[&args.input])?;
+            // Inputs are never outputs: the pressure map read and the curve too.
+            let read: Vec<&Path> =
+                [args.input.as_path(), input.path.as_path()].into_iter().chain(args.curve.as_deref()).collect();
+            let staged = StagedDir::new(dir, "onset", &read)?;
             write_json(&staged.path("onset.json"), &report)?;
             write_npy(&staged.path("classes.npy"), &onset.class_map(&input.pressure, area))?;
             write_npy(&staged.path("stress_ratio.npy"), &onset.stress_ratio_map(&input.pressure, area, 1.0)?)?;
@@ -184,7 +187,7 @@ pub fn run(args: Args) -> Result<()> {
                 let map = onset.stress_ratio_map(&input.pressure, area, f)?;
                 write_npy(&staged.path(&format!("stress_ratio_{f}.npy")), &map)?;
             }
-            staged.commit()?;
+            super::commit(staged)?;
         }
         reports.push(report);
     }

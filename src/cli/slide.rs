@@ -211,7 +211,9 @@ pub fn run(args: SlideArgs) -> Result<()> {
         }
     }
     // Before the normal solve: an --out that cannot be written is said at once.
-    let out = StagedDir::new(&args.out, "slide", &[&args.read.file])?;
+    // Inputs are never outputs: the curve read too.
+    let read: Vec<&Path> = std::iter::once(args.read.file.as_path()).chain(args.curve.as_deref()).collect();
+    let out = StagedDir::new(&args.out, "slide", &read)?;
     let normal = normal_pressure(&args, e_star)?;
     // Checked before the solve for a topography; a contact folder's pressures tell it here.
     if normal.boundary == Boundary::Periodic && normal.pressure.iter().all(|p| *p > 0.0) {
@@ -325,7 +327,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             report.work.seconds
         ));
     }
-    let dir = out.commit()?;
+    let dir = super::commit(out)?;
     super::message(&format!("wrote {}", dir.join("slide.json").display()));
     Ok(())
 }

@@ -61,6 +61,23 @@ impl Ledger {
         }
         Ok(Some(written))
     }
+
+    /// Keep in the ledger file `file` only the lines of the paths `keep` chooses (a torn or
+    /// foreign line goes too), rewriting it atomically.
+    pub fn retain(file: &Path, keep: impl Fn(&Path) -> bool) -> Result<()> {
+        let text = match std::fs::read(file) {
+            Ok(bytes) => bytes,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Vec::new(),
+            Err(e) => return Err(Error::io(file, e)),
+        };
+        let kept: Vec<&[u8]> = text
+            .split(|&b| b == b'\n')
+            .filter(|line| serde_json::from_slice::<Line>(line).is_ok_and(|l| keep(Path::new(&l.path))))
+            .collect();
+        super::write_atomic(file, |w| {
+            kept.iter().try_for_each(|line| w.write_all(line).and_then(|()| w.write_all(b"\n")))
+        })
+    }
 }
 
 /// One ledger line.
@@ -136,6 +153,23 @@ pub(super) fn check(path: &Path) -> Result<Option<(PathBuf, PathBuf)>> {
         }
     }
     Ok(Some((file, relative)))
+}
+
+/// Refuse to replace what is at `path` below an open ledger's folder unless the ledger's writer
+/// wrote it there, unchanged since: a file a user put where an output goes is never written
+/// over (nothing there, or a path below no open ledger: nothing to check).
+pub(super) fn may_replace(path: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::symlink_metadata(path) else { return Ok(()) };
+    let Some((file, relative)) = check(path)? else { return Ok(()) };
+    let written = Ledger::read(&file)?.unwrap_or_default();
+    if written.iter().any(|w| w.path == relative && w.is(&meta)) {
+        return Ok(());
+    }
+    Err(Error::file(
+        path,
+        "is not a file asperity wrote (or was changed since), and asperity never writes over one: move it away, \
+         or choose another --out",
+    ))
 }
 
 /// Record `path`, the file of metadata `meta`, in the open ledger whose folder holds it (none:

@@ -27,14 +27,15 @@ use crate::error::{Error, Result};
 
 pub use ledger::{Ledger, Written};
 pub use lock::{Access, Lock};
-pub use staged::{StagedDir, MANIFEST};
+pub use staged::{Committed, StagedDir, MANIFEST};
 pub use temp::{is_temporary, remove_temporaries, Interrupted};
 
 /// Write a file atomically: `fill` writes into a temporary file beside `path`, which is then
 /// renamed over `path`. A failure or a panic in `fill`, or a failed rename, leaves `path`
 /// untouched and no temporary behind. A symbolic link at `path` is followed: the file it points
 /// to is written, the link kept. Only a regular file is replaced: a folder, device, named pipe
-/// or socket at `path` is refused. Below the folder of an open [`Ledger`], `path` is recorded
+/// or socket at `path` is refused, and so is, below the folder of an open [`Ledger`], a file
+/// that ledger's writer did not write. Below the folder of an open [`Ledger`], `path` is recorded
 /// before it is renamed into place.
 pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     let shown = path;
@@ -45,6 +46,7 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
     };
     let io = |e| Error::io(shown, e);
     replaceable(shown, &path)?;
+    ledger::may_replace(shown)?;
     temp::remove_orphaned_temporaries_once(dir);
     let tmp = temp::TempFile::new_in(dir).map_err(io)?;
     {
@@ -55,6 +57,7 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::R
     tmp.as_file().sync_all().map_err(io)?;
     // Again: something else may have taken the name while the file was written.
     replaceable(shown, &path)?;
+    ledger::may_replace(shown)?;
     ledger::record(shown, &tmp.as_file().metadata().map_err(io)?)?;
     tmp.persist(&path).map_err(io)
 }
@@ -129,6 +132,28 @@ pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
 /// locked out.
 pub fn remove_stale_temporaries(dir: &Path) -> Result<()> {
     temp::remove_temporaries_in(dir, |_| true).map_err(|e| Error::io(dir, e))
+}
+
+/// Rename `from` to `to` unless something is at `to` (then an `AlreadyExists` error): never
+/// over anything, as a plain rename would be over an empty folder or a file.
+fn rename_no_replace(from: &Path, to: &Path) -> std::io::Result<()> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = |p: &Path| std::ffi::CString::new(p.as_os_str().as_bytes()).map_err(std::io::Error::other);
+    let (f, t) = (c(from)?, c(to)?);
+    // SAFETY: valid NUL-terminated paths, relative to the working folder.
+    let r = unsafe { libc::renameat2(libc::AT_FDCWD, f.as_ptr(), libc::AT_FDCWD, t.as_ptr(), libc::RENAME_NOREPLACE) };
+    if r == 0 {
+        return Ok(());
+    }
+    let e = std::io::Error::last_os_error();
+    // A filesystem without the flag: look, then rename (a race only with another writer of `to`).
+    if e.raw_os_error() == Some(libc::EINVAL) {
+        if std::fs::symlink_metadata(to).is_ok() {
+            return Err(std::io::ErrorKind::AlreadyExists.into());
+        }
+        return std::fs::rename(from, to);
+    }
+    Err(e)
 }
 
 /// `path` with symbolic links in its last component followed (a dangling link gives where it
@@ -292,7 +317,7 @@ mod tests {
         write_json(&file, &1).unwrap();
         assert_eq!(fs::metadata(&file).unwrap().permissions().mode() & 0o777, 0o666 & !umask);
         let staged = StagedDir::new(&dir.path().join("out"), "test", &[]).unwrap();
-        let out = staged.commit().unwrap();
+        let out = staged.commit().unwrap().dir;
         assert_eq!(fs::metadata(&out).unwrap().permissions().mode() & 0o777, 0o777 & !umask);
     }
 

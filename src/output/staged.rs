@@ -48,7 +48,38 @@ enum Found {
     Nothing,
     EmptyDir,
     /// An earlier output of the same command: its files (the manifest among them).
-    Earlier(Vec<PathBuf>),
+    Earlier(Vec<Known>),
+}
+
+/// A file of an earlier output: its name and identity (device, inode, length [bytes] and
+/// modification time [s, ns]: an inode number is reused at once by the next file), so that
+/// only the very file found is removed, not one a user put in its place since.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) struct Known {
+    name: String,
+    identity: Option<(u64, u64, u64, i64, i64)>,
+}
+
+impl Known {
+    fn of(name: String, meta: &fs::Metadata) -> Known {
+        use std::os::unix::fs::MetadataExt;
+        Known { name, identity: Some((meta.dev(), meta.ino(), meta.len(), meta.mtime(), meta.mtime_nsec())) }
+    }
+
+    /// Whether `meta` is of this file: any file of its name when its identity is unknown.
+    fn is(&self, meta: &fs::Metadata) -> bool {
+        self.identity.is_none_or(|_| Known::of(String::new(), meta).identity == self.identity)
+    }
+}
+
+/// What [`StagedDir::commit`] did.
+#[derive(Debug)]
+pub struct Committed {
+    /// The output folder, as the user gave it.
+    pub dir: PathBuf,
+    /// Where files that appeared in the earlier output while it was replaced were kept (a
+    /// visible folder beside the output), with a line saying so; none when nothing appeared.
+    pub kept: Option<(PathBuf, String)>,
 }
 
 impl StagedDir {
@@ -89,8 +120,10 @@ impl StagedDir {
     }
 
     /// Write the manifest and move the finished folder into place, replacing an earlier output
-    /// of the same command.
-    pub fn commit(mut self) -> Result<PathBuf> {
+    /// of the same command. A file that appeared in the earlier output after it was checked (a
+    /// user writing there at that moment) is never removed: it is kept in a visible folder
+    /// beside the output, which [`Committed::kept`] names.
+    pub fn commit(mut self) -> Result<Committed> {
         let staging = self.staging.take().expect("staging exists until commit");
         let io = |e| Error::io(&self.shown, e);
         let mut files: Vec<String> = fs::read_dir(staging.path())
@@ -107,16 +140,22 @@ impl StagedDir {
             Found::Earlier(files) => Some(files),
             Found::Nothing | Found::EmptyDir => None,
         };
+        #[cfg(test)]
+        tests::before_the_swap(&self.target);
         let aside = staging.rename_into_place(&self.target, earlier.is_some()).map_err(io)?;
+        let mut kept = None;
         if let (Some(aside), Some(files)) = (aside, earlier) {
-            // Only the files the manifest lists: the folder is removed only once empty.
-            for file in files {
-                let path = aside.path.join(&file);
-                fs::remove_file(&path).or_else(|e| if path.exists() { Err(Error::io(&path, e)) } else { Ok(()) })?;
+            // The new output is in place: what is left to do only tidies up, and fails no more.
+            if let Ok(Some(folder)) = retire(&aside.path, Some(&files)) {
+                let line = format!(
+                    "{} changed while it was replaced: what appeared in the earlier output is kept in {}",
+                    self.shown.display(),
+                    folder.display()
+                );
+                kept = Some((folder, line));
             }
-            fs::remove_dir(&aside.path).map_err(|e| Error::io(&aside.path, e))?;
         }
-        Ok(self.shown.clone())
+        Ok(Committed { dir: self.shown.clone(), kept })
     }
 
     /// What the target holds, or why it may not be replaced.
@@ -166,8 +205,13 @@ impl StagedDir {
                 if others.len() > 1 { ", …" } else { "" }
             ));
         }
+        // Its files are removed once the new output is in place: that must be allowed.
+        if let Some(why) = not_removable_in(&self.target) {
+            return refuse(format!("holds an earlier output this user may not remove ({why}): remove it, or"));
+        }
         // Only files are removed from an earlier output: a folder or link in a listed file's
         // place is someone else's, and an input (the same file, as `cp` compares them) is read.
+        let mut known = Vec::with_capacity(names.len());
         for name in &names {
             let meta = fs::symlink_metadata(self.target.join(name)).map_err(|e| Error::io(&self.shown, e))?;
             let kind = meta.file_type();
@@ -184,14 +228,98 @@ impl StagedDir {
                      elsewhere, or"
                 ));
             }
+            known.push(Known::of(name.clone(), &meta));
         }
-        Ok(Found::Earlier(names.into_iter().map(PathBuf::from).collect()))
+        Ok(Found::Earlier(known))
     }
+}
+
+/// Why this process may not remove files from the folder `dir`, if it may not: it needs write
+/// and search permission on it, and where the folder is sticky, to own it or the files.
+fn not_removable_in(dir: &Path) -> Option<String> {
+    use std::os::unix::ffi::OsStrExt;
+    use std::os::unix::fs::MetadataExt;
+    let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
+    // SAFETY: a valid NUL-terminated path.
+    if unsafe { libc::access(c.as_ptr(), libc::W_OK | libc::X_OK) } != 0 {
+        return Some(std::io::Error::last_os_error().to_string());
+    }
+    let meta = fs::metadata(dir).ok()?;
+    // SAFETY: no arguments, cannot fail.
+    let uid = unsafe { libc::geteuid() };
+    let sticky = meta.mode() & libc::S_ISVTX as u32 != 0;
+    if sticky && uid != 0 && meta.uid() != uid {
+        let foreign = fs::read_dir(dir).ok()?.flatten().any(|e| e.metadata().is_ok_and(|m| m.uid() != uid));
+        if foreign {
+            return Some("a sticky folder holding files of another user".to_string());
+        }
+    }
+    None
+}
+
+/// Empty and remove `aside`, an earlier output moved aside: only its own files go — those of
+/// `known` (name and identity) when given, else those its manifest lists — and the manifest.
+/// Anything else in it (a file a user wrote there while it was being replaced) is never
+/// removed: the folder is then renamed to a visible name beside it, which is returned.
+pub(super) fn retire(aside: &Path, known: Option<&[Known]>) -> std::io::Result<Option<PathBuf>> {
+    let listed: Vec<Known> = match known {
+        Some(k) => k.to_vec(),
+        None => {
+            let manifest = fs::read_to_string(aside.join(MANIFEST)).ok();
+            let files =
+                manifest.and_then(|t| serde_json::from_str::<Manifest>(&t).ok()).map_or(Vec::new(), |m| m.files);
+            // Known by name only: the process that knew their identities was killed.
+            files.into_iter().chain([MANIFEST.to_string()]).map(|name| Known { name, identity: None }).collect()
+        }
+    };
+    for file in &listed {
+        let path = aside.join(&file.name);
+        let Ok(meta) = fs::symlink_metadata(&path) else { continue };
+        if meta.is_file() && file.is(&meta) {
+            match fs::remove_file(&path) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
+        }
+    }
+    match fs::remove_dir(aside) {
+        Ok(()) => Ok(None),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) if e.kind() == std::io::ErrorKind::DirectoryNotEmpty => keep_visible(aside).map(Some),
+        Err(e) => Err(e),
+    }
+}
+
+/// Rename the folder `aside` to `asperity-kept-N` beside it, the first N free (never over
+/// anything there).
+fn keep_visible(aside: &Path) -> std::io::Result<PathBuf> {
+    let parent = aside.parent().unwrap_or(Path::new("."));
+    for n in 1..10_000 {
+        let to = parent.join(format!("asperity-kept-{n}"));
+        match super::rename_no_replace(aside, &to) {
+            Ok(()) => return Ok(to),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(std::io::Error::other("no free name asperity-kept-N beside it"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::RefCell;
+
+    thread_local! {
+        /// What a test does in the instant between the last check of the target and the swap.
+        static RACE: RefCell<Option<Box<dyn FnOnce(&Path)>>> = RefCell::new(None);
+    }
+
+    pub(super) fn before_the_swap(target: &Path) {
+        if let Some(race) = RACE.with(|r| r.borrow_mut().take()) {
+            race(target);
+        }
+    }
 
     fn names(dir: &Path) -> Vec<String> {
         let mut n: Vec<_> =
@@ -297,11 +425,87 @@ mod tests {
             fs::write(r.join(name).join("pressure.npy"), "").unwrap();
         }
         fs::write(r.join(format!("{gone}file.partial")), "").unwrap();
+        // An earlier output moved aside holds its manifest, which lists its files.
+        let manifest =
+            Manifest { written_by: "asperity test".into(), asperity: "0".into(), files: vec!["pressure.npy".into()] };
+        write_json(&r.join(format!("{gone}abc.partial.old.partial")).join(MANIFEST), &manifest).unwrap();
         StagedDir::new(&r.join("out"), "test", &[]).unwrap().commit().unwrap();
         living.kill().unwrap();
         living.wait().unwrap();
         let mut expected: Vec<String> = kept.into_iter().chain(["out".to_string()]).collect();
         expected.sort();
         assert_eq!(names(r), expected);
+    }
+
+    #[test]
+    fn a_file_written_into_the_earlier_output_while_it_is_replaced_is_kept() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
+        write_json(&s.path("a.json"), &1).unwrap();
+        s.commit().unwrap();
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
+        write_json(&s.path("b.json"), &2).unwrap();
+        // A user writes into the earlier output, and replaces one of its files by one of
+        // their own, after the last check.
+        RACE.with(|r| {
+            *r.borrow_mut() = Some(Box::new(|t: &Path| {
+                fs::write(t.join("mine.txt"), "mine").unwrap();
+                fs::remove_file(t.join("a.json")).unwrap();
+                fs::write(t.join("a.json"), "also mine").unwrap();
+            }))
+        });
+        let committed = s.commit().unwrap();
+        assert_eq!(names(&target), ["b.json", MANIFEST]);
+        let (kept, line) = committed.kept.unwrap();
+        assert_eq!(kept, root.path().join("asperity-kept-1"));
+        assert!(line.contains("changed while it was replaced") && line.contains("asperity-kept-1"), "{line}");
+        assert_eq!(names(&kept), ["a.json", "mine.txt"]);
+        assert_eq!(fs::read_to_string(kept.join("a.json")).unwrap(), "also mine");
+        // Nothing hidden is left for a later sweep to remove.
+        assert_eq!(names(root.path()), ["asperity-kept-1", "out"]);
+    }
+
+    #[test]
+    fn an_earlier_output_a_killed_process_left_aside_keeps_a_users_file() {
+        use super::super::temp::owner_tag;
+        let root = tempfile::tempdir().unwrap();
+        let r = root.path();
+        let mut ended = std::process::Command::new("true").spawn().unwrap();
+        ended.wait().unwrap();
+        let aside = r.join(format!("{}abc.partial.old.partial", owner_tag(ended.id())));
+        fs::create_dir(&aside).unwrap();
+        let manifest =
+            Manifest { written_by: "asperity test".into(), asperity: "0".into(), files: vec!["a.json".into()] };
+        write_json(&aside.join(MANIFEST), &manifest).unwrap();
+        fs::write(aside.join("a.json"), "1").unwrap();
+        fs::write(aside.join("mine.txt"), "mine").unwrap();
+        // A kept folder of an earlier time is not written over.
+        fs::create_dir(r.join("asperity-kept-1")).unwrap();
+        super::super::temp::remove_orphaned_temporaries(r).unwrap();
+        assert_eq!(names(r), ["asperity-kept-1", "asperity-kept-2"]);
+        assert_eq!(names(&r.join("asperity-kept-2")), ["mine.txt"]);
+    }
+
+    #[test]
+    fn an_earlier_output_this_user_may_not_empty_is_refused_before_any_work() {
+        use std::os::unix::fs::PermissionsExt;
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = StagedDir::new(&target, "test", &[]).unwrap();
+        write_json(&s.path("a.json"), &1).unwrap();
+        s.commit().unwrap();
+        fs::set_permissions(&target, fs::Permissions::from_mode(0o555)).unwrap();
+        let why = not_removable_in(&target);
+        // SAFETY: no arguments.
+        if unsafe { libc::geteuid() } == 0 {
+            // The superuser may remove anything: tests/safety.rs tries another user.
+            assert_eq!(why, None);
+        } else {
+            let e = StagedDir::new(&target, "test", &[]).unwrap_err().to_string();
+            assert!(e.contains("holds an earlier output this user may not remove (Permission denied"), "{e}");
+            assert_eq!(names(root.path()), ["out"]);
+        }
+        fs::set_permissions(&target, fs::Permissions::from_mode(0o755)).unwrap();
     }
 }

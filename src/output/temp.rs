@@ -132,11 +132,7 @@ pub fn remove_temporaries_in(dir: &Path, pick: impl Fn(&str) -> bool) -> io::Res
         if !(is_temporary(&name) && name.to_str().is_some_and(&pick)) {
             continue;
         }
-        let removed = if entry.file_type()?.is_dir() {
-            std::fs::remove_dir_all(entry.path())
-        } else {
-            std::fs::remove_file(entry.path())
-        };
+        let removed = remove(&entry.path(), entry.file_type()?.is_dir());
         // Another process may be removing it too.
         match removed {
             Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
@@ -191,10 +187,26 @@ pub fn remove_temporaries() -> Interrupted {
     registry.closed = true;
     for (_, path) in registry.paths.drain(..) {
         // The file may be gone already: renamed into place, or never finished.
-        let _ = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
+        let _ = remove(&path, path.is_dir());
     }
     Interrupted { _registry: registry }
 }
+
+/// Remove the temporary `path`: a file, a staging folder with all it holds, or an earlier
+/// output moved aside, of which only its own files go ([`super::staged::retire`]: a user's file
+/// that found its way there is kept, in a visible folder).
+fn remove(path: &Path, is_dir: bool) -> io::Result<()> {
+    if !is_dir {
+        return std::fs::remove_file(path);
+    }
+    if path.to_str().is_some_and(|p| p.ends_with(ASIDE)) {
+        return super::staged::retire(path, None).map(drop);
+    }
+    std::fs::remove_dir_all(path)
+}
+
+/// How the name of an earlier output moved aside ends.
+const ASIDE: &str = ".old.partial";
 
 fn builder(tag: &str) -> tempfile::Builder<'_, 'static> {
     let mut b = tempfile::Builder::new();
@@ -283,8 +295,7 @@ impl TempDir {
             return Ok(None);
         }
         let mut aside = self.dir.path().as_os_str().to_owned();
-        aside.push(".old");
-        aside.push(SUFFIX);
+        aside.push(ASIDE);
         let aside = PathBuf::from(aside);
         std::fs::rename(target, &aside)?;
         if let Err(e) = std::fs::rename(self.dir.path(), target) {

@@ -557,6 +557,22 @@ impl StudyConfig {
         self
     }
 
+    /// Every file the study reads: its topographies' and wafers' files, its laws' curves and
+    /// its measured points.
+    pub fn input_files(&self) -> Vec<&Path> {
+        fn surface<'a>(s: &'a SurfaceSpec, found: &mut Vec<&'a Path>) {
+            found.extend(s.file.as_deref());
+            if let Some(w) = &s.wafer {
+                surface(w, found);
+            }
+        }
+        let mut found = Vec::new();
+        self.topographies.iter().for_each(|t| surface(t, &mut found));
+        found.extend(self.laws.iter().filter_map(|l| l.curve.as_deref()));
+        found.extend(self.output.experiments.as_deref());
+        found
+    }
+
     /// The material's hardness [Pa], if given.
     pub fn hardness(&self) -> Option<f64> {
         self.material.hardness.map(|h| h.0)
@@ -1452,7 +1468,10 @@ mod tests {
             assert_eq!(StudyConfig::parse(text, "study.toml").unwrap().contact.device, Device::Gpu);
         } else {
             let e = err(text);
-            assert!(e.starts_with("study.toml:2:1: contact.device: this asperity was built without the GPU backend"), "{e}");
+            assert!(
+                e.starts_with("study.toml:2:1: contact.device: this asperity was built without the GPU backend"),
+                "{e}"
+            );
         }
         let e = err("[contact]\ndevice = \"tpu\"\n");
         assert!(e.starts_with("study.toml:2:") && e.contains("contact.device") && e.contains("tpu"), "{e}");

@@ -100,6 +100,20 @@ const LEDGER: &str = "written.jsonl";
 /// fingerprint, and a lock file is never removed while a process may open it).
 const KEPT: [&str; 5] = [FINGERPRINT, CLAIM_LOCK, STUDY_LOCK, RESULTS_LOCK, LEDGER];
 
+/// Every name the runs write at the top of DIR (files, and folders with all below them): what
+/// a user put there is never written over, so it is refused before anything is solved.
+const DIR_OUTPUTS: [&str; 9] = [
+    "study.toml",
+    "results.csv",
+    "results.json",
+    "resolution.csv",
+    "index.html",
+    "figures",
+    "pressure",
+    "snapshots",
+    SOLVES,
+];
+
 /// A study ready to run: every topography built, every law resolved.
 pub struct Study {
     /// Names the study in errors (its file, or "default study").
@@ -722,6 +736,9 @@ impl Study {
         };
         let ledger_path = solves.join(LEDGER);
         let recorded = Ledger::read(&ledger_path)?;
+        if let Some(recorded) = &recorded {
+            self.check_outputs(dir, recorded)?;
+        }
         // A DIR an asperity without ledgers wrote stays without one: a ledger begun now would
         // miss the earlier files, which a later `fresh` must not keep as this study's.
         let ledger = match (&stored, &recorded) {
@@ -790,6 +807,61 @@ impl Study {
         let text = self.study_file()?;
         output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
         Ok(Claim { _study: study, _units: units, _ledger: ledger, left })
+    }
+
+    /// Refuse, before anything in `dir` changes, a file where the runs write their outputs
+    /// ([`DIR_OUTPUTS`]) that the ledger `recorded` does not hold as written by a run (a user's
+    /// file, or one changed since), and an input of the study there (which a run would replace
+    /// or `fresh` remove), compared as `cp` does, by device and inode.
+    fn check_outputs(&self, dir: &Path, recorded: &[output::Written]) -> Result<()> {
+        use std::os::unix::fs::MetadataExt;
+        let inputs: Vec<(&Path, (u64, u64))> = self
+            .config
+            .input_files()
+            .into_iter()
+            .filter_map(|p| std::fs::metadata(p).ok().map(|m| (p, (m.dev(), m.ino()))))
+            .collect();
+        let mut found = Vec::new();
+        files_below(dir, Path::new(""), &mut found)?;
+        found.sort();
+        // A lock file is opened, never written over, and may be another process's to record.
+        let lock = |p: &Path| p.starts_with(SOLVES) && p.extension().is_some_and(|e| e == "lock");
+        for path in found {
+            let first = path.components().next().map(|c| c.as_os_str().to_owned()).unwrap_or_default();
+            if !DIR_OUTPUTS.iter().any(|o| first == *o) || is_kept(&path) || lock(&path) {
+                continue;
+            }
+            let full = dir.join(&path);
+            if std::fs::symlink_metadata(&full).is_ok_and(|m| m.file_type().is_symlink()) {
+                return Err(Error::file(
+                    &full,
+                    "a symbolic link in a folder asperity writes: it never writes through one (it would replace what \
+                     the link points to); remove the link, or choose another --out",
+                ));
+            }
+            let Ok(meta) = std::fs::metadata(&full) else { continue };
+            if let Some((input, _)) = inputs.iter().find(|(_, id)| *id == (meta.dev(), meta.ino())) {
+                return Err(Error::file(
+                    &full,
+                    format!(
+                        "is an input of the study ({}) where the study writes its results: keep inputs out of \
+                         DIR's {}, or choose another --out",
+                        input.display(),
+                        DIR_OUTPUTS.join(", ")
+                    ),
+                ));
+            }
+            let ours =
+                reached_without_links(dir, &path).is_some_and(|m| recorded.iter().any(|w| w.path == path && w.is(&m)));
+            if !ours {
+                return Err(Error::file(
+                    &full,
+                    "is a file asperity did not write (or one changed since), where the study writes its results: \
+                     asperity never writes over one; move it away, or choose another --out",
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Take a lock of the run in `dir`, waiting for it or refusing when another process holds
@@ -1413,6 +1485,11 @@ impl Study {
     }
 }
 
+/// Whether `path` (relative to DIR) is one of the files of `solves/` kept for good ([`KEPT`]).
+fn is_kept(path: &Path) -> bool {
+    path.parent() == Some(Path::new(SOLVES)) && KEPT.iter().any(|k| path.ends_with(k))
+}
+
 /// Remove what runs wrote into `dir`, for `--fresh`: the files of its ledger, `recorded`, that
 /// are still the very files written (the identity recorded; never a folder, nor what a link
 /// points to, nor a user's file named by a hand-edited line or put in an output's place), then
@@ -1427,8 +1504,7 @@ fn discard(dir: &Path, mut recorded: Vec<output::Written>) -> Result<Vec<PathBuf
         p.starts_with(Path::new(SOLVES).join(TOPOGRAPHIES))
             && p.file_name().and_then(|n| n.to_str()?.strip_suffix(".json")).is_some_and(index)
     };
-    let kept = |p: &Path| p.parent() == Some(Path::new(SOLVES)) && KEPT.iter().any(|k| p.ends_with(k));
-    recorded.retain(|w| !kept(&w.path));
+    recorded.retain(|w| !is_kept(&w.path));
     recorded.sort_by_key(|w| !is_record(&w.path));
     for written in &recorded {
         if reached_without_links(dir, &written.path).is_some_and(|m| written.is(&m)) {
@@ -1446,10 +1522,11 @@ fn discard(dir: &Path, mut recorded: Vec<output::Written>) -> Result<Vec<PathBuf
             let _ = std::fs::remove_dir(dir.join(folder));
         }
     }
-    output::write_atomic(&dir.join(SOLVES).join(LEDGER), |_| Ok(()))?;
+    // The ledger keeps what stays: the files of `solves/` kept for good.
+    Ledger::retain(&dir.join(SOLVES).join(LEDGER), is_kept)?;
     let mut left = Vec::new();
     files_below(dir, Path::new(""), &mut left)?;
-    left.retain(|p| !kept(p));
+    left.retain(|p| !is_kept(p));
     left.sort();
     Ok(left)
 }
