@@ -56,15 +56,50 @@ impl Error {
 /// The longest message line printed [characters].
 pub const MESSAGE_CHARS: usize = 300;
 
-/// A message as printed (the command line's error line, a Python exception): its first line,
-/// [`escaped`], cut at [`MESSAGE_CHARS`] characters (a message may echo a value of any length).
+/// The fewest characters of a path or value that a shortened message keeps, its start and its
+/// end (a file's name and extension, an option value's unit).
+pub const KEPT_CHARS: usize = 40;
+
+/// A message as printed (the command line's error line, a Python exception): the whole
+/// message [`escaped`] (a newline in a value shows as `\n`), then, when longer than
+/// [`MESSAGE_CHARS`], its longest words (the paths and values it echoes, which hold no space)
+/// shortened in their middle, down to [`KEPT_CHARS`] each, so that the reason stays whole. Only
+/// a message still too long once every word is short loses its middle.
 pub fn one_line(message: &str) -> String {
-    let line = escaped(message.lines().next().unwrap_or_default());
-    if line.chars().count() <= MESSAGE_CHARS {
-        line.into_owned()
-    } else {
-        line.chars().take(MESSAGE_CHARS).chain(['…']).collect()
+    let line = escaped(message);
+    let mut words: Vec<String> = line.split(' ').map(String::from).collect();
+    let length = |words: &[String]| words.iter().map(|w| w.chars().count() + 1).sum::<usize>() - 1;
+    let mut excess = length(&words).saturating_sub(MESSAGE_CHARS);
+    while excess > 0 {
+        let Some((i, n)) = words.iter().map(|w| w.chars().count()).enumerate().max_by_key(|(_, n)| *n) else { break };
+        // A word cut once keeps more than KEPT_CHARS: never cut twice.
+        if n <= KEPT_CHARS + 1 {
+            break;
+        }
+        // The ellipsis takes one character.
+        let kept = (n - excess - 1).max(KEPT_CHARS).min(n - 2);
+        words[i] = middle_cut(&words[i], kept);
+        excess = length(&words).saturating_sub(MESSAGE_CHARS);
     }
+    let line = words.join(" ");
+    if excess == 0 {
+        line
+    } else {
+        // Many short words: their end is the reason's.
+        middle_cut(&line, MESSAGE_CHARS - 1)
+    }
+}
+
+/// `text` whole when it has at most `kept` characters, else its first and last characters,
+/// `kept` in all, around an ellipsis.
+pub fn middle_cut(text: &str, kept: usize) -> String {
+    let n = text.chars().count();
+    if n <= kept {
+        return text.to_string();
+    }
+    let head = kept / 2;
+    let tail = kept - head;
+    text.chars().take(head).chain(['…']).chain(text.chars().skip(n - tail)).collect()
 }
 
 /// `text` with every character a terminal acts on, or that reorders what it shows, written as
@@ -119,9 +154,30 @@ mod tests {
 
     #[test]
     fn a_message_is_one_escaped_short_line() {
-        assert_eq!(one_line("error: t.txt: line 2: '4\x1b[2J\rX'\nsecond"), "error: t.txt: line 2: '4\\x1b[2J\\rX'");
+        assert_eq!(
+            one_line("error: t.txt: line 2: '4\x1b[2J\rX'\nsecond"),
+            "error: t.txt: line 2: '4\\x1b[2J\\rX'\\nsecond"
+        );
         let long = one_line(&format!("error: {}", "\x07".repeat(400)));
-        assert_eq!(long.chars().count(), MESSAGE_CHARS + 1);
-        assert!(long.ends_with('…') && !long.contains('\x07'), "{long}");
+        assert_eq!(long.chars().count(), MESSAGE_CHARS);
+        assert!(long.contains('…') && !long.contains('\x07'), "{long}");
+    }
+
+    #[test]
+    fn a_long_path_is_shortened_in_its_middle_and_the_reason_kept() {
+        let path = format!("/data/{}/scan.npy", "d".repeat(5000));
+        let line = one_line(&format!("error: {path}: No such file or directory (os error 2)"));
+        assert_eq!(line.chars().count(), MESSAGE_CHARS);
+        assert!(line.starts_with("error: /data/ddd"), "{line}");
+        assert!(line.ends_with("ddd/scan.npy: No such file or directory (os error 2)"), "{line}");
+        // Two long values: each keeps its start and end, the words between them stay.
+        let two = one_line(&format!("error: {}: is not {}", "a".repeat(400), "b".repeat(400)));
+        assert!(two.chars().count() <= MESSAGE_CHARS && two.contains(": is not b"), "{two}");
+        // Many short words: the middle goes, the end stays.
+        let words = one_line(&format!("error: {}the reason", "ab ".repeat(300)));
+        assert_eq!(words.chars().count(), MESSAGE_CHARS);
+        assert!(words.ends_with("ab the reason"), "{words}");
+        assert_eq!(middle_cut("abcdef", 5), "ab…def");
+        assert_eq!(middle_cut("abc", 5), "abc");
     }
 }

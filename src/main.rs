@@ -59,7 +59,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            cli::message(&asperity::error::one_line(&format!("error: {e}")));
+            cli::message(&format!("error: {e}"));
             ExitCode::FAILURE
         }
     }

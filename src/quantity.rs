@@ -137,13 +137,10 @@ pub fn pascals_per(unit: &str) -> Option<f64> {
 /// How much of a quoted token an error message repeats, so that a message stays one short line.
 const QUOTED_CHARS: usize = 40;
 
-/// `text` as an error message quotes it: whole when short, else its start and an ellipsis.
+/// `text` as an error message quotes it: whole when short, else its start and its end around an
+/// ellipsis.
 pub fn quoted(text: &str) -> String {
-    if text.chars().count() <= QUOTED_CHARS {
-        format!("'{text}'")
-    } else {
-        format!("'{}…'", text.chars().take(QUOTED_CHARS).collect::<String>())
-    }
+    format!("'{}'", crate::error::middle_cut(text, QUOTED_CHARS))
 }
 
 /// The length in bytes of the number at the start of `t` (sign, digits, point, exponent), in

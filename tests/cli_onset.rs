@@ -260,3 +260,20 @@ fn onset_reads_what_contact_writes() {
         assert!((n / imposed - 1.0).abs() < 1e-9);
     }
 }
+
+#[test]
+fn snapshots_are_capped_as_a_studys() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_npy(tmp.path().join("p.npy"), &pressure_map()).unwrap();
+    let many: Vec<String> = (1..=13).map(|k| format!("{}", k as f64 / 13.0)).collect();
+    let law = ["onset", "p.npy", "--mu-s", "0.5", "--mu-d", "0.3", "--out", "out", "--snapshots"];
+    let o = asperity(&[&law[..], &[many.join(",").as_str()]].concat(), tmp.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        error_line(&o),
+        "error: --snapshots: 13 fractions: at most 12, as a study's snapshot_fractions (each is a map of the grid)"
+    );
+    assert!(!tmp.path().join("out").exists());
+    let o = asperity(&[&law[..], &[many[1..].join(",").as_str()]].concat(), tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

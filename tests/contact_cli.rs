@@ -170,3 +170,100 @@ fn plastic_caps_the_pressure_at_the_hardness() {
     refused(&[good, size[0], size[1], "--load", "1e-3", "--hardness", "-1e9"], "--hardness");
     refused(&[good, size[0], size[1], "--load", "1", "--hardness", "12GPa", "--plastic"], "--hardness");
 }
+
+/// The one line a failed command prints on stderr, with its exit code 1.
+fn refusal(o: &std::process::Output) -> String {
+    assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr).trim_end().to_string();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    err
+}
+
+#[test]
+fn a_long_input_path_keeps_its_reason_on_every_command() {
+    let tmp = tempfile::tempdir().unwrap();
+    let long = format!("{}/{}.npy", tmp.path().display(), "x".repeat(5000));
+    let out = tmp.path().join("out");
+    let out = out.to_str().unwrap();
+    let converted = format!("{out}.npy");
+    let commands: [&[&str]; 9] = [
+        &["contact", &long, "--size", "10um", "--load", "1mN", "--out", out],
+        &["onset", &long, "--mu-s", "0.5", "--mu-d", "0.3"],
+        &["slide", &long, "--size", "10um", "--load", "1mN", "--mu-s", "0.5", "--mu-d", "0.3", "--out", out],
+        &["topo", "info", &long],
+        &["topo", "psd", &long],
+        &["topo", "convert", &long, "--size", "10um", &converted],
+        &["shs", &long],
+        &["run", &long, "--out", out],
+        &["slurm", &long, "--shards", "1", "--out", out],
+    ];
+    for args in commands {
+        let line = refusal(&asperity(args));
+        assert!(line.chars().count() <= 400, "{}: {} characters", args[0], line.chars().count());
+        // The path keeps its start and its end; the operating system's reason stays whole.
+        assert!(line.contains("xxx…xxx"), "{line}");
+        assert!(line.ends_with("File name too long (os error 36)"), "{}: {line}", args[0]);
+    }
+}
+
+#[test]
+fn an_empty_output_path_is_no_folder() {
+    let o = asperity(&["contact", fixture().to_str().unwrap(), "--size", "8e-6,6e-6", "--load", "1mN", "--out", ""]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim_end(),
+        "error: --out: an empty path is no folder: give the folder's path"
+    );
+}
+
+#[test]
+fn a_flat_map_is_in_full_contact_at_uniform_pressure_at_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (n, l) = (64, 10e-6);
+    // A constant height, and heights a rounding error apart (1e-30 m).
+    let flat = tmp.path().join("flat.npy");
+    write_npy(&flat, &Array2::<f64>::from_elem((n, n), 3e-7)).unwrap();
+    let rounding = tmp.path().join("rounding.npy");
+    write_npy(&rounding, &Array2::from_shape_fn((n, n), |(i, j)| 1e-30 * ((i * 7 + j * 13) % 17) as f64)).unwrap();
+    for (map, name) in [(&flat, "flat"), (&rounding, "rounding")] {
+        let out = tmp.path().join(name);
+        let started = std::time::Instant::now();
+        let o = asperity(&[
+            "contact",
+            map.to_str().unwrap(),
+            "--size",
+            "10um",
+            "--load",
+            "1mN",
+            "--load",
+            "10mN",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(started.elapsed().as_secs_f64() < 5.0, "{name}: {:?}", started.elapsed());
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("contact.json")).unwrap()).unwrap();
+        for (k, load) in [1e-3, 10e-3].into_iter().enumerate() {
+            let solve = &json["loads"][k];
+            assert!(solve["iterations"].as_u64().unwrap() <= 3, "{name}: {solve}");
+            let p: Array2<f64> = read_npy(out.join(solve["pressure_file"].as_str().unwrap())).unwrap();
+            let expected = load / (l * l);
+            assert!(p.iter().all(|&p| ((p - expected) / expected).abs() <= 1e-12), "{name} at {load} N");
+        }
+    }
+    // Over a free window a flat map is a flat punch: refused in one line that says so.
+    let o = asperity(&[
+        "contact",
+        flat.to_str().unwrap(),
+        "--size",
+        "10um",
+        "--load",
+        "1mN",
+        "--free",
+        "--out",
+        tmp.path().join("free").to_str().unwrap(),
+    ]);
+    let line = refusal(&o);
+    assert!(line.starts_with("error: surface: the map is flat (heights within 0e0 m of each other)"), "{line}");
+}

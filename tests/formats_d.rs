@@ -177,7 +177,8 @@ fn a_gwyddion_file_of_another_project_reads_as_its_tests_assert() {
     let path = common::sample("gwyfile-test.gwy");
     let bare = read(&path, &ReadOptions::default()).unwrap();
     assert_eq!((bare.physical_size, bare.height_unit_known), (None, false));
-    let options = ReadOptions { physical_size: Some((1e-6, 1e-6)), height_unit: Some("m".into()), ..Default::default() };
+    let options =
+        ReadOptions { physical_size: Some((1e-6, 1e-6)), height_unit: Some("m".into()), ..Default::default() };
     let t = read(&path, &options).unwrap();
     assert_eq!((t.ny(), t.nx()), (128, 128));
     assert_eq!(t.channel, "Test");

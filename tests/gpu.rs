@@ -19,7 +19,13 @@ fn ball(nx: usize, ny: usize, seed: u64) -> (Vec<f64>, (f64, f64)) {
 }
 
 /// A GPU solver, or None (with a one-line note) where this machine has no usable GPU.
-fn gpu(heights: &[f64], shape: (usize, usize), size: (f64, f64), boundary: Boundary, tolerance: f64) -> Option<ContactSolver> {
+fn gpu(
+    heights: &[f64],
+    shape: (usize, usize),
+    size: (f64, f64),
+    boundary: Boundary,
+    tolerance: f64,
+) -> Option<ContactSolver> {
     let convergence = Convergence { tolerance, ..SolverOptions::default().convergence };
     let options = SolverOptions { convergence, device: Device::Gpu };
     match ContactSolver::new(heights, shape, size, E_STAR, boundary, options) {

@@ -150,7 +150,10 @@ fn refuses_a_missing_law_and_a_bad_slip_distance() {
         (&[][..], "--mu-s"),
         (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "-1nm"][..], "--slip-distance"),
         // Finite but too long to weaken within the path's steps: said so, with what to do.
-        (&["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "1e300"][..], "1e300 m is not a slip-weakening distance (1 pm to 1 mm)"),
+        (
+            &["--mu-s", "0.6", "--mu-d", "0.4", "--slip-distance", "1e300"][..],
+            "1e300 m is not a slip-weakening distance (1 pm to 1 mm)",
+        ),
         (&["--mu-s", "0.3", "--mu-d", "0.4"][..], "--mu-s"),
         // The ramp is under Coulomb friction: a weakening law would do nothing there.
         (
@@ -317,4 +320,33 @@ fn refuses_results_outside_the_law_and_options_before_solving() {
     let j = json(&out.join("slide.json"));
     assert!((j["tangential_force_n"].as_f64().unwrap() / 1e-12 - 1.0).abs() < 1e-5, "{j}");
     assert_eq!((j["slip_points"].as_u64(), j["stick_points"].as_u64()), (Some(0), j["contact_points"].as_u64()));
+}
+
+#[test]
+fn a_curve_unit_without_a_curve_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let surface = surface();
+    let out = tmp.path().join("out");
+    let o = asperity(&[
+        "slide",
+        surface.to_str().unwrap(),
+        "--size",
+        "8e-6,6e-6",
+        "--load",
+        "1mN",
+        "--mu-s",
+        "0.5",
+        "--mu-d",
+        "0.3",
+        "--curve-unit",
+        "1nm",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim_end(),
+        "error: --curve-unit: is the unit of --curve only: give --curve FILE, or drop --curve-unit"
+    );
+    assert!(!out.exists());
 }

@@ -258,6 +258,42 @@ fn bad_shards_are_refused_in_one_line_naming_the_option() {
     }
 }
 
+#[test]
+fn slurm_values_are_refused_whole_in_slurms_forms() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("study.toml"), STUDY).unwrap();
+    for (args, line, code) in [
+        (
+            &["--partition", "a\nb"][..],
+            "error: --partition: 'a\\nb' cannot go in an #SBATCH line (no spaces, quotes or special characters)",
+            1,
+        ),
+        (
+            &["--time", "forever"],
+            "error: --time: 'forever' is not a Slurm time limit: give minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM, \
+             D-HH:MM:SS or UNLIMITED",
+            2,
+        ),
+        (
+            &["--mem", "lots"],
+            "error: --mem: 'lots' is not a Slurm memory size: give a whole number with an optional K, M, G or T \
+             (4G, 500M)",
+            2,
+        ),
+    ] {
+        let o = asperity(dir, &[&["slurm", "study.toml", "--out", "out", "--shards", "2"][..], args].concat());
+        assert_eq!(o.status.code(), Some(code), "{args:?}");
+        assert_eq!(stderr(&o).trim_end(), line);
+        assert!(!dir.join("out").exists());
+    }
+    let o =
+        asperity(dir, &["slurm", "study.toml", "--out", "out", "--shards", "2", "--time", "1-12:00", "--mem", "4G"]);
+    succeeds(&o);
+    let script = std::fs::read_to_string(dir.join("out/slurm/shards.sh")).unwrap();
+    assert!(script.contains("#SBATCH --time=1-12:00\n#SBATCH --mem=4G\n"), "{script}");
+}
+
 /// `scontrol show job ID`'s JobState of every job (or array task) `id` names.
 fn job_states(id: &str) -> Vec<String> {
     let o = Command::new("scontrol").args(["show", "job", id]).output().unwrap();

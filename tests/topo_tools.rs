@@ -289,3 +289,48 @@ fn psd_prints_the_library_spectrum_as_csv() {
     assert!(o.status.success() && stderr(&o).starts_with("sphere fit: radius"), "{}", stderr(&o));
     assert!(stdout(&o).starts_with("q_rad_per_m,psd_m4\n"));
 }
+
+#[test]
+fn a_crop_past_the_map_a_pixel_past_the_window_and_an_implausible_rms_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.npy");
+    write_npy(&input, &Array2::from_shape_fn((16, 16), |(j, i)| 1e-9 * (i + 2 * j) as f64)).unwrap();
+    let out = dir.path().join("out.npy");
+    for (extra, expected) in [
+        (
+            &["--crop", "0um:12um,0um:5um"][..],
+            "error: --crop: x1 = 1.2e-5 m lies past the map's end at 1e-5 m: give bounds within the map",
+        ),
+        (
+            &["--pixel-size", "20um"],
+            "error: --pixel-size: 2e-5 m on a 1e-5 × 1e-5 m window leaves fewer than 2 points along an axis: give \
+             at most 5e-6 m",
+        ),
+    ] {
+        let o = asperity(&[&["topo", "convert", s(&input), s(&out), "--size", "10um"][..], extra].concat());
+        assert_eq!(o.status.code(), Some(1), "{extra:?}");
+        assert_eq!(stderr(&o).trim_end(), expected);
+        assert!(!out.exists());
+    }
+    // The whole map by lengths is still a crop.
+    let o = asperity(&["topo", "convert", s(&input), s(&out), "--size", "10um", "--crop", "0um:10um,0um:10um"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(&[
+        "topo",
+        "generate",
+        "--size",
+        "1e-5",
+        "--grid",
+        "32",
+        "--seed",
+        "1",
+        "--hurst",
+        "0.8",
+        "--rms",
+        "1m",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).starts_with("error: --rms: "), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim_end().lines().count(), 1);
+}

@@ -77,7 +77,7 @@ pub fn exit_on_usage_error(e: clap::Error) -> ExitCode {
             match to_stdout(|w| w.write_all(shown.as_bytes())) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
-                    message(&asperity::error::one_line(&format!("error: {e}")));
+                    message(&format!("error: {e}"));
                     ExitCode::FAILURE
                 }
             }
@@ -127,11 +127,11 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
     to_stdout(|w| w.write_all(json.as_bytes()))
 }
 
-/// Print one line on standard error (an error, a warning, what was written, progress), all of
-/// it [`escaped`]: it may echo a path, a file's content or an option's value. A failed write
-/// is ignored: nothing is left to tell it to.
+/// Print one line on standard error (an error, a warning, what was written, progress) as
+/// [`one_line`] has it, escaped and short with its reason whole: it may echo a path, a file's
+/// content or an option's value. A failed write is ignored: nothing is left to tell it to.
 pub fn message(line: &str) {
-    let _ = writeln!(std::io::stderr().lock(), "{}", escaped(line));
+    let _ = writeln!(std::io::stderr().lock(), "{}", one_line(line));
 }
 
 /// Move a command's finished output folder into place; a file that appeared in the earlier
@@ -165,13 +165,17 @@ fn usage_line(e: &clap::Error) -> String {
             Some(reason) => format!("error: {o}: {reason}"),
             None => format!("error: {o}: invalid value {}", quantity::quoted(value)),
         },
-        (ErrorKind::InvalidValue, Some(o)) => {
-            let valid = match e.get(ContextKind::ValidValue) {
-                Some(ContextValue::Strings(v)) => format!(" (one of {})", v.join(", ")),
-                _ => String::new(),
-            };
-            format!("error: {o}: {} is not a valid value{valid}", quantity::quoted(value))
-        }
+        (ErrorKind::InvalidValue, Some(o)) => match e.get(ContextKind::ValidValue) {
+            Some(ContextValue::Strings(v)) if !v.is_empty() => {
+                format!("error: {o}: {} is not a valid value (one of {})", quantity::quoted(value), v.join(", "))
+            }
+            // Clap refuses an empty path ("--out ''") as a value missing.
+            _ if value.is_empty() && text(ContextKind::InvalidArg).is_some_and(|a| a.ends_with("<DIR>")) => {
+                format!("error: {o}: an empty path is no folder: give the folder's path")
+            }
+            _ if value.is_empty() => format!("error: {o}: an empty value: give one (see --help)"),
+            _ => format!("error: {o}: {} is not a valid value", quantity::quoted(value)),
+        },
         (ErrorKind::MissingRequiredArgument, _) => match e.get(ContextKind::InvalidArg) {
             Some(ContextValue::Strings(missing)) => {
                 format!("error: {} must be given (see --help)", missing.join(", "))

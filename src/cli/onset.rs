@@ -8,6 +8,7 @@ use asperity::limits::Limits;
 use asperity::output::{write_json, write_npy, StagedDir};
 use asperity::plausible::{self, Spelling};
 use asperity::quantity::{human, show, FORCE};
+use asperity::study::config::MAX_SNAPSHOT_FRACTIONS;
 use asperity::topography::io::ReadOptions;
 use asperity::topography::AnyTopography;
 use asperity::{Error, Result};
@@ -148,6 +149,16 @@ pub fn run(args: Args) -> Result<()> {
     let law = friction_law(&args)?;
     if let Some(f) = args.snapshots.iter().find(|f| !(**f > 0.0 && **f <= 1.0)) {
         return Err(Error::invalid("--snapshots", format!("δ/δ_peak must lie in (0, 1], got {f}")));
+    }
+    // Each snapshot is a map of the whole grid (12 at 1500² are 216 MB).
+    if args.snapshots.len() > MAX_SNAPSHOT_FRACTIONS {
+        return Err(Error::invalid(
+            "--snapshots",
+            format!(
+                "{} fractions: at most {MAX_SNAPSHOT_FRACTIONS}, as a study's snapshot_fractions (each is a map of the grid)",
+                args.snapshots.len()
+            ),
+        ));
     }
     let inputs = read_inputs(&args)?;
     if let (Some(_), [_, _, ..]) = (&args.out, &inputs[..]) {

@@ -152,12 +152,12 @@ pub fn run(args: RunArgs) -> Result<()> {
     bar.finish_and_clear();
     if !outcome.left.is_empty() {
         let names: Vec<String> = outcome.left.iter().map(|p| format!("{:?}", p.display().to_string())).collect();
-        super::message(&asperity::error::one_line(&format!(
+        super::message(&format!(
             "--fresh: left {} file(s) in {} that asperity did not write: {}",
             names.len(),
             args.out.display(),
             names.join(", ")
-        )));
+        ));
     }
     for w in &outcome.warnings {
         super::message(&format!("warning: {w}"));

@@ -334,6 +334,12 @@ pub fn run(args: SlideArgs) -> Result<()> {
 
 /// The local law with its weakening.
 fn law(args: &SlideArgs) -> Result<SlipLaw> {
+    if args.curve.is_none() && args.curve_unit.is_some() {
+        return Err(Error::invalid(
+            "--curve-unit",
+            "is the unit of --curve only: give --curve FILE, or drop --curve-unit",
+        ));
+    }
     let base = super::onset::law_from_options(
         args.mu_s,
         args.mu_d,

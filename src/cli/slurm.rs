@@ -35,14 +35,16 @@ pub struct SlurmArgs {
     /// Slurm partition of every job.
     #[arg(long, value_name = "P")]
     partition: Option<String>,
-    /// Time limit of each job, in Slurm's forms (minutes, H:MM:SS, D-HH:MM…).
-    #[arg(long, value_name = "T")]
+    /// Time limit of each job, in Slurm's forms (minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM,
+    /// D-HH:MM:SS, UNLIMITED).
+    #[arg(long, value_name = "T", value_parser = slurm_time)]
     time: Option<String>,
     /// CPUs per job, 1 to 4096 (the solver runs as many threads) [default: Slurm's].
     #[arg(long, value_name = "C", value_parser = super::count::<usize>)]
     cpus: Option<usize>,
-    /// Memory per job, in Slurm's form (4G, 500M) [default: Slurm's].
-    #[arg(long, value_name = "M")]
+    /// Memory per job, in Slurm's form: a whole number with an optional K, M, G or T (4G,
+    /// 500M; megabytes without) [default: Slurm's].
+    #[arg(long, value_name = "M", value_parser = slurm_memory)]
     mem: Option<String>,
     /// Submit the jobs with sbatch, and print their ids.
     #[arg(long)]
@@ -135,5 +137,62 @@ fn shards(s: &str) -> std::result::Result<usize, String> {
     match super::count::<usize>(s)? {
         0 => Err("the number of shards must be at least 1".into()),
         n => Ok(n),
+    }
+}
+
+/// A whole number as Slurm reads one: digits only.
+fn digits(s: &str) -> bool {
+    !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit())
+}
+
+/// `--time`: Slurm's forms of a time limit (minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM,
+/// D-HH:MM:SS, UNLIMITED or infinite), which sbatch would otherwise refuse on the cluster.
+fn slurm_time(s: &str) -> std::result::Result<String, String> {
+    let (days, clock) = s.split_once('-').map_or((None, s), |(d, c)| (Some(d), c));
+    let fields = clock.split(':').count();
+    let slurm = matches!(s, "UNLIMITED" | "infinite")
+        || (days.is_none_or(digits) && clock.split(':').all(digits) && (1..=3).contains(&fields));
+    if slurm {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "{} is not a Slurm time limit: give minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM, D-HH:MM:SS or UNLIMITED",
+            asperity::quantity::quoted(s)
+        ))
+    }
+}
+
+/// `--mem`: Slurm's form of a memory size, a whole number with an optional K, M, G or T.
+fn slurm_memory(s: &str) -> std::result::Result<String, String> {
+    let number = s.strip_suffix(['K', 'M', 'G', 'T']).unwrap_or(s);
+    if digits(number) {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "{} is not a Slurm memory size: give a whole number with an optional K, M, G or T (4G, 500M)",
+            asperity::quantity::quoted(s)
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_limits_and_memory_take_slurms_forms_only() {
+        for t in ["90", "30:00", "12:00:00", "2-12", "2-12:30", "2-12:30:00", "UNLIMITED", "infinite"] {
+            assert_eq!(slurm_time(t).as_deref(), Ok(t));
+        }
+        for t in ["forever", "", "1:2:3:4", "1h", "-5", "2-", "1-2-3", "1:-3"] {
+            let e = slurm_time(t).unwrap_err();
+            assert!(e.contains("is not a Slurm time limit: give minutes, MM:SS"), "{t}: {e}");
+        }
+        for m in ["4G", "500M", "1024", "2T", "64K"] {
+            assert_eq!(slurm_memory(m).as_deref(), Ok(m));
+        }
+        for m in ["lots", "", "G", "4GB", "4.5G", "-1G"] {
+            assert!(slurm_memory(m).unwrap_err().contains("is not a Slurm memory size"), "{m}");
+        }
     }
 }

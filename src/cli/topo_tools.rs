@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::{ArgGroup, Args};
 
 use asperity::output::{check_output_file, write_atomic, write_npy};
+use asperity::plausible::{self, Spelling};
 use asperity::quantity::{self, human};
 use asperity::topography::detrend::{Detrend, SphereFit};
 use asperity::topography::io::{read_any, write_gsf};
@@ -292,6 +293,9 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
 
 /// `asperity topo generate`.
 pub fn generate(args: GenerateArgs) -> Result<()> {
+    if let Some(rms) = args.rms {
+        super::judge("--rms", plausible::roughness(rms, Spelling::CommandLine))?;
+    }
     let format = OutFormat::of(&args.out)?;
     check_output_file(&args.out, &[])?;
     format.require_map(&args.out)?;

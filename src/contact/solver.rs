@@ -404,6 +404,10 @@ struct CpuSolver {
     /// Rigid surface heights h [m]: higher points touch first.
     heights: Vec<f64>,
     h_rms: f64,
+    /// A bound on how far the pressure that presses the surface flat strays from its mean,
+    /// (E*/2)·q_max·√n·(max h − min h) [Pa]: a map whose bound lies within the tolerance of the
+    /// mean pressure is flat to the solver, which could only iterate on its rounding.
+    flat_spread: f64,
     operator: Influence,
     options: SolverOptions,
     /// Stored displacement u [m]: K(p − σD) = σu.
@@ -609,6 +613,12 @@ impl ContactSolver {
     }
 }
 
+/// The range of `heights`, max − min [m].
+fn height_range(heights: &[f64]) -> f64 {
+    let (low, high) = heights.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &z| (l.min(z), h.max(z)));
+    high - low
+}
+
 /// The gap of a solution (see [`ContactSolver::gap`]) from its pressure, displacement and
 /// heights, with the cap `hardness` if any.
 fn gap_of(pressure: &[f64], displacement: &[f64], heights: &[f64], hardness: Option<f64>) -> Vec<f64> {
@@ -656,6 +666,9 @@ impl CpuSolver {
         };
         let mut heights_buffer = large_buffer(n, 0.0);
         heights_buffer.copy_from_slice(heights);
+        // |F⁻¹[|q| ĥ]| ≤ q_max Σ|ĥ(q)|/n ≤ q_max √n h_rms (Parseval), and h_rms ≤ max − min.
+        let q_max = std::f64::consts::PI * ((nx as f64 / lx).powi(2) + (ny as f64 / ly).powi(2)).sqrt();
+        let flat_spread = 0.5 * e_star * q_max * (n as f64).sqrt() * height_range(heights);
         Ok(CpuSolver {
             ny,
             nx,
@@ -664,6 +677,7 @@ impl CpuSolver {
             e_star,
             heights: heights_buffer,
             h_rms,
+            flat_spread,
             operator,
             options,
             displacement: large_buffer(n, 0.0),
@@ -750,9 +764,21 @@ impl CpuSolver {
     fn solve(&mut self, load: f64, proceed: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         // The dense pressure is rebuilt at the end: the iteration needs only the contact set.
         self.pressure_field = Vec::new();
+        let p_mean = load / (self.size.0 * self.size.1);
+        let flat = self.flat_spread <= self.options.convergence.tolerance * p_mean;
         let report = match self.hardness {
-            Some(hardness) => self.solve_saturated(hardness, load, proceed),
-            None => self.solve_elastic(load, proceed),
+            _ if flat && self.boundary == Boundary::Free => Err(Error::invalid(
+                "surface",
+                format!(
+                    "the map is flat (heights within {:e} m of each other): pressed over a free window it is a \
+                     flat punch, whose pressure is singular at the window's edges; solve it periodic (full \
+                     contact at the uniform pressure N/(Lx·Ly))",
+                    height_range(&self.heights)
+                ),
+            )),
+            Some(hardness) if !(flat && p_mean <= hardness) => self.solve_saturated(hardness, load, proceed),
+            _ if flat => Ok(self.press_flat(load)),
+            _ => self.solve_elastic(load, proceed),
         };
         if report.is_ok() {
             // Converged in full contact at the start (a flat surface): the set is stored.
@@ -869,6 +895,28 @@ impl CpuSolver {
             seconds: start.elapsed().as_secs_f64(),
             hardness: None,
         })
+    }
+
+    /// The exact solution of a flat map on a periodic window: full contact at the uniform
+    /// pressure N/(Lx·Ly), no iteration. Its residual is the bound on the pressure's departure
+    /// from it, relative to the mean pressure (see `flat_spread`).
+    fn press_flat(&mut self, load: f64) -> SolveReport {
+        let start = Instant::now();
+        let p_mean = load / (self.size.0 * self.size.1);
+        self.contact = ContactSet::default();
+        self.uniform = Some(p_mean);
+        // The displacement of the uniform pressure (its residual is not the measure here).
+        self.refresh(p_mean, 1.0);
+        self.warm = true;
+        SolveReport {
+            load,
+            mean_pressure: p_mean,
+            iterations: 0,
+            residual: self.flat_spread / p_mean,
+            operator_applications: 1.0,
+            seconds: start.elapsed().as_secs_f64(),
+            hardness: self.hardness,
+        }
     }
 
     /// The error of a solve stopped by its caller.

@@ -68,6 +68,14 @@ pub fn crop(topo: &Topography, window: &CropWindow) -> Result<Topography> {
                     format!("{name} = {v:e} m: bounds are finite lengths ≥ 0, measured from the map's origin"),
                 ));
             }
+            // A bound past the map would be clamped to it: the window asked for is not there.
+            let ends = [("x1", x.1, dx * nx as f64), ("y1", y.1, dy * ny as f64)];
+            if let Some((name, v, l)) = ends.into_iter().find(|(_, v, l)| *v > l * (1.0 + 1e-9)) {
+                return Err(Error::invalid(
+                    "--crop",
+                    format!("{name} = {v:e} m lies past the map's end at {l:e} m: give bounds within the map"),
+                ));
+            }
             (samples_within(x.0, x.1, dx, nx), samples_within(y.0, y.1, dy, ny))
         }
     };
@@ -104,15 +112,25 @@ fn samples_within(a: f64, b: f64, d: f64, n: usize) -> Range<usize> {
 
 /// `topo` resampled to a pixel size as close to `pixel_size` [m] as the physical size allows:
 /// the physical size is kept, the number of points along each axis is `round(l / pixel_size)`
-/// (at least 2), so the pixel size becomes `l / round(l / pixel_size)`.
+/// (refused below 2), so the pixel size becomes `l / round(l / pixel_size)`.
 pub fn resample(topo: &Topography, pixel_size: f64, limits: &Limits) -> Result<Topography> {
     if !(pixel_size > 0.0 && pixel_size.is_finite()) {
         return Err(Error::invalid("--pixel-size", format!("must be positive and finite, got {pixel_size}")));
     }
     topo.pixel_size("resampling")?;
     let (lx, ly) = topo.physical_size.expect("checked by pixel_size");
-    let points = |l: f64| ((l / pixel_size).round() as usize).max(2);
+    let points = |l: f64| (l / pixel_size).round() as usize;
     let (nx2, ny2) = (points(lx), points(ly));
+    if nx2.min(ny2) < 2 {
+        return Err(Error::invalid(
+            "--pixel-size",
+            format!(
+                "{pixel_size:e} m on a {lx:e} × {ly:e} m window leaves fewer than 2 points along an axis: \
+                 give at most {:e} m",
+                lx.min(ly) / 2.0
+            ),
+        ));
+    }
     let memory = grid_memory(nx2, ny2, RESAMPLE_BYTES_PER_POINT);
     let what = format!("resampling to {nx2} × {ny2} points");
     if let Err(reason) = limits.check_grid(nx2, ny2).and_then(|()| check_memory(memory, &what)) {
