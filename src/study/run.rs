@@ -1100,7 +1100,14 @@ impl Study {
                 solver.warm_start(pressure.as_slice().expect("row-major"))?;
                 (pressure, normal.cold, normal.solve)
             } else {
-                let cold = if k > 0 && held == Some(k - 1) {
+                // An elastic onset follows its solve's pressure to the last bit, and a warm
+                // start leaves the solution dependent on where a chain was cut (by shards, by
+                // a killed run) within the tolerance: with elastic sharing every solve starts
+                // cold, so that its rows are the same however the study was run.
+                let cold = if elastic {
+                    solver.reset();
+                    true
+                } else if k > 0 && held == Some(k - 1) {
                     false
                 } else if k > loads.start && warm(k - 1).is_file() {
                     solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
