@@ -339,3 +339,26 @@ fn the_default_study_lists_every_detrend() {
         assert!(value.parse::<Detrend>().is_ok(), "{value}");
     }
 }
+
+#[test]
+fn a_figure_that_would_be_skipped_without_a_word_is_refused() {
+    // No fraction to draw the stress-ratio snapshots at.
+    let e = refused(&format!("{GOOD}\n[output]\nsnapshot_fractions = []\n"));
+    assert!(
+        e.contains("study.toml:")
+            && e.contains("output.snapshot_fractions: an empty list draws no stress-ratio snapshots"),
+        "{e}"
+    );
+    // Without the figure, an empty list is fine.
+    let study = format!("{GOOD}\n[output]\nsnapshot_fractions = []\nfigures = [\"friction-drop\"]\n");
+    StudyConfig::parse(&study, "study.toml").unwrap();
+    // The sharing figure, named, without elastic sharing.
+    let e = refused(&format!("{GOOD}\n[output]\nfigures = [\"friction-drop\", \"friction-drop-sharing\"]\n"));
+    assert!(e.contains("output.figures: \"friction-drop-sharing\" compares equal with elastic sharing"), "{e}");
+    // By the default list of every figure it is only left out, as the report says.
+    StudyConfig::parse(GOOD, "study.toml").unwrap();
+    let study = format!(
+        "{GOOD}\n[model]\nsharing = [\"equal\", \"elastic\"]\n\n[output]\nfigures = [\"friction-drop-sharing\"]\n"
+    );
+    StudyConfig::parse(&study, "study.toml").unwrap();
+}

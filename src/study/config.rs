@@ -490,6 +490,23 @@ impl StudyConfig {
             l.count = l.count.or(default.count);
         }
         config.check().map_err(|(path, reason)| located(span_of(tree.get_ref(), &path), &render(&path), &reason))?;
+        // Chosen by name (not in a list of every figure, each drawn where its data is), the
+        // sharing figure needs elastic sharing beside the equal one.
+        let figures = [key("output"), key("figures")];
+        let named = span_of(tree.get_ref(), &figures);
+        let every = FigureKind::ALL.iter().all(|f| config.output.figures.contains(f));
+        if named.is_some()
+            && !every
+            && config.output.figures.contains(&FigureKind::FrictionDropSharing)
+            && !config.model.sharing.contains(&Sharing::Elastic)
+        {
+            return Err(located(
+                named,
+                &render(&figures),
+                "\"friction-drop-sharing\" compares equal with elastic sharing: add \"elastic\" to [model] sharing, \
+                 or leave the figure out",
+            ));
+        }
         Ok(config)
     }
 
@@ -836,6 +853,14 @@ impl StudyConfig {
                 format!(
                     "{fractions} fractions: at most {MAX_SNAPSHOT_FRACTIONS} (each is a row of the snapshot figure)"
                 ),
+            );
+        }
+        if fractions == 0 && self.output.figures.contains(&FigureKind::StressRatioSnapshots) {
+            return at(
+                &[key("output"), key("snapshot_fractions")],
+                "an empty list draws no stress-ratio snapshots: give at least one δ/δ_peak in (0, 1], or leave \
+                 \"stress-ratio-snapshots\" out of figures"
+                    .to_string(),
             );
         }
         for (i, f) in self.output.snapshot_fractions.iter().enumerate() {
