@@ -8,7 +8,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::time::{Duration, Instant};
 
-use asperity::topography::io::read_channels;
+use asperity::limits::Limits;
+use asperity::topography::io::{container_members, read_channels, Member};
 
 struct Tracking;
 
@@ -172,4 +173,100 @@ fn nid_headers_parse_in_linear_time() {
     assert_eq!(result, Ok(4 + channels));
     assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to read {} bytes", file.len());
     assert!(peak < 64 * file.len(), "{peak} bytes held reading {} bytes", file.len());
+}
+
+/// A zip of `members` (name, content), deflated.
+fn zip_of(members: &[(&str, &[u8])]) -> Vec<u8> {
+    use std::io::Write;
+    let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    for (name, content) in members {
+        w.start_file(*name, opts).unwrap();
+        w.write_all(content).unwrap();
+    }
+    w.finish().unwrap().into_inner()
+}
+
+/// The container members of `zip` written to a file (`Err` with the error's text), and the time
+/// the listing took.
+fn list(zip: &[u8]) -> (Result<Vec<Member>, String>, Duration) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scans.zip");
+    std::fs::write(&path, zip).unwrap();
+    let start = Instant::now();
+    let members = container_members(&path, &Limits::default()).map(Option::unwrap).map_err(|e| e.to_string());
+    (members, start.elapsed())
+}
+
+#[test]
+fn a_zip_of_many_members_lists_in_linear_time() {
+    // 20 000 empty members (2 MB): the archive was parsed again for each member, 18 s for
+    // 8 000 and growing with the square; parsed once, well under a second.
+    let names: Vec<String> = (0..20_000).map(|k| format!("m{k:05}.txt")).collect();
+    let zip = zip_of(&names.iter().map(|n| (n.as_str(), &b""[..])).collect::<Vec<_>>());
+    let (members, elapsed) = list(&zip);
+    let members = members.unwrap();
+    assert_eq!(members.len(), 20_000);
+    assert_eq!(members[19_999].name, "m19999.txt");
+    assert_eq!(members[0].content, Err("no topography in it: no row of numbers".to_string()));
+    assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to list {} bytes", zip.len());
+}
+
+#[test]
+fn overlapping_zip_entries_are_refused_before_inflating() {
+    // One member of 16 MiB of zeros, then 199 more entries of the central directory naming its
+    // bytes: each inflated in full to be listed (77 s for 200 of 256 MiB each).
+    let zip = zip_of(&[("m000.txt", &vec![b'0'; 16 << 20])]);
+    let cd = zip.windows(4).rposition(|w| w == b"PK\x01\x02").unwrap();
+    let end = zip.windows(4).rposition(|w| w == b"PK\x05\x06").unwrap();
+    let entry = zip[cd..end].to_vec();
+    let mut bomb = zip[..end].to_vec();
+    for k in 1..200 {
+        let mut e = entry.clone();
+        e[46..54].copy_from_slice(format!("m{k:03}.txt").as_bytes());
+        bomb.extend(e);
+    }
+    let mut eocd = zip[end..].to_vec();
+    eocd[8..10].copy_from_slice(&200u16.to_le_bytes());
+    eocd[10..12].copy_from_slice(&200u16.to_le_bytes());
+    eocd[12..16].copy_from_slice(&(200 * entry.len() as u32).to_le_bytes());
+    bomb.extend(eocd);
+    let (members, elapsed) = list(&bomb);
+    let e = members.unwrap_err();
+    assert!(
+        e.ends_with(
+            "scans.zip: members of the archive share their bytes (overlapping entries, as zip bombs are made): refused"
+        ),
+        "{e}"
+    );
+    assert!(elapsed < Duration::from_secs(5), "{elapsed:?}");
+    // Reading one member is refused alike.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("b.zip"), &bomb).unwrap();
+    let e = read_channels(&dir.path().join("b.zip#m007.txt"), None).unwrap_err().to_string();
+    assert!(e.contains("b.zip#m007.txt: members of the archive share their bytes"), "{e}");
+}
+
+#[test]
+fn a_zip_naming_a_member_twice_is_refused() {
+    // Two members, the second renamed as the first in its local and central headers.
+    let zip = zip_of(&[("a.txt", b"1 2\n3 4\n"), ("b.txt", b"5 6\n7 8\n")]);
+    let mut twice = zip.clone();
+    for at in (0..zip.len() - 5).filter(|&i| &zip[i..i + 5] == b"b.txt") {
+        twice[at] = b'a';
+    }
+    let e = list(&twice).0.unwrap_err();
+    assert!(
+        e.ends_with("scans.zip: member 'a.txt' appears twice in the archive: which one is meant is ambiguous"),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.zip"), &twice).unwrap();
+    let e = read_channels(&dir.path().join("t.zip#a.txt"), None).unwrap_err().to_string();
+    assert!(
+        e.ends_with("t.zip#a.txt: member 'a.txt' appears twice in the archive: which one is meant is ambiguous"),
+        "{e}"
+    );
+    // As written, both read.
+    assert_eq!(list(&zip).0.unwrap().len(), 2);
 }

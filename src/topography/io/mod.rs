@@ -349,12 +349,14 @@ pub fn container_members(path: &Path, limits: &Limits) -> Result<Option<Vec<Memb
     if !container::is_zip(&zip) || detect(path, &name, &zip, None).is_ok() {
         return Ok(None);
     }
-    let names = container::members(&zip).map_err(|reason| Error::file(path, reason))?;
+    let mut archive = container::Archive::open(&zip).map_err(|reason| Error::file(path, reason))?;
+    let names = archive.members().map_err(|reason| Error::file(path, reason))?;
     let members = names
         .into_iter()
         .map(|name| {
             let member = PathBuf::from(format!("{}#{name}", path.display()));
-            let content = container::member_bytes(&zip, &name, limits)
+            let content = archive
+                .read(&name, limits)
                 .and_then(|bytes| gzip::unwrap(bytes, name.clone(), limits))
                 .and_then(|(bytes, inner)| {
                     let (_, decoded) = decode_bytes(&member, &inner, &bytes, None, limits).map_err(reason)?;
