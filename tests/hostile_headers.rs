@@ -270,3 +270,54 @@ fn a_zip_naming_a_member_twice_is_refused() {
     // As written, both read.
     assert_eq!(list(&zip).0.unwrap().len(), 2);
 }
+
+/// `bytes` with every `from` replaced by `to`.
+fn replaced(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
+    let (from, to) = (from.as_bytes(), to.as_bytes());
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i..].starts_with(from) {
+            out.extend(to);
+            i += from.len();
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// A NanoScope file of one 4 × 4 height image (Z scale `1 V` at 34.55678 nm/V), its header
+/// edited by `edits` and its data offset moved to follow it.
+fn nanoscope_edited(edits: &[(&str, &str)]) -> Vec<u8> {
+    let file = nanoscope(nanoscope_preamble(0), 1, 4, false);
+    let start = file.len() - 32;
+    let mut header = file[..start].to_vec();
+    for (from, to) in edits {
+        header = replaced(&header, from, to);
+    }
+    let offset = |at: usize| format!("\\Data offset: {at:010}");
+    header = replaced(&header, &offset(start), &offset(header.len()));
+    [header, file[start..].to_vec()].concat()
+}
+
+#[test]
+fn a_height_scale_flattening_the_heights_is_refused_naming_it() {
+    let z = |value: &str| nanoscope_edited(&[("(0.1 V/LSB) 1 V\r\n", &format!("(0.1 V/LSB) {value}\r\n"))]);
+    let (result, ..) = read("nanoscope", &z("1 V"));
+    assert_eq!(result, Ok(1));
+    // Zero or subnormal: every height decoded as 0 and the map was solved as flat.
+    for (value, factor) in [("0 V", "0"), ("1e-320 V", "0")] {
+        let e = read("nanoscope", &z(value)).0.unwrap_err();
+        let said = format!(
+            "channel 'Height': Z scale '{value}': a factor of {factor} per stored unit is zero, subnormal or not \
+             finite: every height would decode as flat"
+        );
+        assert!(e.ends_with(&said), "{e}");
+    }
+    // Normal, but the whole 16-bit range spans 1e-37 m.
+    let e = read("nanoscope", &z("2.9e-30 V")).0.unwrap_err();
+    assert!(e.contains("channel 'Height': Z scale '2.9e-30 V': the whole range of the stored values spans "), "{e}");
+    assert!(e.ends_with(", below 0.1 pm, the smallest heights any instrument measures"), "{e}");
+}
