@@ -9,7 +9,7 @@ use std::cell::Cell;
 use std::time::{Duration, Instant};
 
 use asperity::limits::Limits;
-use asperity::topography::io::{container_members, read_channels, Member};
+use asperity::topography::io::{self, container_members, read_channels, Member, ReadOptions};
 
 struct Tracking;
 
@@ -302,6 +302,14 @@ fn nanoscope_edited(edits: &[(&str, &str)]) -> Vec<u8> {
     [header, file[start..].to_vec()].concat()
 }
 
+/// The error reading `bytes` as a map (the file named `case`), or the map's size.
+fn read_map(bytes: &[u8]) -> Result<Option<(f64, f64)>, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("case");
+    std::fs::write(&path, bytes).unwrap();
+    io::read(&path, &ReadOptions::default()).map(|t| t.physical_size).map_err(|e| e.to_string())
+}
+
 #[test]
 fn a_height_scale_flattening_the_heights_is_refused_naming_it() {
     let z = |value: &str| nanoscope_edited(&[("(0.1 V/LSB) 1 V\r\n", &format!("(0.1 V/LSB) {value}\r\n"))]);
@@ -320,4 +328,48 @@ fn a_height_scale_flattening_the_heights_is_refused_naming_it() {
     let e = read("nanoscope", &z("2.9e-30 V")).0.unwrap_err();
     assert!(e.contains("channel 'Height': Z scale '2.9e-30 V': the whole range of the stored values spans "), "{e}");
     assert!(e.ends_with(", below 0.1 pm, the smallest heights any instrument measures"), "{e}");
+}
+
+/// A Gwyddion Simple Field of `nx` × 2 zeros in metres, its header ending with `fields`.
+fn gsf(nx: usize, fields: &str) -> Vec<u8> {
+    let mut out =
+        format!("Gwyddion Simple Field 1.0\nXRes = {nx}\nYRes = 2\nXYUnits = m\nZUnits = m\n{fields}").into_bytes();
+    out.resize((out.len() / 4 + 1) * 4, 0);
+    out.resize(out.len() + nx * 2 * 4, 0);
+    out
+}
+
+#[test]
+fn sizes_read_from_files_are_judged_as_the_size_option() {
+    assert_eq!(read_map(&gsf(4, "XReal = 1e-5\nYReal = 5e-6\n")), Ok(Some((1e-5, 5e-6))));
+    // Solved on a 1e10 m window with exit 0.
+    let e = read_map(&gsf(4, "XReal = 1e10\nYReal = 1e10\n")).unwrap_err();
+    assert!(
+        e.ends_with(
+            "case: the physical size 1e10 m × 1e10 m stated by XReal and YReal: 1e10 m is not the size of a \
+             measured window (1 nm to 1 m)"
+        ),
+        "{e}"
+    );
+    // A number meant in micrometres: the unit is suggested, as for --size.
+    let e = read_map(&gsf(4, "XReal = 31.13\nYReal = 31.13\n")).unwrap_err();
+    assert!(e.ends_with("31.13 m is not the size of a measured window (1 nm to 1 m); did you mean 31.13um?"), "{e}");
+    // Each pixel as --pixel-size.
+    let e = read_map(&gsf(4096, "XReal = 2e-9\nYReal = 1e-9\n")).unwrap_err();
+    assert!(
+        e.contains("stated by XReal and YReal: a pixel of 2e-9 m / 4096 points: 0.488281 pm is not a pixel size"),
+        "{e}"
+    );
+    // NanoScope's scan size alike.
+    let huge = nanoscope_edited(&[("\\Data offset", "\\Scan Size: 500 1e30 nm\r\n\\Data offset")]);
+    let e = read_map(&huge).unwrap_err();
+    assert!(e.ends_with("case: the physical size 500 nm × 1e21 m stated by Scan Size: 1e21 m is not the size of a measured window (1 nm to 1 m)"), "{e}");
+    // A line profile's positions alike.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.csv");
+    std::fs::write(&path, "x in µm,y in µm\n0,1\n1e7,2\n2e7,3\n3e7,1\n4e7,2\n").unwrap();
+    let e = io::read_any(&path, &ReadOptions::default()).unwrap_err().to_string();
+    assert!(e.ends_with("p.csv: the length 50 m its positions state: 50 m is not the size of a measured window (1 nm to 1 m); did you mean 50um?"), "{e}");
+    std::fs::write(&path, "x in µm,y in µm\n0,1\n1,2\n2,3\n3,1\n4,2\n").unwrap();
+    assert!(io::read_any(&path, &ReadOptions::default()).is_ok());
 }

@@ -27,6 +27,10 @@ impl Format for Bcr {
         "bcr"
     }
 
+    fn size_field(&self) -> &'static str {
+        "xlength and ylength"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["bcr", "bcrf"]
     }

@@ -23,6 +23,10 @@ impl Format for Frt {
         "frt"
     }
 
+    fn size_field(&self) -> &'static str {
+        "the physical size block (0x0067)"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["frt"]
     }

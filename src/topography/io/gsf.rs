@@ -26,6 +26,10 @@ impl Format for Gsf {
         "gsf"
     }
 
+    fn size_field(&self) -> &'static str {
+        "XReal and YReal"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["gsf"]
     }

@@ -25,6 +25,10 @@ impl Format for MetroPro {
         "metropro"
     }
 
+    fn size_field(&self) -> &'static str {
+        "lateral_res"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["dat"]
     }

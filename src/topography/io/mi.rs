@@ -22,6 +22,10 @@ impl Format for Mi {
         "mi"
     }
 
+    fn size_field(&self) -> &'static str {
+        "xLength and yLength"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["mi"]
     }

@@ -31,6 +31,10 @@ impl Format for Nanoscope {
         "nanoscope"
     }
 
+    fn size_field(&self) -> &'static str {
+        "Scan Size"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["spm", "di", "000", "001", "002", "003", "004", "005", "006", "007", "008", "009"]
     }

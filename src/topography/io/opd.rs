@@ -27,6 +27,10 @@ impl Format for Opd {
         "opd"
     }
 
+    fn size_field(&self) -> &'static str {
+        "Pixel_size"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["opd"]
     }

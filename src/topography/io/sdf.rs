@@ -25,6 +25,10 @@ impl Format for Sdf {
         "sdf"
     }
 
+    fn size_field(&self) -> &'static str {
+        "Xscale and Yscale"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["sdf"]
     }

@@ -24,6 +24,10 @@ impl Format for Sur {
         "sur"
     }
 
+    fn size_field(&self) -> &'static str {
+        "the x and y spacings"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["sur"]
     }
