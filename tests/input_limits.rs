@@ -301,3 +301,21 @@ fn huge_point_limits_still_read_every_file() {
     let out = asperity(&["run", "huge.toml", "--quick", "--out", "r"], d);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn an_hdf5_dataset_of_unwritten_chunks_is_refused_without_allocating_it() {
+    // 1.4 KB declaring a gzip-chunked 16384 × 16384 float64 dataset whose chunks were never
+    // written (tools/make_generated_unwritten_h5.py): under a 3 GB address space the reader
+    // aborted allocating its 2 GiB.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let out = asperity_within(3_000_000, &["topo", "info", "generated-unwritten-chunks.h5", "--size", "1um"], &data);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(
+        err,
+        "error: generated-unwritten-chunks.h5: HDF5 dataset 'heights' declares 16384 × 16384 values (2147483648 \
+         bytes), more than the 1400 bytes of the file can hold compressed: its data are not in the file (chunks \
+         never written)\n"
+    );
+}
