@@ -271,6 +271,15 @@ pub fn zeroed(n: usize, what: &str) -> std::result::Result<Vec<f64>, String> {
     Ok(v)
 }
 
+/// The items of `items` (decoded values, as many as their bytes allow) in a vector reserved
+/// fallibly, or the reason when the memory cannot be had (`what` names them).
+pub fn collected<T>(items: impl ExactSizeIterator<Item = T>, what: &str) -> std::result::Result<Vec<T>, String> {
+    let mut v = Vec::new();
+    reserve(&mut v, items.len(), what)?;
+    v.extend(items);
+    Ok(v)
+}
+
 /// Room for `n` more items in `v`, or the reason when the memory cannot be had (`what` names
 /// them): a failed allocation is an error, not an abort.
 pub fn reserve<T>(v: &mut Vec<T>, n: usize, what: &str) -> std::result::Result<(), String> {
