@@ -32,6 +32,10 @@ pub const BYTES_PER_POINT: u64 = 128;
 /// Room for a file's headers, metadata and a study's text, beyond its points [bytes].
 const HEADER_BYTES: u64 = 16 << 20;
 
+/// The largest length a file can have (a file offset is signed, 63 bits) [bytes]: the byte caps
+/// saturate here, so that one past a cap never wraps, whatever the point limit.
+const LARGEST_FILE_BYTES: u64 = i64::MAX as u64;
+
 /// Bytes per point at the peak of a contact solve on a periodic grid (heights, pressure,
 /// displacement, gaps, the contact set and the FFT's spectra); a free boundary solves on a
 /// grid padded to 2nx × 2ny.
@@ -124,9 +128,10 @@ impl Limits {
         }
     }
 
-    /// The most bytes an input file may hold: what a file within the point limit can need.
+    /// The most bytes an input file may hold: what a file within the point limit can need, at
+    /// most [`LARGEST_FILE_BYTES`] however large the limit.
     pub fn max_file_bytes(&self) -> u64 {
-        (self.max_points as u64).saturating_mul(BYTES_PER_POINT).saturating_add(HEADER_BYTES)
+        (self.max_points as u64).saturating_mul(BYTES_PER_POINT).saturating_add(HEADER_BYTES).min(LARGEST_FILE_BYTES)
     }
 
     /// The content of the regular file at `path`, refusing anything else (a directory, device
@@ -154,7 +159,7 @@ impl Limits {
         // The length is checked, but a file may grow while it is read: read one byte past it.
         let mut bytes = Vec::new();
         reserve(&mut bytes, len as usize, "its bytes").map_err(|reason| Error::file(path, reason))?;
-        (&mut file).take(cap + 1).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
+        (&mut file).take(cap.saturating_add(1)).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
         if bytes.len() as u64 > cap {
             return Err(too_long(bytes.len() as u64));
         }
@@ -263,6 +268,15 @@ pub fn zeroed(n: usize, what: &str) -> std::result::Result<Vec<f64>, String> {
     let mut v = Vec::new();
     reserve(&mut v, n, what)?;
     v.resize(n, 0.0);
+    Ok(v)
+}
+
+/// The items of `items` (decoded values, as many as their bytes allow) in a vector reserved
+/// fallibly, or the reason when the memory cannot be had (`what` names them).
+pub fn collected<T>(items: impl ExactSizeIterator<Item = T>, what: &str) -> std::result::Result<Vec<T>, String> {
+    let mut v = Vec::new();
+    reserve(&mut v, items.len(), what)?;
+    v.extend(items);
     Ok(v)
 }
 

@@ -150,6 +150,29 @@ pub fn slip_distance(m: f64, spelling: Spelling) -> Verdict {
     check(&SLIP_DISTANCE, m, spelling)
 }
 
+/// A height scale factor a file states: `factor` is what one stored unit is worth (in metres
+/// for heights, else in the channel's own unit), `full_scale` [m] the height the stored values'
+/// whole range spans when the channel holds heights. Refused when the factor is zero, subnormal
+/// or not finite (every height would decode as flat, or as noise of rounding), or when the full
+/// scale is below the smallest roughness taken (0.1 pm): no instrument measures such heights.
+/// The caller names the file's field and its value.
+pub fn height_factor(factor: f64, full_scale: Option<f64>) -> Result<(), String> {
+    if !factor.is_normal() {
+        return Err(format!(
+            "a factor of {} per stored unit is zero, subnormal or not finite: every height would decode as flat",
+            human(factor)
+        ));
+    }
+    match full_scale.map(f64::abs) {
+        Some(m) if m < ROUGHNESS.possible.0 => Err(format!(
+            "the whole range of the stored values spans {}, below {}, the smallest heights any instrument measures",
+            quantity::show(m, &LENGTH),
+            quantity::show(ROUGHNESS.possible.0, &LENGTH)
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// A friction coefficient (dimensionless): at most [`MAX_FRICTION_COEFFICIENT`], unusual above
 /// 2. Its sign and the order of mu_s and mu_d are the law's own checks.
 pub fn friction_coefficient(mu: f64) -> Verdict {

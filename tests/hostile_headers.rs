@@ -8,7 +8,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::time::{Duration, Instant};
 
-use asperity::topography::io::read_channels;
+use asperity::limits::Limits;
+use asperity::topography::io::{self, container_members, read_channels, Member, ReadOptions};
 
 struct Tracking;
 
@@ -172,4 +173,203 @@ fn nid_headers_parse_in_linear_time() {
     assert_eq!(result, Ok(4 + channels));
     assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to read {} bytes", file.len());
     assert!(peak < 64 * file.len(), "{peak} bytes held reading {} bytes", file.len());
+}
+
+/// A zip of `members` (name, content), deflated.
+fn zip_of(members: &[(&str, &[u8])]) -> Vec<u8> {
+    use std::io::Write;
+    let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    for (name, content) in members {
+        w.start_file(*name, opts).unwrap();
+        w.write_all(content).unwrap();
+    }
+    w.finish().unwrap().into_inner()
+}
+
+/// The container members of `zip` written to a file (`Err` with the error's text), and the time
+/// the listing took.
+fn list(zip: &[u8]) -> (Result<Vec<Member>, String>, Duration) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scans.zip");
+    std::fs::write(&path, zip).unwrap();
+    let start = Instant::now();
+    let members = container_members(&path, &Limits::default()).map(Option::unwrap).map_err(|e| e.to_string());
+    (members, start.elapsed())
+}
+
+#[test]
+fn a_zip_of_many_members_lists_in_linear_time() {
+    // 20 000 empty members (2 MB): the archive was parsed again for each member, 18 s for
+    // 8 000 and growing with the square; parsed once, well under a second.
+    let names: Vec<String> = (0..20_000).map(|k| format!("m{k:05}.txt")).collect();
+    let zip = zip_of(&names.iter().map(|n| (n.as_str(), &b""[..])).collect::<Vec<_>>());
+    let (members, elapsed) = list(&zip);
+    let members = members.unwrap();
+    assert_eq!(members.len(), 20_000);
+    assert_eq!(members[19_999].name, "m19999.txt");
+    assert_eq!(members[0].content, Err("no topography in it: no row of numbers".to_string()));
+    assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to list {} bytes", zip.len());
+}
+
+#[test]
+fn overlapping_zip_entries_are_refused_before_inflating() {
+    // One member of 16 MiB of zeros, then 199 more entries of the central directory naming its
+    // bytes: each inflated in full to be listed (77 s for 200 of 256 MiB each).
+    let zip = zip_of(&[("m000.txt", &vec![b'0'; 16 << 20])]);
+    let cd = zip.windows(4).rposition(|w| w == b"PK\x01\x02").unwrap();
+    let end = zip.windows(4).rposition(|w| w == b"PK\x05\x06").unwrap();
+    let entry = zip[cd..end].to_vec();
+    let mut bomb = zip[..end].to_vec();
+    for k in 1..200 {
+        let mut e = entry.clone();
+        e[46..54].copy_from_slice(format!("m{k:03}.txt").as_bytes());
+        bomb.extend(e);
+    }
+    let mut eocd = zip[end..].to_vec();
+    eocd[8..10].copy_from_slice(&200u16.to_le_bytes());
+    eocd[10..12].copy_from_slice(&200u16.to_le_bytes());
+    eocd[12..16].copy_from_slice(&(200 * entry.len() as u32).to_le_bytes());
+    bomb.extend(eocd);
+    let (members, elapsed) = list(&bomb);
+    let e = members.unwrap_err();
+    assert!(
+        e.ends_with(
+            "scans.zip: members of the archive share their bytes (overlapping entries, as zip bombs are made): refused"
+        ),
+        "{e}"
+    );
+    assert!(elapsed < Duration::from_secs(5), "{elapsed:?}");
+    // Reading one member is refused alike.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("b.zip"), &bomb).unwrap();
+    let e = read_channels(&dir.path().join("b.zip#m007.txt"), None).unwrap_err().to_string();
+    assert!(e.contains("b.zip#m007.txt: members of the archive share their bytes"), "{e}");
+}
+
+#[test]
+fn a_zip_naming_a_member_twice_is_refused() {
+    // Two members, the second renamed as the first in its local and central headers.
+    let zip = zip_of(&[("a.txt", b"1 2\n3 4\n"), ("b.txt", b"5 6\n7 8\n")]);
+    let mut twice = zip.clone();
+    for at in (0..zip.len() - 5).filter(|&i| &zip[i..i + 5] == b"b.txt") {
+        twice[at] = b'a';
+    }
+    let e = list(&twice).0.unwrap_err();
+    assert!(
+        e.ends_with("scans.zip: member 'a.txt' appears twice in the archive: which one is meant is ambiguous"),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.zip"), &twice).unwrap();
+    let e = read_channels(&dir.path().join("t.zip#a.txt"), None).unwrap_err().to_string();
+    assert!(
+        e.ends_with("t.zip#a.txt: member 'a.txt' appears twice in the archive: which one is meant is ambiguous"),
+        "{e}"
+    );
+    // As written, both read.
+    assert_eq!(list(&zip).0.unwrap().len(), 2);
+}
+
+/// `bytes` with every `from` replaced by `to`.
+fn replaced(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
+    let (from, to) = (from.as_bytes(), to.as_bytes());
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i..].starts_with(from) {
+            out.extend(to);
+            i += from.len();
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// A NanoScope file of one 4 × 4 height image (Z scale `1 V` at 34.55678 nm/V), its header
+/// edited by `edits` and its data offset moved to follow it.
+fn nanoscope_edited(edits: &[(&str, &str)]) -> Vec<u8> {
+    let file = nanoscope(nanoscope_preamble(0), 1, 4, false);
+    let start = file.len() - 32;
+    let mut header = file[..start].to_vec();
+    for (from, to) in edits {
+        header = replaced(&header, from, to);
+    }
+    let offset = |at: usize| format!("\\Data offset: {at:010}");
+    header = replaced(&header, &offset(start), &offset(header.len()));
+    [header, file[start..].to_vec()].concat()
+}
+
+/// The error reading `bytes` as a map (the file named `case`), or the map's size.
+fn read_map(bytes: &[u8]) -> Result<Option<(f64, f64)>, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("case");
+    std::fs::write(&path, bytes).unwrap();
+    io::read(&path, &ReadOptions::default()).map(|t| t.physical_size).map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_height_scale_flattening_the_heights_is_refused_naming_it() {
+    let z = |value: &str| nanoscope_edited(&[("(0.1 V/LSB) 1 V\r\n", &format!("(0.1 V/LSB) {value}\r\n"))]);
+    let (result, ..) = read("nanoscope", &z("1 V"));
+    assert_eq!(result, Ok(1));
+    // Zero or subnormal: every height decoded as 0 and the map was solved as flat.
+    for (value, factor) in [("0 V", "0"), ("1e-320 V", "0")] {
+        let e = read("nanoscope", &z(value)).0.unwrap_err();
+        let said = format!(
+            "channel 'Height': Z scale '{value}': a factor of {factor} per stored unit is zero, subnormal or not \
+             finite: every height would decode as flat"
+        );
+        assert!(e.ends_with(&said), "{e}");
+    }
+    // Normal, but the whole 16-bit range spans 1e-37 m.
+    let e = read("nanoscope", &z("2.9e-30 V")).0.unwrap_err();
+    assert!(e.contains("channel 'Height': Z scale '2.9e-30 V': the whole range of the stored values spans "), "{e}");
+    assert!(e.ends_with(", below 0.1 pm, the smallest heights any instrument measures"), "{e}");
+}
+
+/// A Gwyddion Simple Field of `nx` × 2 zeros in metres, its header ending with `fields`.
+fn gsf(nx: usize, fields: &str) -> Vec<u8> {
+    let mut out =
+        format!("Gwyddion Simple Field 1.0\nXRes = {nx}\nYRes = 2\nXYUnits = m\nZUnits = m\n{fields}").into_bytes();
+    out.resize((out.len() / 4 + 1) * 4, 0);
+    out.resize(out.len() + nx * 2 * 4, 0);
+    out
+}
+
+#[test]
+fn sizes_read_from_files_are_judged_as_the_size_option() {
+    assert_eq!(read_map(&gsf(4, "XReal = 1e-5\nYReal = 5e-6\n")), Ok(Some((1e-5, 5e-6))));
+    // Solved on a 1e10 m window with exit 0.
+    let e = read_map(&gsf(4, "XReal = 1e10\nYReal = 1e10\n")).unwrap_err();
+    assert!(
+        e.ends_with(
+            "case: the physical size 1e10 m × 1e10 m stated by XReal and YReal: 1e10 m is not the size of a \
+             measured window (1 nm to 1 m)"
+        ),
+        "{e}"
+    );
+    // A number meant in micrometres: the unit is suggested, as for --size.
+    let e = read_map(&gsf(4, "XReal = 31.13\nYReal = 31.13\n")).unwrap_err();
+    assert!(e.ends_with("31.13 m is not the size of a measured window (1 nm to 1 m); did you mean 31.13um?"), "{e}");
+    // Each pixel as --pixel-size.
+    let e = read_map(&gsf(4096, "XReal = 2e-9\nYReal = 1e-9\n")).unwrap_err();
+    assert!(
+        e.contains("stated by XReal and YReal: a pixel of 2e-9 m / 4096 points: 0.488281 pm is not a pixel size"),
+        "{e}"
+    );
+    // NanoScope's scan size alike.
+    let huge = nanoscope_edited(&[("\\Data offset", "\\Scan Size: 500 1e30 nm\r\n\\Data offset")]);
+    let e = read_map(&huge).unwrap_err();
+    assert!(e.ends_with("case: the physical size 500 nm × 1e21 m stated by Scan Size: 1e21 m is not the size of a measured window (1 nm to 1 m)"), "{e}");
+    // A line profile's positions alike.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.csv");
+    std::fs::write(&path, "x in µm,y in µm\n0,1\n1e7,2\n2e7,3\n3e7,1\n4e7,2\n").unwrap();
+    let e = io::read_any(&path, &ReadOptions::default()).unwrap_err().to_string();
+    assert!(e.ends_with("p.csv: the length 50 m its positions state: 50 m is not the size of a measured window (1 nm to 1 m); did you mean 50um?"), "{e}");
+    std::fs::write(&path, "x in µm,y in µm\n0,1\n1,2\n2,3\n3,1\n4,2\n").unwrap();
+    assert!(io::read_any(&path, &ReadOptions::default()).is_ok());
 }

@@ -273,3 +273,49 @@ fn work_beyond_the_memory_is_refused_naming_its_estimate() {
     }
     assert!(!d.join("g.npy").exists() && !d.join("c").exists() && !d.join("r").exists());
 }
+
+#[test]
+fn huge_point_limits_still_read_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let generate = ["topo", "generate", "--size", "10um", "--hurst", "0.8", "--rms", "1nm", "--seed", "1"];
+    let out = asperity(&[&generate[..], &["--grid", "64", "s.npy"]].concat(), d);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = asperity(&["topo", "convert", "s.npy", "--size", "10um", "s.gsf"], d);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // From 2^57 points on, the byte cap (128 bytes a point) wrapped past 2^64 and every file
+    // read as empty.
+    for max in ["144115188075855872", "9223372036854775808", &usize::MAX.to_string()] {
+        for file in [&["s.npy", "--size", "10um"][..], &["s.gsf"][..]] {
+            let out = asperity(&[&["topo", "info", "--json", "--max-points", max][..], file].concat(), d);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(out.status.success(), "--max-points {max} {file:?}: {err}");
+            let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            assert_eq!((info["nx"].as_u64(), info["ny"].as_u64()), (Some(64), Some(64)), "{max} {file:?}");
+        }
+    }
+    // The study's [limits] alike.
+    let study = "[[topography]]\nname = \"s\"\nfile = \"s.gsf\"\n[loads]\nvalues = [\"1 mN\"]\n[limits]\nmax_points = \
+                 9223372036854775808\n";
+    std::fs::write(d.join("huge.toml"), study).unwrap();
+    let out = asperity(&["run", "huge.toml", "--quick", "--out", "r"], d);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn an_hdf5_dataset_of_unwritten_chunks_is_refused_without_allocating_it() {
+    // 1.4 KB declaring a gzip-chunked 16384 × 16384 float64 dataset whose chunks were never
+    // written (tools/make_generated_unwritten_h5.py): under a 3 GB address space the reader
+    // aborted allocating its 2 GiB.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let out = asperity_within(3_000_000, &["topo", "info", "generated-unwritten-chunks.h5", "--size", "1um"], &data);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(
+        err,
+        "error: generated-unwritten-chunks.h5: HDF5 dataset 'heights' declares 16384 × 16384 values (2147483648 \
+         bytes), more than the 1400 bytes of the file can hold compressed: its data are not in the file (chunks \
+         never written)\n"
+    );
+}

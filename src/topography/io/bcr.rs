@@ -13,6 +13,7 @@ use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
 use crate::topography::units::metres_per;
 
 pub struct Bcr;
@@ -24,6 +25,10 @@ const DEFAULT_HEADER: usize = 2048;
 impl Format for Bcr {
     fn name(&self) -> &'static str {
         "bcr"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "xlength and ylength"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -136,6 +141,8 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     let endian = if h.get("intelmode").is_none_or(|m| m != "0") { Endian::Little } else { Endian::Big };
     let scale = if stm { h.get("bit2nm").map_or(Ok(1.0), |_| number("bit2nm"))? } else { 1.0 } * z_metres;
     let sample = if stm { Sample::I16 } else { Sample::F32 };
+    plausible::height_factor(scale, sample.levels().map(|l| scale * l))
+        .map_err(|e| format!("the height scale (bit2nm × zunit), {scale} m per unit: {e}"))?;
     let stored = Stored { sample, endian, bottom_first: false };
     let missing = |v: f64| if stm { v == 32767.0 } else { v.is_nan() || v > 1.7e38 };
     let data = binary::grid(bytes, header_len, (count("xpixels")?, count("ypixels")?), stored, "the image", |v| {

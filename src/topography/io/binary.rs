@@ -37,6 +37,15 @@ impl Sample {
             Sample::F64 => 8,
         }
     }
+
+    /// How many values an integer sample can hold (a height scale's full range), `None` for
+    /// floating point.
+    pub fn levels(self) -> Option<f64> {
+        match self {
+            Sample::F32 | Sample::F64 => None,
+            s => Some(2f64.powi(8 * s.size() as i32)),
+        }
+    }
 }
 
 /// The number of points of an `nx` × `ny` grid, refusing empty grids and overflow.

@@ -53,47 +53,96 @@ pub(super) fn load(path: &Path, limits: &Limits) -> Result<(Vec<u8>, String)> {
     gzip::unwrap(bytes, name, limits).map_err(|reason| Error::file(path, reason))
 }
 
-/// The names of the archive's files (folders left out), in archive order; a name that would
-/// leave a folder is refused.
-pub(super) fn members(zip: &[u8]) -> std::result::Result<Vec<String>, String> {
-    let mut archive = open(zip)?;
-    let mut names = Vec::new();
-    for i in 0..archive.len() {
-        let file = archive.by_index_raw(i).map_err(|e| format!("zip entry {i}: {e}"))?;
-        if file.is_dir() {
-            continue;
+/// A zip archive open for reading its members: its central directory parsed once, so that
+/// listing and reading members is linear in their number.
+pub(super) struct Archive<'a>(zip::ZipArchive<Cursor<&'a [u8]>>);
+
+impl<'a> Archive<'a> {
+    /// The archive `zip`, refused when two entries share a name (which one is meant would be
+    /// ambiguous) or share bytes (overlapping entries, a zip bomb's way of inflating one
+    /// block many times over).
+    pub(super) fn open(zip: &'a [u8]) -> std::result::Result<Self, String> {
+        let mut archive =
+            zip::ZipArchive::new(Cursor::new(zip)).map_err(|e| format!("not a readable zip archive: {e}"))?;
+        if archive.has_duplicate_names() {
+            let name = duplicate_name(zip, archive.central_directory_start()).unwrap_or_default();
+            return Err(format!(
+                "member {} appears twice in the archive: which one is meant is ambiguous",
+                crate::quantity::quoted(&name)
+            ));
         }
-        names.push(safe(&file)?);
+        if archive.has_overlapping_entries().map_err(|e| format!("not a readable zip archive: {e}"))? {
+            return Err("members of the archive share their bytes (overlapping entries, as zip bombs are made): \
+                        refused"
+                .into());
+        }
+        Ok(Archive(archive))
     }
-    Ok(names)
+
+    /// The names of the archive's files (folders left out), in archive order; a name that
+    /// would leave a folder is refused.
+    pub(super) fn members(&mut self) -> std::result::Result<Vec<String>, String> {
+        let mut names = Vec::new();
+        for i in 0..self.0.len() {
+            let file = self.0.by_index_raw(i).map_err(|e| format!("zip entry {i}: {e}"))?;
+            if file.is_dir() {
+                continue;
+            }
+            names.push(safe(&file)?);
+        }
+        Ok(names)
+    }
+
+    /// The inflated bytes of the member `name`, within `limits`: refused by its declared size
+    /// before inflating, and never inflated past it (the zip reader stops there).
+    pub(super) fn read(&mut self, name: &str, limits: &Limits) -> std::result::Result<Vec<u8>, String> {
+        let quoted = crate::quantity::quoted(name);
+        let Some(index) = self.0.index_for_name(name) else {
+            let names = self.members().map(|n| n.join("', '")).unwrap_or_default();
+            return Err(format!("no member {quoted} in the archive (members: '{names}')"));
+        };
+        let file = self.0.by_index(index).map_err(|e| format!("member {quoted}: {e}"))?;
+        safe(&file)?;
+        if file.is_dir() {
+            return Err(format!("member {quoted} is a folder"));
+        }
+        if file.size() > limits.max_file_bytes() {
+            return Err(format!(
+                "member {quoted} declares {} bytes, more than the {} an input within the limit of {} points can \
+                 need (raise it with --max-points)",
+                file.size(),
+                limits.max_file_bytes(),
+                limits.max_points
+            ));
+        }
+        // Room for what the member's compressed bytes can plausibly inflate to; past that the
+        // buffer grows only with bytes actually inflated.
+        let hint = file.compressed_size().saturating_mul(4).min(file.size());
+        gzip::read_within(file, limits, hint).map_err(|e| format!("member {quoted}: {e}"))
+    }
 }
 
-/// The inflated bytes of the member `name` of the zip `zip`, within `limits`.
+/// The first name that two entries of the central directory starting at `start` in `zip`
+/// share (the parsed archive keeps only one of them).
+fn duplicate_name(zip: &[u8], start: u64) -> Option<String> {
+    let mut seen = std::collections::HashSet::new();
+    let mut at = usize::try_from(start).ok()?;
+    // Each entry: its signature, fixed fields, then name, extra field and comment (APPNOTE 4.3.12).
+    while zip.get(at..at + 4)? == b"PK\x01\x02" {
+        let u16_at = |i: usize| zip.get(at + i..at + i + 2).map(|b| usize::from(u16::from_le_bytes([b[0], b[1]])));
+        let (name_len, extra, comment) = (u16_at(28)?, u16_at(30)?, u16_at(32)?);
+        let name = zip.get(at + 46..at + 46 + name_len)?;
+        if !seen.insert(name) {
+            return Some(String::from_utf8_lossy(name).into_owned());
+        }
+        at += 46 + name_len + extra + comment;
+    }
+    None
+}
+
+/// The inflated bytes of the member `name` of the zip `zip`, within `limits` ([`Archive::read`]).
 pub(super) fn member_bytes(zip: &[u8], name: &str, limits: &Limits) -> std::result::Result<Vec<u8>, String> {
-    let mut archive = open(zip)?;
-    let quoted = crate::quantity::quoted(name);
-    let index = archive.index_for_name(name).ok_or_else(|| {
-        let names = members(zip).map(|n| n.join("', '")).unwrap_or_default();
-        format!("no member {quoted} in the archive (members: '{names}')")
-    })?;
-    let file = archive.by_index(index).map_err(|e| format!("member {quoted}: {e}"))?;
-    safe(&file)?;
-    if file.is_dir() {
-        return Err(format!("member {quoted} is a folder"));
-    }
-    if file.size() > limits.max_file_bytes() {
-        return Err(format!(
-            "member {quoted} declares {} bytes, more than the {} an input within the limit of {} points can need \
-             (raise it with --max-points)",
-            file.size(),
-            limits.max_file_bytes(),
-            limits.max_points
-        ));
-    }
-    // Room for what the member's compressed bytes in this file can plausibly inflate to; past
-    // that the buffer grows only with bytes actually inflated.
-    let hint = file.compressed_size().min(zip.len() as u64).saturating_mul(4).min(file.size());
-    gzip::read_within(file, limits, hint).map_err(|e| format!("member {quoted}: {e}"))
+    Archive::open(zip)?.read(name, limits)
 }
 
 /// Refuse a zip whose members inflate, together, past what an input within `limits` may hold
@@ -101,13 +150,13 @@ pub(super) fn member_bytes(zip: &[u8], name: &str, limits: &Limits) -> std::resu
 /// stream and its bytes counted, never held.
 pub(super) fn check_inflated(zip: &[u8], limits: &Limits) -> std::result::Result<(), String> {
     let cap = limits.max_file_bytes();
-    let mut archive = open(zip)?;
+    let mut archive = Archive::open(zip)?.0;
     let mut total = 0u64;
     for i in 0..archive.len() {
         let file = archive.by_index(i).map_err(|e| format!("zip entry {i}: {e}"))?;
         let name = safe(&file)?;
         let left = cap - total;
-        let n = std::io::copy(&mut file.take(left + 1), &mut std::io::sink())
+        let n = std::io::copy(&mut file.take(left.saturating_add(1)), &mut std::io::sink())
             .map_err(|e| format!("member {}: {e}", crate::quantity::quoted(&name)))?;
         total += n;
         if total > cap {
@@ -119,10 +168,6 @@ pub(super) fn check_inflated(zip: &[u8], limits: &Limits) -> std::result::Result
         }
     }
     Ok(())
-}
-
-fn open(zip: &[u8]) -> std::result::Result<zip::ZipArchive<Cursor<&[u8]>>, String> {
-    zip::ZipArchive::new(Cursor::new(zip)).map_err(|e| format!("not a readable zip archive: {e}"))
 }
 
 /// The name of a member, refused when it is absolute or climbs out of the archive's folder.
@@ -160,7 +205,7 @@ mod tests {
     #[test]
     fn members_are_listed_and_read() {
         let zip = zip_of(&[("a.txt", b"1 2\n3 4\n"), ("sub/b.txt", b"5 6\n")]);
-        assert_eq!(members(&zip).unwrap(), ["a.txt", "sub/b.txt"]);
+        assert_eq!(Archive::open(&zip).unwrap().members().unwrap(), ["a.txt", "sub/b.txt"]);
         assert_eq!(member_bytes(&zip, "sub/b.txt", &Limits::default()).unwrap(), b"5 6\n");
         let e = member_bytes(&zip, "c.txt", &Limits::default()).unwrap_err();
         assert!(e.contains("no member 'c.txt'") && e.contains("'a.txt', 'sub/b.txt'"), "{e}");
@@ -169,7 +214,7 @@ mod tests {
     #[test]
     fn path_tricks_and_bombs_are_refused() {
         let zip = zip_of(&[("../../etc/passwd", b"1 2\n"), ("/abs.txt", b"1 2\n")]);
-        assert!(members(&zip).unwrap_err().contains("unsafe name"));
+        assert!(Archive::open(&zip).unwrap().members().unwrap_err().contains("unsafe name"));
         for name in ["../../etc/passwd", "/abs.txt"] {
             let e = member_bytes(&zip, name, &Limits::default()).unwrap_err();
             assert!(e.contains("unsafe name"), "{e}");

@@ -10,6 +10,7 @@
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
 
 pub struct Frt;
 
@@ -20,6 +21,10 @@ const UNDEFINED: f64 = 1.0;
 impl Format for Frt {
     fn name(&self) -> &'static str {
         "frt"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "the physical size block (0x0067)"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -104,9 +109,8 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         return Err(format!("the physical size {lx} x {ly} m is not positive"));
     }
     let scale = blocks.scale.ok_or("the FRT file has no height scale block (0x006c)")?;
-    if !(scale.is_finite() && scale != 0.0) {
-        return Err(format!("the height scale {scale} m per unit is not a finite non-zero number"));
-    }
+    plausible::height_factor(scale, sample.levels().map(|l| scale * l))
+        .map_err(|e| format!("the height scale block (0x006c), {scale} m per unit: {e}"))?;
     let stored = Stored { sample, endian: Endian::Little, bottom_first: true };
     let data = binary::grid(bytes, offset, (nx, ny), stored, "the topography block", |v| {
         if v == UNDEFINED {

@@ -26,6 +26,10 @@ impl Format for Gsf {
         "gsf"
     }
 
+    fn size_field(&self) -> &'static str {
+        "XReal and YReal"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["gsf"]
     }
@@ -72,7 +76,8 @@ impl Format for Gsf {
             ));
         }
         let values = body.chunks_exact(4).map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])));
-        let mut data = Array2::from_shape_vec((ny, nx), values.collect()).map_err(|e| e.to_string())?;
+        let values = crate::limits::collected(values, "the values")?;
+        let mut data = Array2::from_shape_vec((ny, nx), values).map_err(|e| e.to_string())?;
         if let Some(i) = data.iter().position(|v| v.is_infinite()) {
             return Err(format!("value {i} (row {}, column {}) is infinite", i / nx, i % nx));
         }

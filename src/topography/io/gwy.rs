@@ -29,6 +29,10 @@ impl Format for Gwy {
         "gwy"
     }
 
+    fn size_field(&self) -> &'static str {
+        "xreal and yreal"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["gwy"]
     }

@@ -9,6 +9,9 @@ use crate::limits::{check_memory, reserve, Limits};
 /// The magic bytes of a gzip member (RFC 1952).
 const MAGIC: &[u8] = b"\x1f\x8b";
 
+/// The most a deflate stream inflates per byte (RFC 1951: 258 bytes per 2 bits, about 1032).
+pub(super) const MAX_INFLATION: usize = 1032;
+
 /// The bytes read as one chunk while inflating.
 const CHUNK: usize = 64 << 10;
 

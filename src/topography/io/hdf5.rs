@@ -8,8 +8,8 @@ use ndarray::{ArrayD, Ix2};
 
 use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 
-use super::{Channel, Format};
-use crate::limits::Limits;
+use super::{gzip, Channel, Format};
+use crate::limits::{self, Limits};
 use crate::quantity::quoted;
 
 pub struct Hdf5;
@@ -45,6 +45,7 @@ impl Format for Hdf5 {
             let (ny, nx) = (ds.shape()[0], ds.shape()[1]);
             let (nx, ny) = (usize::try_from(nx).unwrap_or(usize::MAX), usize::try_from(ny).unwrap_or(usize::MAX));
             limits.check_grid(nx, ny)?;
+            in_file(ds, (nx, ny), bytes.len())?;
             let data = values(ds)?.into_dimensionality::<Ix2>().map_err(|e| format!("HDF5: {e}"))?;
             channels.push(Channel {
                 name: ds.name().to_string(),
@@ -63,6 +64,25 @@ impl Format for Hdf5 {
     fn is_bare(&self) -> bool {
         true
     }
+}
+
+/// Refuse a dataset of `nx` × `ny` values whose data cannot all be in the file of `file_len`
+/// bytes, compressed as tightly as deflate can (chunks declared but never written read as the
+/// fill value: a file of a kilobyte may declare gigabytes), or whose values the memory
+/// available cannot hold; the reader allocates the whole dataset before decoding it.
+fn in_file(ds: &Dataset, (nx, ny): (usize, usize), file_len: usize) -> Result<(), String> {
+    let name = quoted(ds.name());
+    let size = ds.raw_element_size().map_err(|e| format!("HDF5 dataset {name}: {e}"))?;
+    let declared = limits::grid_memory(nx, ny, size as u64);
+    let most = (file_len as u64).saturating_mul(gzip::MAX_INFLATION as u64);
+    if declared > most {
+        return Err(format!(
+            "HDF5 dataset {name} declares {nx} × {ny} values ({declared} bytes), more than the {file_len} bytes of \
+             the file can hold compressed: its data are not in the file (chunks never written)"
+        ));
+    }
+    // The stored values, then their float64 copy.
+    limits::check_memory(declared.saturating_add(limits::grid_memory(nx, ny, 8)), &format!("HDF5 dataset {name}"))
 }
 
 /// A numeric dataset's values as float64.

@@ -29,6 +29,7 @@
 use super::gwyddion_txt::GwyddionTxt;
 use super::text::{self, Rows, Separators};
 use super::{Channel, Format};
+use crate::plausible;
 use crate::topography::units;
 
 pub struct Matrix;
@@ -206,9 +207,8 @@ impl Header {
     fn heights(&self) -> Result<(Option<f64>, Option<String>), String> {
         if let Some((factor, unit)) = &self.factor {
             let scale = factor * units::metres_per(unit).expect("checked when read");
-            if !(scale.is_finite() && scale != 0.0) {
-                return Err(format!("the height conversion factor {factor} {unit} is not usable"));
-            }
+            plausible::height_factor(scale, None)
+                .map_err(|e| format!("the height conversion factor {factor} {unit}: {e}"))?;
             return Ok((Some(scale), Some(unit.clone())));
         }
         Ok((self.unit.as_deref().and_then(units::metres_per), self.unit.clone()))

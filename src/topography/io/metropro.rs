@@ -10,6 +10,7 @@
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
 
 pub struct MetroPro;
 
@@ -22,6 +23,10 @@ const INVALID_PHASE: i32 = 2_147_483_640;
 impl Format for MetroPro {
     fn name(&self) -> &'static str {
         "metropro"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "lateral_res"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -63,14 +68,13 @@ impl Format for MetroPro {
         if h.sign != 0 {
             scale = -scale;
         }
-        if !(scale.is_finite() && scale != 0.0) {
-            return Err(format!(
-                "the height scale (intf_scale_factor {} × obliquity_factor {} × wavelength_in {} m) is not a \
-                 finite non-zero number",
-                h.intf_scale_factor, h.obliquity_factor, h.wavelength
-            ));
-        }
         let stored = Stored { sample: Sample::I32, endian: Endian::Big, bottom_first: false };
+        plausible::height_factor(scale, stored.sample.levels().map(|l| scale * l)).map_err(|e| {
+            format!(
+                "the height scale (intf_scale_factor {} × obliquity_factor {} × wavelength_in {} m): {e}",
+                h.intf_scale_factor, h.obliquity_factor, h.wavelength
+            )
+        })?;
         let data = binary::grid(bytes, offset, (nx, ny), stored, "the phase data", |v| {
             if v >= f64::from(INVALID_PHASE) {
                 f64::NAN

@@ -9,6 +9,7 @@
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
 use crate::topography::units::metres_per;
 
 pub struct Mi;
@@ -19,6 +20,10 @@ const KEY_WIDTH: usize = 14;
 impl Format for Mi {
     fn name(&self) -> &'static str {
         "mi"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "xLength and yLength"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -98,6 +103,8 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         let unit = binary::normalise_unit(b.unit.as_deref().unwrap_or(""));
         let to_metres = metres_per(&unit);
         let step = range / full_scale * to_metres.unwrap_or(1.0);
+        plausible::height_factor(step, to_metres.map(|_| 2.0 * full_scale * step))
+            .map_err(|e| format!("{what}: bufferRange {range}: {e}"))?;
         let offset =
             block.checked_mul(k).and_then(|o| o.checked_add(data_start)).ok_or("the declared data size overflows")?;
         let data = binary::grid(bytes, offset, (nx, ny), stored, &what, |v| v * step)?;

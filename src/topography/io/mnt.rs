@@ -17,7 +17,7 @@ use std::io::Read;
 use ndarray::Array2;
 
 use super::binary::{self, Cursor, Endian};
-use super::{Channel, Format};
+use super::{gzip, Channel, Format};
 use crate::limits::{reserve, Limits};
 use crate::topography::units;
 
@@ -31,8 +31,6 @@ const CLASS_HEIGHTS: u32 = 9049;
 const CLASS_MASK: u32 = 9056;
 const CLASS_MASK_ARRAY: u32 = 9048;
 const MEASURED: u8 = 9;
-/// The most a deflate stream inflates per byte (RFC 1951: 258 bytes per 2 bits, about 1032).
-const MAX_INFLATION: usize = 1032;
 
 impl Format for Mnt {
     fn name(&self) -> &'static str {
@@ -218,7 +216,9 @@ fn array(object: &[u8], count: usize, what: &str) -> Result<(Vec<u8>, usize), St
         let compressed_len = c.u32("a block's size")? as usize;
         let compressed = c.take(compressed_len, "a compressed block")?;
         let len = elements * size;
-        if first.checked_add(elements).is_none_or(|end| end > count) || len > MAX_INFLATION * compressed.len() + 64 {
+        if first.checked_add(elements).is_none_or(|end| end > count)
+            || len > gzip::MAX_INFLATION * compressed.len() + 64
+        {
             return Err(format!("{what}: a block of {elements} values from {first} does not fit {count} values"));
         }
         let mut block = Vec::new();

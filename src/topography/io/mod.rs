@@ -57,6 +57,8 @@ use super::profile::Profile;
 use super::{units, AnyTopography, Provenance, Topography};
 use crate::error::{Error, Result};
 use crate::limits::Limits;
+use crate::plausible::{self, Spelling};
+use crate::quantity;
 
 /// One decoded channel of a file.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +99,10 @@ pub trait Format: Sync {
     /// from the user (`--size`, `--height-unit`).
     fn is_bare(&self) -> bool {
         false
+    }
+    /// The header fields a channel's physical size comes from, as an error about it names them.
+    fn size_field(&self) -> &'static str {
+        "the header"
     }
 }
 
@@ -349,12 +355,14 @@ pub fn container_members(path: &Path, limits: &Limits) -> Result<Option<Vec<Memb
     if !container::is_zip(&zip) || detect(path, &name, &zip, None).is_ok() {
         return Ok(None);
     }
-    let names = container::members(&zip).map_err(|reason| Error::file(path, reason))?;
+    let mut archive = container::Archive::open(&zip).map_err(|reason| Error::file(path, reason))?;
+    let names = archive.members().map_err(|reason| Error::file(path, reason))?;
     let members = names
         .into_iter()
         .map(|name| {
             let member = PathBuf::from(format!("{}#{name}", path.display()));
-            let content = container::member_bytes(&zip, &name, limits)
+            let content = archive
+                .read(&name, limits)
                 .and_then(|bytes| gzip::unwrap(bytes, name.clone(), limits))
                 .and_then(|(bytes, inner)| {
                     let (_, decoded) = decode_bytes(&member, &inner, &bytes, None, limits).map_err(reason)?;
@@ -481,6 +489,12 @@ fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> 
     let mut p = Profile::new(data.positions, data.heights).map_err(|reason| Error::file(path, reason))?;
     p.scale(x_scale.unwrap_or(1.0), z_scale.unwrap_or(1.0));
     p.require_representable().map_err(|reason| Error::file(path, reason))?;
+    if x_scale.is_some() {
+        stated_side(p.length(), p.points()).map_err(|reason| {
+            let length = quantity::show(p.length(), &quantity::LENGTH);
+            Error::file(path, format!("the length {length} its positions state: {reason}"))
+        })?;
+    }
     p.position_unit_known = x_scale.is_some();
     p.height_unit_known = z_scale.is_some();
     p.position_unit = position_unit;
@@ -520,6 +534,9 @@ fn map(
         (Some(file), _) => Some(file),
         (None, user) => user,
     };
+    if let Some(size) = ch.physical_size {
+        stated_size(fmt, size, (ch.data.ncols(), ch.data.nrows())).map_err(|reason| Error::file(path, reason))?;
+    }
     if fmt.is_bare() && physical_size.is_none() {
         return Err(Error::file(path, "a bare array carries no physical size: give it with --size LX[,LY] (metres)"));
     }
@@ -545,6 +562,30 @@ fn map(
     };
     topo.require_representable()?;
     Ok((topo, names))
+}
+
+/// A physical size (lx, ly) [m] that a file of `fmt` states for a grid of (nx, ny) points,
+/// judged as `--size` and `--pixel-size` are ([`stated_side`]); the reason names the header's
+/// fields and the value.
+fn stated_size(fmt: &dyn Format, (lx, ly): (f64, f64), (nx, ny): (usize, usize)) -> std::result::Result<(), String> {
+    stated_side(lx, nx).and(stated_side(ly, ny)).map_err(|reason| {
+        format!(
+            "the physical size {} × {} stated by {}: {reason}",
+            quantity::show(lx, &quantity::LENGTH),
+            quantity::show(ly, &quantity::LENGTH),
+            fmt.size_field()
+        )
+    })
+}
+
+/// A length `l` [m] read from a file, `steps` pixels long: plausible as a measured window's side,
+/// and each step as a pixel.
+fn stated_side(l: f64, steps: usize) -> std::result::Result<(), String> {
+    plausible::window(l, Spelling::CommandLine)?;
+    let pixel = l / steps as f64;
+    plausible::pixel(pixel, Spelling::CommandLine)
+        .map(drop)
+        .map_err(|e| format!("a pixel of {l:e} m / {steps} points: {e}"))
 }
 
 /// Sizes agree to 1e-6 relative (files round their sizes when they print them).

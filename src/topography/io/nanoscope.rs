@@ -13,6 +13,8 @@ use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
+use crate::quantity::quoted;
 use crate::topography::units::metres_per;
 
 pub struct Nanoscope;
@@ -27,6 +29,10 @@ const IMAGE_SECTIONS: &[&str] = &["ciao image list", "afm image list", "stm imag
 impl Format for Nanoscope {
     fn name(&self) -> &'static str {
         "nanoscope"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "Scan Size"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -297,20 +303,25 @@ fn z_scale(header: &Header, s: &Section, bytes_per_pixel: usize) -> Result<(f64,
     // The hard value spans the whole integer range of the declared pixel size.
     let hard_per_lsb = hard / 256f64.powi(bytes_per_pixel as i32);
     let soft = z.soft_scale.and_then(|name| header.global(&format!("@{}", name.to_ascii_lowercase())));
-    if let Some((soft, soft_unit)) = soft.and_then(|v| number_and_unit(Value::parse(v).hard)) {
-        if let Some((num, den)) = soft_unit.split_once('/') {
+    let scaled = soft.and_then(|v| number_and_unit(Value::parse(v).hard)).and_then(|(soft, soft_unit)| {
+        match soft_unit.split_once('/') {
             // The soft scale is per volt, the hard value may be in mV: convert between them.
-            let ratio =
-                if den.trim() == hard_unit { Some(1.0) } else { volts(hard_unit).zip(volts(den)).map(|(h, d)| h / d) };
-            if let Some(ratio) = ratio {
-                return Ok((hard_per_lsb * ratio * soft, binary::normalise_unit(num)));
+            Some((num, den)) => {
+                let ratio = if den.trim() == hard_unit {
+                    Some(1.0)
+                } else {
+                    volts(hard_unit).zip(volts(den)).map(|(h, d)| h / d)
+                };
+                ratio.map(|ratio| (hard_per_lsb * ratio * soft, binary::normalise_unit(num)))
             }
-        } else {
-            return Ok((hard_per_lsb * soft, binary::normalise_unit(hard_unit)));
+            None => Some((hard_per_lsb * soft, binary::normalise_unit(hard_unit))),
         }
-    }
+    });
     // No usable soft scale: the values stay in the hard unit (volts, degrees…).
-    Ok((hard_per_lsb, binary::normalise_unit(hard_unit)))
+    let (per_lsb, unit) = scaled.unwrap_or_else(|| (hard_per_lsb, binary::normalise_unit(hard_unit)));
+    let full_scale = metres_per(&unit).map(|m| per_lsb * m * 256f64.powi(bytes_per_pixel as i32));
+    plausible::height_factor(per_lsb, full_scale).map_err(|e| format!("Z scale {}: {e}", quoted(z.hard.trim())))?;
+    Ok((per_lsb, unit))
 }
 
 /// Volts per `unit`, for the voltage units of Z scales.

@@ -328,11 +328,14 @@ impl Header {
         })?;
         let missing: Vec<f64> = ["_FillValue", "missing_value"].iter().filter_map(|a| v.number(a)).collect();
         let (factor, offset) = (v.number("scale_factor").unwrap_or(1.0), v.number("add_offset").unwrap_or(0.0));
-        Ok(raw
-            .chunks_exact(v.kind.size())
-            .map(|b| v.kind.decode(b))
-            .map(|x| if missing.contains(&x) { f64::NAN } else { x * factor + offset })
-            .collect())
+        let values = raw.chunks_exact(v.kind.size()).map(|b| v.kind.decode(b)).map(|x| {
+            if missing.contains(&x) {
+                f64::NAN
+            } else {
+                x * factor + offset
+            }
+        });
+        crate::limits::collected(values, &format!("NetCDF variable {}", quoted(&v.name)))
     }
 }
 

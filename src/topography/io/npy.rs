@@ -58,7 +58,7 @@ pub fn read_f64(bytes: &[u8]) -> Result<Array2<f64>, String> {
             data.len()
         ));
     }
-    let values: Vec<f64> = data.chunks_exact(size).map(|b| h.dtype.decode(b)).collect();
+    let values = crate::limits::collected(data.chunks_exact(size).map(|b| h.dtype.decode(b)), "the values")?;
     let array = if h.fortran_order {
         Array2::from_shape_vec((ny, nx).f(), values).map(|a| a.as_standard_layout().into_owned())
     } else {

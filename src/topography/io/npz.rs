@@ -33,9 +33,10 @@ impl Format for Npz {
 
     fn read_within(&self, bytes: &[u8], limits: &Limits) -> Result<Vec<Channel>, String> {
         let mut channels = Vec::new();
-        for name in container::members(bytes)? {
+        let mut archive = container::Archive::open(bytes)?;
+        for name in archive.members()? {
             let Some(stem) = name.strip_suffix(".npy") else { continue };
-            let array = container::member_bytes(bytes, &name, limits)?;
+            let array = archive.read(&name, limits)?;
             if npy::dimensions(&array).map_err(|e| format!("{name}: {e}"))? != 2 {
                 continue;
             }

@@ -14,6 +14,7 @@ use std::collections::HashMap;
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
 
 pub struct Opd;
 
@@ -24,6 +25,10 @@ const ARRAY: i16 = 3;
 impl Format for Opd {
     fn name(&self) -> &'static str {
         "opd"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "Pixel_size"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -83,11 +88,9 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     let mult = meta.get("Mult").copied().unwrap_or(1.0);
     let aspect = meta.get("Aspect").copied().unwrap_or(1.0);
     let scale = wavelength / mult * 1e-9;
-    if !(scale.is_finite() && scale != 0.0) {
-        return Err(format!(
-            "the height scale Wavelength / Mult = {wavelength} / {mult} nm is not finite and non-zero"
-        ));
-    }
+    // Items of up to 2 bytes: the smallest range a height channel stores.
+    plausible::height_factor(scale, Some(65536.0 * scale))
+        .map_err(|e| format!("the height scale Wavelength / Mult = {wavelength} / {mult} nm: {e}"))?;
     let pixel = meta.get("Pixel_size").copied().filter(|p| p.is_finite() && *p > 0.0).map(|p| p * 1e-3);
 
     let mut channels = Vec::new();

@@ -114,7 +114,8 @@ fn decode(bytes: &[u8]) -> Result<ProfileData, String> {
     // Extent is the distance from the first point to the last: n points, n − 1 steps.
     let step = extent / (n - 1) as f64;
     let positions = (0..n).map(|i| i as f64 * step).collect();
-    let heights = raw.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().expect("chunks of 8")) * scale).collect();
+    let heights = raw.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().expect("chunks of 8")) * scale);
+    let heights = crate::limits::collected(heights, "the heights")?;
     Ok(ProfileData {
         name: text(&format!("{prefix}/DataKind")).unwrap_or(&channel).to_string(),
         positions,

@@ -25,6 +25,10 @@ impl Format for Sdf {
         "sdf"
     }
 
+    fn size_field(&self) -> &'static str {
+        "Xscale and Yscale"
+    }
+
     fn extensions(&self) -> &'static [&'static str] {
         &["sdf"]
     }
@@ -73,6 +77,7 @@ impl Header {
                 return Err(format!("{key} = {v} is not a positive spacing in metres"));
             }
         }
+        crate::plausible::height_factor(self.zscale, None).map_err(|e| format!("Zscale = {}: {e}", self.zscale))?;
         if self.data_type > 7 {
             return Err(format!("unknown DataType {}", self.data_type));
         }

@@ -10,6 +10,8 @@
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::plausible;
+use crate::quantity::quoted;
 use crate::topography::units::metres_per;
 
 pub struct Sur;
@@ -20,6 +22,10 @@ const HEADER: usize = 512;
 impl Format for Sur {
     fn name(&self) -> &'static str {
         "sur"
+    }
+
+    fn size_field(&self) -> &'static str {
+        "the x and y spacings"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
@@ -67,9 +73,6 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
             return Err(format!("the {what} {v} is not positive"));
         }
     }
-    if !z_scale.is_finite() {
-        return Err(format!("the height scale {z_scale} is not finite"));
-    }
     let (x_unit, y_unit, z_unit) = (text(180, 16), text(196, 16), text(212, 16));
     let inversion = u16::from_le_bytes([bytes[290], bytes[291]]);
     let comment = usize::from(u16::from_le_bytes([bytes[334], bytes[335]]));
@@ -78,6 +81,8 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     let sign = if (1..=3).contains(&inversion) { -1.0 } else { 1.0 };
     let z_metres = metres_per(&z_unit);
     let to_unit = sign * z_scale * z_metres.unwrap_or(1.0);
+    plausible::height_factor(to_unit, z_metres.and(sample.levels()).map(|l| to_unit * l))
+        .map_err(|e| format!("the height scale {z_scale} {}: {e}", quoted(&z_unit)))?;
     let missing = (special_points == 1).then_some(i64::from(zmin) - 2);
     let stored = Stored { sample, endian: Endian::Little, bottom_first: inversion == 3 };
     let mut data = binary::grid(bytes, HEADER + comment + private, (nx, ny), stored, "the height data", |v| {
