@@ -700,3 +700,13 @@ def test_the_spectrum_of_a_uniform_profile_is_topo_psds(tmp_path):
     cli_q, cli_c = np.loadtxt(io.StringIO(run_cli("topo", "psd", tmp_path / "p.csv")),
                               delimiter=",", skiprows=1, unpack=True)
     assert np.allclose(q, cli_q, rtol=1e-15) and np.allclose(c, cli_c, rtol=1e-15)
+
+
+def test_an_empty_out_is_refused_and_the_working_folder_kept(tmp_path, monkeypatch):
+    # out="" named no folder and wrote the study among the user's files in the working folder.
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "results.csv").write_text("a user's table")
+    message = raises(lambda: ap.run_study(SMALL_STUDY, out=""), "out: an empty path names no folder")
+    assert message == "out: an empty path names no folder: choose a new or empty folder"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.csv"]
+    assert (tmp_path / "results.csv").read_text() == "a user's table"

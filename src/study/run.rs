@@ -827,9 +827,14 @@ impl Study {
         Ok(lock)
     }
 
-    /// Refuse a `dir` that is a file, or holds neither a study's solves nor only what a start
-    /// killed before its fingerprint leaves (the solves folder, its locks, temporaries).
+    /// Refuse a `dir` that is an empty path, a file, or holds neither a study's solves nor only
+    /// what a start killed before its fingerprint leaves (the solves folder, its locks,
+    /// temporaries): the rules of every caller (`asperity run`, `slurm`, Python's `run_study`).
     fn check_dir(&self, dir: &Path) -> Result<()> {
+        // An empty path names no folder: its files would land beside the user's own.
+        if dir.as_os_str().is_empty() {
+            return Err(Error::invalid("--out", "an empty path names no folder: choose a new or empty folder"));
+        }
         match std::fs::metadata(dir) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
             Err(e) => return Err(Error::io(dir, e)),
