@@ -710,3 +710,43 @@ def test_an_empty_out_is_refused_and_the_working_folder_kept(tmp_path, monkeypat
     assert message == "out: an empty path names no folder: choose a new or empty folder"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["results.csv"]
     assert (tmp_path / "results.csv").read_text() == "a user's table"
+
+
+def in_a_python(code, memory_bytes=None):
+    """`code` run by a Python of its own (asperity imported as ap, numpy as np), its address
+    space limited to what it maps then plus `memory_bytes`: an abort fails the test, not pytest."""
+    limit = "" if memory_bytes is None else textwrap.dedent(f"""
+        import resource
+        mapped = next(int(l.split()[1]) * 1024 for l in open("/proc/self/status") if l.startswith("VmSize:"))
+        resource.setrlimit(resource.RLIMIT_AS, (mapped + {memory_bytes}, resource.RLIM_INFINITY))
+    """)
+    script = "import numpy as np\nimport asperity as ap\n" + limit + textwrap.dedent(code)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, (done.returncode, done.stderr)
+    return done.stdout.strip()
+
+
+def test_a_map_beyond_the_point_limit_or_the_memory_is_refused_before_its_copy():
+    # A read-only broadcast of 2^30 points was copied whole: the interpreter aborted.
+    said = in_a_python("""
+        try:
+            ap.Topography(np.broadcast_to(0.0, (2**15, 2**15)), 1e-3)
+        except ValueError as e:
+            print(e)
+    """)
+    assert said == ("heights: a 32768 × 32768 grid (1073741824 points) is over the limit of 268435456 points "
+                    "(raise it with max_points, or max_points in the study's [limits])"), said
+    # One row past 2^28 passed the limit.
+    raises(lambda: ap.Topography(np.broadcast_to(0.0, (16385, 16384)), 1e-3),
+           "heights: a 16384 × 16385 grid (268451840 points) is over the limit of 268435456 points")
+    raises(lambda: ap.Topography(np.zeros((4, 5)), 1e-6, max_points=19), "20 points) is over the limit of 19")
+    assert ap.Topography(np.zeros((4, 5)), 1e-6, max_points=20).shape == (4, 5)
+    # Within a raised limit, a copy the memory cannot hold is a MemoryError, estimated before it.
+    said = in_a_python("""
+        try:
+            ap.Topography(np.broadcast_to(0.0, (2**15, 2**15)), 1e-3, max_points=2**30)
+        except MemoryError as e:
+            print(type(e).__name__, e)
+    """, memory_bytes=256 << 20)
+    assert said.startswith("MemoryError heights: a 32768 × 32768 map of heights needs about 16.0 GiB of memory, "
+                           "more than the "), said
