@@ -310,8 +310,8 @@ fn view_of<'py>(array: &Array2<f64>, owner: Bound<'py, PyAny>) -> PyResult<Bound
 ///
 /// ``Topography(heights, physical_size=(lx, ly), periodic=False, *, max_points=None)`` takes
 /// any 2-D array of heights in metres (copied; NaN marks a missing point), refusing what the
-/// command line's readers refuse: more than ``max_points`` points (default 2^28), and a copy
-/// the memory cannot hold (a ``MemoryError``).
+/// command line's readers refuse: more than ``max_points`` points (default 2^28), heights beyond
+/// ±1e50 m (infinite ones included), and a copy the memory cannot hold (a ``MemoryError``).
 /// Methods return new topographies.
 #[pyclass(frozen, module = "asperity")]
 struct Topography {
@@ -349,6 +349,11 @@ impl Topography {
             channel: "heights".into(),
             provenance: Provenance { file: None, format: "array".into(), height_unit: Some("m".into()) },
         };
+        // The readers' check: such heights overflow the statistics and solves made of them.
+        topography.require_representable().map_err(|e| match e {
+            asperity::Error::Invalid { reason, .. } => invalid("heights", reason),
+            e => error(e),
+        })?;
         Ok(Topography::wrap(topography))
     }
 

@@ -750,3 +750,23 @@ def test_a_map_beyond_the_point_limit_or_the_memory_is_refused_before_its_copy()
     """, memory_bytes=256 << 20)
     assert said.startswith("MemoryError heights: a 32768 × 32768 map of heights needs about 16.0 GiB of memory, "
                            "more than the "), said
+
+
+def test_heights_the_readers_refuse_are_refused_and_missing_points_stay_missing():
+    # Infinite and 1e308 heights were taken: no missing point, NaN or infinite statistics.
+    for bad, shown in [(np.inf, "inf"), (-np.inf, "-inf"), (1e308, "1e308")]:
+        h = np.zeros((8, 8))
+        h[2, 3] = bad
+        raises(lambda: ap.Topography(h, 1e-6),
+               f"heights: the value at row 2, column 3 is {shown}, beyond ±1e50 (m): not representable")
+    # A wafer's missing point makes the compound's heights within two pixels of it missing,
+    # counted as such and refused where heights are needed, never taken as heights.
+    ball = rough_ball(grid=32)
+    wafer = np.zeros((32, 32))
+    wafer[10, 12] = np.nan
+    c = ap.compound(ball, ap.Topography(wafer, ball.physical_size))
+    assert c.missing_points == 16 and np.isnan(c.heights).sum() == 16
+    assert np.isnan(c.heights[8:12, 10:14]).all() and np.isfinite(np.delete(c.heights, range(8, 12), 0)).all()
+    raises(lambda: c.statistics(), "missing")
+    raises(lambda: ap.contact(c, loads=1e-3), "16 heights are missing")
+    assert c.fill_missing().missing_points == 0
