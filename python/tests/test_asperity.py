@@ -770,3 +770,12 @@ def test_heights_the_readers_refuse_are_refused_and_missing_points_stay_missing(
     raises(lambda: c.statistics(), "missing")
     raises(lambda: ap.contact(c, loads=1e-3), "16 heights are missing")
     assert c.fill_missing().missing_points == 0
+
+
+def test_a_youngs_uncertainty_outside_zero_to_youngs_is_refused(tmp_path):
+    # An uncertainty of E or more drew the study's E band through E <= 0.
+    for delta, shown in [("130 GPa", "130 GPa"), ("-1 GPa", "-1 GPa")]:
+        study = dict(SMALL_STUDY, material={"youngs": "130 GPa", "youngs_uncertainty": delta})
+        raises(lambda: ap.run_study(study, out=tmp_path / "r"),
+               f"material.youngs_uncertainty: {shown} must lie in [0, youngs) = [0, 130 GPa)")
+    assert not (tmp_path / "r").exists()
