@@ -779,3 +779,21 @@ def test_a_youngs_uncertainty_outside_zero_to_youngs_is_refused(tmp_path):
         raises(lambda: ap.run_study(study, out=tmp_path / "r"),
                f"material.youngs_uncertainty: {shown} must lie in [0, youngs) = [0, 130 GPa)")
     assert not (tmp_path / "r").exists()
+
+
+def test_a_slide_beyond_the_memory_is_a_memory_error():
+    # The tangential solve's buffers were allocated unchecked: short of memory, the interpreter
+    # aborted. Its estimate is checked first.
+    said = in_a_python("""
+        import resource
+        t = ap.generate(size=31.13e-6, grid=512, hurst=0.8, rms=22e-9, seed=1)
+        (s,) = ap.contact(t, loads=1e-3, tolerance=1e-6)
+        mapped = next(int(l.split()[1]) * 1024 for l in open("/proc/self/status") if l.startswith("VmSize:"))
+        resource.setrlimit(resource.RLIMIT_AS, (mapped + (16 << 20), resource.RLIM_INFINITY))
+        try:
+            ap.slide(s, law="hold 100 s")
+        except MemoryError as e:
+            print(type(e).__name__, e)
+    """)
+    assert said.startswith("MemoryError surface: a tangential solve on 512 × 512 points needs about 97 MiB of "
+                           "memory, more than the "), said

@@ -362,7 +362,7 @@ impl Study {
         if let Some((nx, ny)) = grid {
             limits
                 .check_grid(nx, ny)
-                .and_then(|()| contact::check_solve_memory((ny, nx), boundary))
+                .and_then(|()| contact::check_solves_memory((ny, nx), boundary))
                 .map_err(|r| at("contact.grid", Error::invalid("grid", r)))?;
         }
         let mut topographies = Vec::with_capacity(config.topographies.len());
@@ -371,11 +371,11 @@ impl Study {
             let here = |e| at(&format!("topography \"{name}\""), e);
             // A synthetic surface's grid is known before it is generated: refuse it before.
             if let Some(s) = spec.synthetic.as_ref().filter(|_| grid.is_none()) {
-                contact::check_solve_memory((s.grid.1, s.grid.0), boundary)
+                contact::check_solves_memory((s.grid.1, s.grid.0), boundary)
                     .map_err(|r| here(Error::invalid("synthetic.grid", r)))?;
             }
             let topo = build_topography(spec, grid, &limits).map_err(here)?;
-            contact::check_solve_memory((topo.ny(), topo.nx()), boundary)
+            contact::check_solves_memory((topo.ny(), topo.nx()), boundary)
                 .map_err(|r| here(Error::invalid("grid", r)))?;
             topographies.push((name, topo));
         }
