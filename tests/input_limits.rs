@@ -261,7 +261,8 @@ fn work_beyond_the_memory_is_refused_naming_its_estimate() {
         ),
         (
             vec!["run", "big.toml", "--out", "r"],
-            "error: big.toml: contact.grid: grid: a contact solve on 8192 × 8192 points needs about 14.2 GiB",
+            "error: big.toml: contact.grid: grid: a contact solve and a tangential solve on 8192 × 8192 points needs \
+             about 46.6 GiB",
         ),
     ] {
         let out = asperity_within(2_000_000, &args, d);
@@ -318,4 +319,45 @@ fn an_hdf5_dataset_of_unwritten_chunks_is_refused_without_allocating_it() {
          bytes), more than the 1400 bytes of the file can hold compressed: its data are not in the file (chunks \
          never written)\n"
     );
+
+/// A slide and a study need the memory of their normal solve and of the tangential solve after
+/// it together: checked before the first solve, so that the refusal costs no solve. Under
+/// these limits the tangential solve's buffers (the slide's) and the study's solves were
+/// allocated unchecked, and the process aborted.
+#[test]
+fn a_slide_and_a_study_beyond_the_memory_are_refused_before_their_solves() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let generate = ["topo", "generate", "--size", "31.13um", "--grid", "2048", "--hurst", "0.8", "--rms", "22nm"];
+    let made = asperity(&[&generate[..], &["--seed", "1", "flat.npy"]].concat(), d);
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let study = "[[topography]]\nname = \"ball\"\nsynthetic = { size_m = [\"31.13 µm\", \"31.13 µm\"], grid = [1024, \
+                 1024], seed = 1, roughness = { hurst = 0.8, rms_height_m = \"22 nm\" }, cap = { radius_m = \
+                 \"1.5 mm\" } }\n[loads]\nmin = \"0.1 mN\"\nmax = \"10 mN\"\ncount = 3\n[[law]]\npreset = \"hold 100 \
+                 s\"\n[output]\nfigures = [\"friction-drop\"]\n";
+    std::fs::write(d.join("small.toml"), study).unwrap();
+    let slide = ["slide", "flat.npy", "--size", "31.13um", "--load", "1mN", "--law", "hold 100 s", "--out", "s"];
+    for (kib, args, said) in [
+        (
+            800_000,
+            &slide[..],
+            "error: flat.npy: a contact solve and a tangential solve on 2048 × 2048 points needs about 1.1 GiB of \
+             memory, more than the ",
+        ),
+        (
+            320_000,
+            &["run", "small.toml", "--out", "r"][..],
+            "error: small.toml: topography \"ball\": synthetic.grid: a contact solve and a tangential solve on 1024 × \
+             1024 points needs about 473 MiB of memory, more than the ",
+        ),
+    ] {
+        let start = std::time::Instant::now();
+        let out = asperity_within(kib, args, d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {:?} {err}", out.status);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with(said) && !err.contains("memory allocation of"), "{args:?}: {err}");
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{args:?}: {:?}", start.elapsed());
+    }
+    assert!(!d.join("s").exists() && !d.join("r").exists());
 }

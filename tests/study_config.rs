@@ -118,6 +118,17 @@ fn bad_study_files_fail_on_one_line_at_their_place() {
             "preset = \"hold 100 s\"\n[[law]]\nmu_s = 0.6\nmu_d = 0.4\nhold_time = \"100 s\"\naging = 0.1\nhold_times = [\"100 s\"]",
             "law[1]: the name \"hold 100 s\" is used twice",
         ),
+        // An uncertainty of Young's modulus that would draw the E band through E ≤ 0.
+        (
+            "[contact]",
+            "[material]\nyoungs = \"130 GPa\"\nyoungs_uncertainty = \"130 GPa\"\n\n[contact]",
+            "material.youngs_uncertainty: 130 GPa must lie in [0, youngs) = [0, 130 GPa)",
+        ),
+        (
+            "[contact]",
+            "[material]\nyoungs_uncertainty = \"-1 GPa\"\n\n[contact]",
+            "material.youngs_uncertainty: -1 GPa must lie in [0, youngs) = [0, 130 GPa)",
+        ),
         // A boundary that does not exist, a cap too small for its window.
         ("\"periodic\"", "\"periodical\"", "error: study.toml:7:12: contact.boundary: 'periodical' is not"),
         (

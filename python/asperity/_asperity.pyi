@@ -22,7 +22,9 @@ _Map = npt.ArrayLike
 class Topography:
     """A height map: heights [m], shape (ny, nx), on a window of physical size (lx, ly) [m]."""
 
-    def __init__(self, heights: _Map, physical_size: _Lengths, periodic: bool = False) -> None: ...
+    def __init__(
+        self, heights: _Map, physical_size: _Lengths, periodic: bool = False, *, max_points: Optional[int] = None
+    ) -> None: ...
     @property
     def heights(self) -> npt.NDArray[np.float64]:
         """Heights [m], float64 (ny, nx): a read-only view, no copy."""

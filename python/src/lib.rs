@@ -4,7 +4,8 @@
 //! adds no physics. Long work runs with the GIL released and stops on Ctrl-C: the solver's
 //! per-iteration callback checks for signals. Every library error becomes `asperity.Error`
 //! (a `ValueError`) with the command line's one-line message in Python's words: the arguments'
-//! names, not the options'. The plausibility checks of the command line ([`asperity::plausible`])
+//! names, not the options'; memory that is not there (an estimate over what is available, an
+//! allocation that failed) is a `MemoryError` with the same line. The plausibility checks of the command line ([`asperity::plausible`])
 //! refuse a value no contact problem has and warn (`warnings.warn`, a `UserWarning`) about an
 //! unusual one.
 
@@ -24,7 +25,7 @@ use asperity::friction::{
     elastic_onset, ramp_force, slip_curve_file, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading,
     Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening,
 };
-use asperity::limits::Limits;
+use asperity::limits::{self as core_limits, Limits};
 use asperity::plausible::{self, Spelling, Verdict};
 use asperity::quantity::human;
 use asperity::shs::{self, ShsOptions, Trace};
@@ -40,7 +41,7 @@ use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, Syntheti
 use asperity::topography::{io, AnyTopography, Provenance, Topography as CoreTopography};
 use ndarray::{Array2, ArrayView2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::{PyUserWarning, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -51,8 +52,8 @@ pyo3::create_exception!(
     "Bad input or a computation that failed: the one-line message of the asperity command line."
 );
 
-/// A library error as `asperity.Error`: its one line as the command line prints it, in
-/// Python's words ([`python_words`]), control characters escaped.
+/// A library error as `asperity.Error` (a `MemoryError` when memory is short): its one line as
+/// the command line prints it, in Python's words ([`python_words`]), control characters escaped.
 fn error(e: asperity::Error) -> PyErr {
     error_naming(e, &[])
 }
@@ -67,7 +68,12 @@ fn error_naming(e: asperity::Error, names: &[(&str, &str)]) -> PyErr {
         e @ E::NotConverged { .. } => python_words(&e.to_string(), names),
         other => other.to_string(),
     };
-    Error::new_err(asperity::error::one_line(&line))
+    let line = asperity::error::one_line(&line);
+    if asperity::limits::is_out_of_memory(&line) {
+        PyMemoryError::new_err(line)
+    } else {
+        Error::new_err(line)
+    }
 }
 
 /// Phrases of the library's messages that point at a command line, and what Python calls them.
@@ -208,6 +214,34 @@ impl Signals {
     }
 }
 
+/// Bytes per point of taking an array of heights: numpy's float64 conversion of another type,
+/// then the copy a topography keeps.
+const HEIGHTS_BYTES_PER_POINT: u64 = 16;
+
+/// An owned float64 copy of the 2-D array-like `value` of heights, its grid checked against
+/// `limits` and its memory against what is available before anything is converted or copied
+/// (an array's shape is known beforehand; a nested list is already as large as its copy).
+fn heights_within(value: &Bound<'_, PyAny>, limits: &Limits) -> PyResult<Array2<f64>> {
+    let check = |ny: usize, nx: usize| -> PyResult<()> {
+        limits.check_grid(nx, ny).map_err(|reason| invalid("heights", python_words(&reason, &[])))?;
+        let memory = core_limits::grid_memory(nx, ny, HEIGHTS_BYTES_PER_POINT);
+        core_limits::check_memory(memory, &format!("a {nx} × {ny} map of heights"))
+            .map_err(|reason| PyMemoryError::new_err(asperity::error::one_line(&format!("heights: {reason}"))))
+    };
+    if let Ok([ny, nx]) = value.getattr("shape").and_then(|s| s.extract::<[usize; 2]>()) {
+        check(ny, nx)?;
+    }
+    let map = float_map(value, "heights")?;
+    let view = map.as_array();
+    let (ny, nx) = view.dim();
+    check(ny, nx)?;
+    let mut copy = Vec::new();
+    core_limits::reserve(&mut copy, ny * nx, "the heights")
+        .map_err(|reason| PyMemoryError::new_err(asperity::error::one_line(&format!("heights: {reason}"))))?;
+    copy.extend(view.iter().copied());
+    Ok(Array2::from_shape_vec((ny, nx), copy).expect("ny × nx heights"))
+}
+
 /// A 2-D float64 array from any array-like (no copy when it already is one).
 fn float_map<'py>(value: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyArray2<'py, f64>> {
     if let Ok(array) = value.extract::<PyReadonlyArray2<f64>>() {
@@ -274,8 +308,11 @@ fn view_of<'py>(array: &Array2<f64>, owner: Bound<'py, PyAny>) -> PyResult<Bound
 /// A height map: heights [m] of shape (ny, nx) (row index y, column index x) on a window of
 /// physical size (lx, ly) [m].
 ///
-/// ``Topography(heights, physical_size=(lx, ly), periodic=False)`` takes any 2-D array of
-/// heights in metres (copied; NaN marks a missing point). Methods return new topographies.
+/// ``Topography(heights, physical_size=(lx, ly), periodic=False, *, max_points=None)`` takes
+/// any 2-D array of heights in metres (copied; NaN marks a missing point), refusing what the
+/// command line's readers refuse: more than ``max_points`` points (default 2^28), heights beyond
+/// ±1e50 m (infinite ones included), and a copy the memory cannot hold (a ``MemoryError``).
+/// Methods return new topographies.
 #[pyclass(frozen, module = "asperity")]
 struct Topography {
     inner: CoreTopography,
@@ -292,21 +329,32 @@ impl Topography {
 #[pymethods]
 impl Topography {
     #[new]
-    #[pyo3(signature = (heights, physical_size, periodic = false))]
-    fn new(heights: &Bound<'_, PyAny>, physical_size: &Bound<'_, PyAny>, periodic: bool) -> PyResult<Self> {
+    #[pyo3(signature = (heights, physical_size, periodic = false, *, max_points = None))]
+    fn new(
+        heights: &Bound<'_, PyAny>,
+        physical_size: &Bound<'_, PyAny>,
+        periodic: bool,
+        max_points: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         let size = window(physical_size, "physical_size")?;
-        let heights = float_map(heights, "heights")?.as_array().to_owned();
+        let heights = heights_within(heights, &limits(max_points)?)?;
         if heights.nrows() == 0 || heights.ncols() == 0 {
             return Err(invalid("heights", format!("an empty {:?} array", heights.dim())));
         }
-        Ok(Topography::wrap(CoreTopography {
+        let topography = CoreTopography {
             heights,
             physical_size: Some(size),
             periodic,
             height_unit_known: true,
             channel: "heights".into(),
             provenance: Provenance { file: None, format: "array".into(), height_unit: Some("m".into()) },
-        }))
+        };
+        // The readers' check: such heights overflow the statistics and solves made of them.
+        topography.require_representable().map_err(|e| match e {
+            asperity::Error::Invalid { reason, .. } => invalid("heights", reason),
+            e => error(e),
+        })?;
+        Ok(Topography::wrap(topography))
     }
 
     /// Heights [m], float64 of shape (ny, nx): a read-only view, no copy.

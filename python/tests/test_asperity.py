@@ -700,3 +700,100 @@ def test_the_spectrum_of_a_uniform_profile_is_topo_psds(tmp_path):
     cli_q, cli_c = np.loadtxt(io.StringIO(run_cli("topo", "psd", tmp_path / "p.csv")),
                               delimiter=",", skiprows=1, unpack=True)
     assert np.allclose(q, cli_q, rtol=1e-15) and np.allclose(c, cli_c, rtol=1e-15)
+
+
+def test_an_empty_out_is_refused_and_the_working_folder_kept(tmp_path, monkeypatch):
+    # out="" named no folder and wrote the study among the user's files in the working folder.
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "results.csv").write_text("a user's table")
+    message = raises(lambda: ap.run_study(SMALL_STUDY, out=""), "out: an empty path names no folder")
+    assert message == "out: an empty path names no folder: choose a new or empty folder"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.csv"]
+    assert (tmp_path / "results.csv").read_text() == "a user's table"
+
+
+def in_a_python(code, memory_bytes=None):
+    """`code` run by a Python of its own (asperity imported as ap, numpy as np), its address
+    space limited to what it maps then plus `memory_bytes`: an abort fails the test, not pytest."""
+    limit = "" if memory_bytes is None else textwrap.dedent(f"""
+        import resource
+        mapped = next(int(l.split()[1]) * 1024 for l in open("/proc/self/status") if l.startswith("VmSize:"))
+        resource.setrlimit(resource.RLIMIT_AS, (mapped + {memory_bytes}, resource.RLIM_INFINITY))
+    """)
+    script = "import numpy as np\nimport asperity as ap\n" + limit + textwrap.dedent(code)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, (done.returncode, done.stderr)
+    return done.stdout.strip()
+
+
+def test_a_map_beyond_the_point_limit_or_the_memory_is_refused_before_its_copy():
+    # A read-only broadcast of 2^30 points was copied whole: the interpreter aborted.
+    said = in_a_python("""
+        try:
+            ap.Topography(np.broadcast_to(0.0, (2**15, 2**15)), 1e-3)
+        except ValueError as e:
+            print(e)
+    """)
+    assert said == ("heights: a 32768 × 32768 grid (1073741824 points) is over the limit of 268435456 points "
+                    "(raise it with max_points, or max_points in the study's [limits])"), said
+    # One row past 2^28 passed the limit.
+    raises(lambda: ap.Topography(np.broadcast_to(0.0, (16385, 16384)), 1e-3),
+           "heights: a 16384 × 16385 grid (268451840 points) is over the limit of 268435456 points")
+    raises(lambda: ap.Topography(np.zeros((4, 5)), 1e-6, max_points=19), "20 points) is over the limit of 19")
+    assert ap.Topography(np.zeros((4, 5)), 1e-6, max_points=20).shape == (4, 5)
+    # Within a raised limit, a copy the memory cannot hold is a MemoryError, estimated before it.
+    said = in_a_python("""
+        try:
+            ap.Topography(np.broadcast_to(0.0, (2**15, 2**15)), 1e-3, max_points=2**30)
+        except MemoryError as e:
+            print(type(e).__name__, e)
+    """, memory_bytes=256 << 20)
+    assert said.startswith("MemoryError heights: a 32768 × 32768 map of heights needs about 16.0 GiB of memory, "
+                           "more than the "), said
+
+
+def test_heights_the_readers_refuse_are_refused_and_missing_points_stay_missing():
+    # Infinite and 1e308 heights were taken: no missing point, NaN or infinite statistics.
+    for bad, shown in [(np.inf, "inf"), (-np.inf, "-inf"), (1e308, "1e308")]:
+        h = np.zeros((8, 8))
+        h[2, 3] = bad
+        raises(lambda: ap.Topography(h, 1e-6),
+               f"heights: the value at row 2, column 3 is {shown}, beyond ±1e50 (m): not representable")
+    # A wafer's missing point makes the compound's heights within two pixels of it missing,
+    # counted as such and refused where heights are needed, never taken as heights.
+    ball = rough_ball(grid=32)
+    wafer = np.zeros((32, 32))
+    wafer[10, 12] = np.nan
+    c = ap.compound(ball, ap.Topography(wafer, ball.physical_size))
+    assert c.missing_points == 16 and np.isnan(c.heights).sum() == 16
+    assert np.isnan(c.heights[8:12, 10:14]).all() and np.isfinite(np.delete(c.heights, range(8, 12), 0)).all()
+    raises(lambda: c.statistics(), "missing")
+    raises(lambda: ap.contact(c, loads=1e-3), "16 heights are missing")
+    assert c.fill_missing().missing_points == 0
+
+
+def test_a_youngs_uncertainty_outside_zero_to_youngs_is_refused(tmp_path):
+    # An uncertainty of E or more drew the study's E band through E <= 0.
+    for delta, shown in [("130 GPa", "130 GPa"), ("-1 GPa", "-1 GPa")]:
+        study = dict(SMALL_STUDY, material={"youngs": "130 GPa", "youngs_uncertainty": delta})
+        raises(lambda: ap.run_study(study, out=tmp_path / "r"),
+               f"material.youngs_uncertainty: {shown} must lie in [0, youngs) = [0, 130 GPa)")
+    assert not (tmp_path / "r").exists()
+
+
+def test_a_slide_beyond_the_memory_is_a_memory_error():
+    # The tangential solve's buffers were allocated unchecked: short of memory, the interpreter
+    # aborted. Its estimate is checked first.
+    said = in_a_python("""
+        import resource
+        t = ap.generate(size=31.13e-6, grid=512, hurst=0.8, rms=22e-9, seed=1)
+        (s,) = ap.contact(t, loads=1e-3, tolerance=1e-6)
+        mapped = next(int(l.split()[1]) * 1024 for l in open("/proc/self/status") if l.startswith("VmSize:"))
+        resource.setrlimit(resource.RLIMIT_AS, (mapped + (16 << 20), resource.RLIM_INFINITY))
+        try:
+            ap.slide(s, law="hold 100 s")
+        except MemoryError as e:
+            print(type(e).__name__, e)
+    """)
+    assert said.startswith("MemoryError surface: a tangential solve on 512 × 512 points needs about 97 MiB of "
+                           "memory, more than the "), said

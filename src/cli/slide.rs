@@ -411,6 +411,8 @@ fn normal_pressure(args: &SlideArgs, e_star: f64) -> Result<Normal> {
     super::judge("--load", plausible::load(load, size, e_star, Spelling::CommandLine))?;
     let boundary = args.material.boundary();
     let shape = (surface.ny(), surface.nx());
+    // Both solves' memory before the first one's work.
+    contact::check_solves_memory(shape, boundary).map_err(|reason| Error::file(path, reason))?;
     let heights = surface.heights.as_standard_layout();
     let heights = heights.as_slice().expect("standard layout");
     if boundary == Boundary::Periodic && load >= contact::full_contact_load(heights, shape, size, e_star) {

@@ -18,7 +18,8 @@ pub mod tangential;
 
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
 pub use solver::{
-    check_load, check_solve_memory, ContactSolver, Convergence, Device, Proceed, SolveReport, SolverOptions,
+    check_load, check_solve_memory, check_solves_memory, ContactSolver, Convergence, Device, Proceed, SolveReport,
+    SolverOptions,
 };
 pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 

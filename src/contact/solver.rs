@@ -385,13 +385,25 @@ pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     Ok(())
 }
 
+/// The memory of a contact solve on an ny × nx surface [bytes].
+pub fn solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> u64 {
+    // A free boundary solves on the grid padded to 2nx × 2ny.
+    let padding = if boundary == Boundary::Free { 4 } else { 1 };
+    grid_memory(nx, ny, CONTACT_BYTES_PER_POINT * padding)
+}
+
 /// Whether a contact solve on an ny × nx surface fits in the memory available
 /// ([`crate::limits::check_memory`]); the reason, naming the estimate, when it does not.
 pub fn check_solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> std::result::Result<(), String> {
-    // A free boundary solves on the grid padded to 2nx × 2ny.
-    let padding = if boundary == Boundary::Free { 4 } else { 1 };
-    let bytes = grid_memory(nx, ny, CONTACT_BYTES_PER_POINT * padding);
-    check_memory(bytes, &format!("a contact solve on {nx} × {ny} points"))
+    check_memory(solve_memory((ny, nx), boundary), &format!("a contact solve on {nx} × {ny} points"))
+}
+
+/// Whether a contact solve and a tangential solve on its contact (a sliding onset, a stuck
+/// contact's stiffness) on an ny × nx surface fit in the memory available together: checked
+/// before the normal solve, so that a refusal comes before its work.
+pub fn check_solves_memory((ny, nx): (usize, usize), boundary: Boundary) -> std::result::Result<(), String> {
+    let bytes = solve_memory((ny, nx), boundary).saturating_add(super::tangential::solve_memory((ny, nx), boundary));
+    check_memory(bytes, &format!("a contact solve and a tangential solve on {nx} × {ny} points"))
 }
 
 /// The CPU engine of [`ContactSolver`].

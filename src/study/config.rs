@@ -726,6 +726,19 @@ impl StudyConfig {
                 judge(v.0, Spelling::StudyFile).map(drop).or_else(|r| at(&[material.clone(), key(name)], r))?;
             }
         }
+        // The E band is drawn through E ± ΔE: both must be moduli.
+        if let Some(delta) = m.youngs_uncertainty {
+            if !(delta.0 >= 0.0 && delta.0 < m.youngs.0) {
+                return at(
+                    &[material.clone(), key("youngs_uncertainty")],
+                    format!(
+                        "{} must lie in [0, youngs) = [0, {})",
+                        quantity::show(delta.0, &PRESSURE),
+                        quantity::show(m.youngs.0, &PRESSURE)
+                    ),
+                );
+            }
+        }
         match (m.counter_youngs, m.counter_poisson) {
             (Some(e), Some(nu)) => {
                 Material::new(e.0, nu, "counter-body").map_err(|e| (vec![material.clone()], reason_of(e)))?;

@@ -376,7 +376,7 @@ impl Study {
         if let Some((nx, ny)) = grid {
             limits
                 .check_grid(nx, ny)
-                .and_then(|()| contact::check_solve_memory((ny, nx), boundary))
+                .and_then(|()| contact::check_solves_memory((ny, nx), boundary))
                 .map_err(|r| at("contact.grid", Error::invalid("grid", r)))?;
         }
         let mut topographies = Vec::with_capacity(config.topographies.len());
@@ -385,11 +385,11 @@ impl Study {
             let here = |e| at(&format!("topography \"{name}\""), e);
             // A synthetic surface's grid is known before it is generated: refuse it before.
             if let Some(s) = spec.synthetic.as_ref().filter(|_| grid.is_none()) {
-                contact::check_solve_memory((s.grid.1, s.grid.0), boundary)
+                contact::check_solves_memory((s.grid.1, s.grid.0), boundary)
                     .map_err(|r| here(Error::invalid("synthetic.grid", r)))?;
             }
             let topo = build_topography(spec, grid, &limits).map_err(here)?;
-            contact::check_solve_memory((topo.ny(), topo.nx()), boundary)
+            contact::check_solves_memory((topo.ny(), topo.nx()), boundary)
                 .map_err(|r| here(Error::invalid("grid", r)))?;
             topographies.push((name, topo));
         }
@@ -899,9 +899,14 @@ impl Study {
         Ok(lock)
     }
 
-    /// Refuse a `dir` that is a file, or holds neither a study's solves nor only what a start
-    /// killed before its fingerprint leaves (the solves folder, its locks, temporaries).
+    /// Refuse a `dir` that is an empty path, a file, or holds neither a study's solves nor only
+    /// what a start killed before its fingerprint leaves (the solves folder, its locks,
+    /// temporaries): the rules of every caller (`asperity run`, `slurm`, Python's `run_study`).
     fn check_dir(&self, dir: &Path) -> Result<()> {
+        // An empty path names no folder: its files would land beside the user's own.
+        if dir.as_os_str().is_empty() {
+            return Err(Error::invalid("--out", "an empty path names no folder: choose a new or empty folder"));
+        }
         match std::fs::metadata(dir) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
             Err(e) => return Err(Error::io(dir, e)),

@@ -63,9 +63,10 @@ mod operator;
 use super::influence::{Boundary, ShearCompliance};
 use super::solver::Convergence;
 use crate::error::{Error, Result};
+use crate::limits::{check_memory, grid_memory, TANGENTIAL_BYTES_PER_POINT};
 use disk::cut_onto_disks;
 pub(crate) use disk::magnitude;
-use operator::{dense_is_cheaper, NearInverse, ShearOperator};
+use operator::{dense_bytes_at_most, dense_is_cheaper, NearInverse, ShearOperator};
 
 /// Contact points per parallel task: below this, threads cost more than they save.
 const CHUNK: usize = 4096;
@@ -83,6 +84,21 @@ impl Default for Convergence {
     fn default() -> Self {
         Convergence { tolerance: 1e-6, max_iterations: 20_000 }
     }
+}
+
+/// The memory of a tangential solve on an ny × nx window [bytes], as if its contact spread over
+/// the whole window ([`TANGENTIAL_BYTES_PER_POINT`]), with a dense operator at its largest.
+pub fn solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> u64 {
+    let padding = if boundary == Boundary::Free { 4 } else { 1 };
+    let grid = grid_memory(nx, ny, TANGENTIAL_BYTES_PER_POINT * padding);
+    grid.saturating_add(dense_bytes_at_most(nx.saturating_mul(ny).saturating_mul(padding as usize)))
+}
+
+/// Whether a tangential solve on an ny × nx window fits in the memory available
+/// ([`solve_memory`]); the reason, naming the estimate, when it does not.
+pub fn check_solve_memory(shape: (usize, usize), boundary: Boundary) -> std::result::Result<(), String> {
+    let (ny, nx) = shape;
+    check_memory(solve_memory(shape, boundary), &format!("a tangential solve on {nx} × {ny} points"))
 }
 
 /// What one tangential solve reports.
@@ -157,6 +173,7 @@ impl TangentialSolver {
             return Err(Error::invalid("--size", format!("must be positive and finite, got {}×{} m", size.0, size.1)));
         }
         options.check()?;
+        check_solve_memory(shape, boundary).map_err(|r| Error::invalid("surface", r))?;
         let points: Vec<usize> = (0..pressure.len()).filter(|&i| pressure[i] > 0.0).collect();
         if points.is_empty() {
             return Err(Error::invalid("pressure map", "no contact: every pressure is zero"));

@@ -25,6 +25,13 @@ pub(super) fn dense_is_cheaper(m: usize, g: usize) -> bool {
     36 * m * m <= DENSE_BYTES && (m * m) as f64 <= 0.4 * g * g.log2()
 }
 
+/// The most bytes a dense operator takes with a transform grid of at most `g` points
+/// ([`dense_is_cheaper`]).
+pub(super) fn dense_bytes_at_most(g: usize) -> u64 {
+    let pairs = (0.4 * g as f64 * (g.max(2) as f64).log2()).min((DENSE_BYTES / 36) as f64);
+    36 * pairs as u64
+}
+
 /// K on the contact points.
 pub(super) enum ShearOperator {
     /// Through the transforms of the contact set's bounding box: the points' flat indices in
