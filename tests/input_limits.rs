@@ -319,6 +319,7 @@ fn an_hdf5_dataset_of_unwritten_chunks_is_refused_without_allocating_it() {
          bytes), more than the 1400 bytes of the file can hold compressed: its data are not in the file (chunks \
          never written)\n"
     );
+}
 
 /// A slide and a study need the memory of their normal solve and of the tangential solve after
 /// it together: checked before the first solve, so that the refusal costs no solve. Under
