@@ -342,9 +342,10 @@ fn what_a_killed_command_left_beside_its_output_goes_with_the_next_run() {
 fn sigint_at_any_moment_of_a_write_leaves_no_temporary() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let p = Array2::from_shape_fn((96, 96), |(i, j)| ((i * 7 + j * 13) % 11) as f64 * 1e6);
+    let p = Array2::from_shape_fn((128, 128), |(i, j)| ((i * 7 + j * 13) % 11) as f64 * 1e6);
     ndarray_npy::write_npy(dir.join("p.npy"), &p).unwrap();
-    let snapshots: Vec<String> = (1..=20).map(|k| format!("{}", k as f64 / 20.0)).collect();
+    // As many snapshots as onset takes.
+    let snapshots: Vec<String> = (1..=12).map(|k| format!("{}", k as f64 / 12.0)).collect();
     let mut interrupted = 0;
     for i in 0..30 {
         let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))

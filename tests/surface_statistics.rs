@@ -43,16 +43,16 @@ fn maps_have_surface_topographys_slopes_and_curvatures() {
 
 #[test]
 fn profiles_have_surface_topographys_slopes_and_curvatures() {
-    // Non-uniform profiles whose files state no unit: given in metres, as SurfaceTopography's
-    // numbers are in the file's unit.
+    // Non-uniform profiles whose files state no unit, read in µm (a length in metres is
+    // refused as no measured profile); SurfaceTopography's curvatures are per the file's unit.
     for (file, slope, curvature) in [
         ("xy-1.txt", 0.4382415170673911, 0.29648560831949383),
         ("nonuniform.asc", 0.45366851430012456, 0.14908236707035205),
     ] {
-        let AnyTopography::Profile(p) = read(file, Some("m")) else { panic!("{file} is a profile") };
+        let AnyTopography::Profile(p) = read(file, Some("um")) else { panic!("{file} is a profile") };
         assert!(p.step().is_none(), "{file} is not uniform");
         close(&format!("{file} rms slope"), profile_rms_slope(&p).unwrap(), slope);
-        close(&format!("{file} rms curvature"), profile_rms_curvature(&p).unwrap(), curvature);
+        close(&format!("{file} rms curvature"), profile_rms_curvature(&p).unwrap(), curvature / 1e-6);
     }
 }
 
