@@ -166,8 +166,13 @@ pub fn run(args: ContactArgs) -> Result<()> {
     let boundary = args.material.boundary();
     let shape = (surface.ny(), surface.nx());
     let heights = surface.heights.as_standard_layout();
+    // The solver's refusals (its memory, a grid too small) are of the file read.
     let mut solver =
-        ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)?;
+        ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)
+            .map_err(|e| match e {
+                Error::Invalid { option, reason } if option == "surface" => Error::file(&path, reason),
+                e => e,
+            })?;
     // The solver keeps its own copy of the heights.
     drop(heights);
     surface.heights = ndarray::Array2::zeros((0, 0));
