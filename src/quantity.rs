@@ -137,13 +137,12 @@ pub fn pascals_per(unit: &str) -> Option<f64> {
 /// How much of a quoted token an error message repeats, so that a message stays one short line.
 const QUOTED_CHARS: usize = 40;
 
-/// `text` as an error message quotes it: whole when short, else its start and an ellipsis.
+/// `text` as an error message quotes it: whole when short, else its start and an ellipsis;
+/// control characters (a corrupt file's newlines, NULs) as `?`, so that the message stays one line.
 pub fn quoted(text: &str) -> String {
-    if text.chars().count() <= QUOTED_CHARS {
-        format!("'{text}'")
-    } else {
-        format!("'{}…'", text.chars().take(QUOTED_CHARS).collect::<String>())
-    }
+    let shown: String = text.chars().take(QUOTED_CHARS).map(|c| if c.is_control() { '?' } else { c }).collect();
+    let more = if text.chars().nth(QUOTED_CHARS).is_some() { "…" } else { "" };
+    format!("'{shown}{more}'")
 }
 
 /// The length in bytes of the number at the start of `t` (sign, digits, point, exponent), in

@@ -173,3 +173,40 @@ fn nid_headers_parse_in_linear_time() {
     assert!(elapsed < Duration::from_secs(5), "{elapsed:?} to read {} bytes", file.len());
     assert!(peak < 64 * file.len(), "{peak} bytes held reading {} bytes", file.len());
 }
+
+/// The reason of a refused read, without the temporary file's path before it.
+fn reason(format: &str, bytes: &[u8]) -> String {
+    let message = read(format, bytes).0.unwrap_err();
+    message.split_once(": ").map(|(_, reason)| reason.to_string()).unwrap_or(message)
+}
+
+#[test]
+fn a_npy_header_key_holding_a_newline_is_quoted_on_one_line() {
+    // The header of example-2d.npy with a newline and a NUL before 'shape' (found by fuzzing:
+    // the key was quoted as it stood, on two lines).
+    let header = "{'descr': '<f8', 'fortran_order': False, '\0\nshape': (2, 2), }";
+    let mut file = b"\x93NUMPY\x01\x00".to_vec();
+    let padded = format!("{header:<117}\n");
+    file.extend((padded.len() as u16).to_le_bytes());
+    file.extend(padded.bytes());
+    file.extend([1.0f64, 2.0, 3.0, 4.0].iter().flat_map(|v| v.to_le_bytes()));
+    assert_eq!(reason("npy", &file), "malformed .npy header: unknown key '??shape'");
+}
+
+#[test]
+fn a_netcdf_variable_name_holding_a_newline_is_quoted_on_one_line() {
+    // A classic NetCDF header whose variable 'a\nb' names dimension 11 of its one (found by
+    // fuzzing: the name was quoted as it stood, on two lines).
+    let word = |v: u32| v.to_be_bytes();
+    let mut file = b"CDF\x01".to_vec();
+    file.extend(word(0)); // records
+    file.extend([word(0x0A), word(1), word(1)].concat()); // one dimension, named 'x',
+    file.extend(b"x\0\0\0");
+    file.extend(word(2)); // of 2 points
+    file.extend([word(0), word(0)].concat()); // no attribute
+    file.extend([word(0x0B), word(1), word(3)].concat()); // one variable, named 'a\nb',
+    file.extend(b"a\nb\0");
+    file.extend([word(1), word(11)].concat()); // of rank 1, on dimension 11
+    file.resize(file.len() + 32, 0);
+    assert_eq!(reason("netcdf", &file), "NetCDF variable 'a?b' uses no dimension 11");
+}
