@@ -210,3 +210,41 @@ fn a_netcdf_variable_name_holding_a_newline_is_quoted_on_one_line() {
     file.resize(file.len() + 32, 0);
     assert_eq!(reason("netcdf", &file), "NetCDF variable 'a?b' uses no dimension 11");
 }
+
+#[test]
+fn an_hdf5_error_quoting_the_file_stays_on_one_line() {
+    // A mutation of multiple_data_sets.h5, minimised by the hdf5 fuzzing target: 1160 bytes, zero
+    // but for these runs (offset, hex). Its group names a child by bytes of the signature,
+    // '\r\n\x1a\n', which the HDF5 decoder's error quoted as they stood, over two lines.
+    let runs: [(usize, &str); 15] = [
+        (
+            0,
+            concat!(
+                "894844460d0a1a0a0000000000080800040010010000000000000f0000000000ffffffffffffffff",
+                "00c81a0000000000ffffffffffffffff500000000000000060000000000000000100000000000000",
+                "8800000000000000a802000000000000010001000100000018000000000000001100100000000000",
+                "8800000000000000a8020000000000005452454500000100ffffffffffffffffffffffffffffffff"
+            ),
+        ),
+        (168, "3004000000000000180000000050414548"),
+        (347, "51414548"),
+        (680, "484541500000000058000000000000002800000000000000c802"),
+        (716, "894844460d0a1a0a0000000000080800c4"),
+        (778, "666606dcdfbf5d8fc2f560e0"),
+        (800, "01000500010000000001000000000000010028000000000000534e4f440100020008"),
+        (850, "1805"),
+        (886, "c2ed3ee0bfc3285c2f42e0bfec51b81ee942e0bf15ae68e0bf3e0ad718000000000003010008"),
+        (932, "8e"),
+        (946, "78"),
+        (1012, "92"),
+        (1072, "534e4f440100020008"),
+        (1096, "1805"),
+        (1132, "c2ed3ee0bfc3285c2f42e0bfec51b81ee942e0bf15ae68e0bf3e0ad7"),
+    ];
+    let mut file = vec![0u8; 1160];
+    for (at, hex) in runs {
+        let bytes = (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap());
+        file.splice(at..at + hex.len() / 2, bytes);
+    }
+    assert_eq!(reason("hdf5", &file), "HDF5: child '????' at 0x0: unsupported object header version 137");
+}
