@@ -138,9 +138,11 @@ pub fn pascals_per(unit: &str) -> Option<f64> {
 const QUOTED_CHARS: usize = 40;
 
 /// `text` as an error message quotes it: whole when short, else its start and its end around an
-/// ellipsis.
+/// ellipsis; control characters (a corrupt file's newlines, NULs) as `?`, so that the message
+/// stays one line wherever it is shown.
 pub fn quoted(text: &str) -> String {
-    format!("'{}'", crate::error::middle_cut(text, QUOTED_CHARS))
+    let shown: String = text.chars().map(|c| if c.is_control() { '?' } else { c }).collect();
+    format!("'{}'", crate::error::middle_cut(&shown, QUOTED_CHARS))
 }
 
 /// The length in bytes of the number at the start of `t` (sign, digits, point, exponent), in

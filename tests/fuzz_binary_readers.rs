@@ -13,7 +13,7 @@ use std::io::{Cursor, Read, Write};
 use std::path::Path;
 use std::sync::Arc;
 
-use asperity::topography::io::read_channels;
+use asperity::topography::io::{read_any, read_any_bytes, read_channels, ReadOptions};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRng, TestRunner};
 
@@ -265,6 +265,19 @@ fn fix_ibw_checksum(b: &mut [u8]) {
 fn position(file: &str, marker: &[u8]) -> usize {
     let b = std::fs::read(common::sample(file)).unwrap();
     b.windows(marker.len()).position(|w| w == marker).unwrap() + marker.len()
+}
+
+/// The fuzzing targets (`fuzz/`) read bytes, not files: the bytes of a file read as the file
+/// does, gzip data and a line profile included.
+#[test]
+fn a_files_bytes_read_as_the_file_does() {
+    let opts = ReadOptions::default();
+    for file in ["di-3.di", "matrix-4.txt.gz", "xy-1.txt"] {
+        let path = common::sample(file);
+        let bytes = std::fs::read(&path).unwrap();
+        let from_bytes = read_any_bytes(path.to_str().unwrap(), bytes, &opts).unwrap();
+        assert_eq!(from_bytes, read_any(&path, &opts).unwrap(), "{file}");
+    }
 }
 
 #[test]

@@ -373,3 +373,78 @@ fn sizes_read_from_files_are_judged_as_the_size_option() {
     std::fs::write(&path, "x in µm,y in µm\n0,1\n1,2\n2,3\n3,1\n4,2\n").unwrap();
     assert!(io::read_any(&path, &ReadOptions::default()).is_ok());
 }
+
+/// The reason of a refused read, without the temporary file's path before it.
+fn reason(format: &str, bytes: &[u8]) -> String {
+    let message = read(format, bytes).0.unwrap_err();
+    message.split_once(": ").map(|(_, reason)| reason.to_string()).unwrap_or(message)
+}
+
+#[test]
+fn a_npy_header_key_holding_a_newline_is_quoted_on_one_line() {
+    // The header of example-2d.npy with a newline and a NUL before 'shape' (found by fuzzing:
+    // the key was quoted as it stood, on two lines).
+    let header = "{'descr': '<f8', 'fortran_order': False, '\0\nshape': (2, 2), }";
+    let mut file = b"\x93NUMPY\x01\x00".to_vec();
+    let padded = format!("{header:<117}\n");
+    file.extend((padded.len() as u16).to_le_bytes());
+    file.extend(padded.bytes());
+    file.extend([1.0f64, 2.0, 3.0, 4.0].iter().flat_map(|v| v.to_le_bytes()));
+    assert_eq!(reason("npy", &file), "malformed .npy header: unknown key '??shape'");
+}
+
+#[test]
+fn a_netcdf_variable_name_holding_a_newline_is_quoted_on_one_line() {
+    // A classic NetCDF header whose variable 'a\nb' names dimension 11 of its one (found by
+    // fuzzing: the name was quoted as it stood, on two lines).
+    let word = |v: u32| v.to_be_bytes();
+    let mut file = b"CDF\x01".to_vec();
+    file.extend(word(0)); // records
+    file.extend([word(0x0A), word(1), word(1)].concat()); // one dimension, named 'x',
+    file.extend(b"x\0\0\0");
+    file.extend(word(2)); // of 2 points
+    file.extend([word(0), word(0)].concat()); // no attribute
+    file.extend([word(0x0B), word(1), word(3)].concat()); // one variable, named 'a\nb',
+    file.extend(b"a\nb\0");
+    file.extend([word(1), word(11)].concat()); // of rank 1, on dimension 11
+    file.resize(file.len() + 32, 0);
+    assert_eq!(reason("netcdf", &file), "NetCDF variable 'a?b' uses no dimension 11");
+}
+
+#[test]
+fn an_hdf5_error_quoting_the_file_stays_on_one_line() {
+    // A mutation of multiple_data_sets.h5, minimised by the hdf5 fuzzing target: 1160 bytes, zero
+    // but for these runs (offset, hex). Its group names a child by bytes of the signature,
+    // '\r\n\x1a\n', which the HDF5 decoder's error quoted as they stood, over two lines.
+    let runs: [(usize, &str); 15] = [
+        (
+            0,
+            concat!(
+                "894844460d0a1a0a0000000000080800040010010000000000000f0000000000ffffffffffffffff",
+                "00c81a0000000000ffffffffffffffff500000000000000060000000000000000100000000000000",
+                "8800000000000000a802000000000000010001000100000018000000000000001100100000000000",
+                "8800000000000000a8020000000000005452454500000100ffffffffffffffffffffffffffffffff"
+            ),
+        ),
+        (168, "3004000000000000180000000050414548"),
+        (347, "51414548"),
+        (680, "484541500000000058000000000000002800000000000000c802"),
+        (716, "894844460d0a1a0a0000000000080800c4"),
+        (778, "666606dcdfbf5d8fc2f560e0"),
+        (800, "01000500010000000001000000000000010028000000000000534e4f440100020008"),
+        (850, "1805"),
+        (886, "c2ed3ee0bfc3285c2f42e0bfec51b81ee942e0bf15ae68e0bf3e0ad718000000000003010008"),
+        (932, "8e"),
+        (946, "78"),
+        (1012, "92"),
+        (1072, "534e4f440100020008"),
+        (1096, "1805"),
+        (1132, "c2ed3ee0bfc3285c2f42e0bfec51b81ee942e0bf15ae68e0bf3e0ad7"),
+    ];
+    let mut file = vec![0u8; 1160];
+    for (at, hex) in runs {
+        let bytes = (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap());
+        file.splice(at..at + hex.len() / 2, bytes);
+    }
+    assert_eq!(reason("hdf5", &file), "HDF5: child '????' at 0x0: unsupported object header version 137");
+}

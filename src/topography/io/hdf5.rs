@@ -8,6 +8,7 @@ use ndarray::{ArrayD, Ix2};
 
 use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 
+use super::binary::one_line;
 use super::{gzip, Channel, Format};
 use crate::limits::{self, Limits};
 use crate::quantity::quoted;
@@ -36,8 +37,9 @@ impl Format for Hdf5 {
     fn read_within(&self, bytes: &[u8], limits: &Limits) -> Result<Vec<Channel>, String> {
         // A dataset's values as float64 within the point limit: no read allocates more.
         let options = OpenOptions::default().with_max_read_bytes(limits.max_points.saturating_mul(8));
-        let file = Hdf5File::from_bytes_with_options(bytes, options).map_err(|e| format!("HDF5: {e}"))?;
-        let mut datasets = file.root_group().and_then(|g| g.datasets()).map_err(|e| format!("HDF5: {e}"))?;
+        // The decoder's errors quote the file's bytes (a child's name): kept to one line.
+        let file = Hdf5File::from_bytes_with_options(bytes, options).map_err(|e| one_line(format!("HDF5: {e}")))?;
+        let mut datasets = file.root_group().and_then(|g| g.datasets()).map_err(|e| one_line(format!("HDF5: {e}")))?;
         // In name order, as h5py (and so SurfaceTopography) lists them.
         datasets.sort_by(|a, b| a.name().cmp(b.name()));
         let mut channels = Vec::new();
@@ -101,5 +103,5 @@ fn values(ds: &Dataset) -> Result<ArrayD<f64>, String> {
         Datatype::FixedPoint { size: 8, signed: false, .. } => ds.read_array::<u64>().map(|a| a.mapv(|v| v as f64)),
         other => return Err(format!("HDF5 dataset {name} holds {other:?}, not numbers")),
     };
-    read.map_err(|e| format!("HDF5 dataset {name}: {e}"))
+    read.map_err(|e| one_line(format!("HDF5 dataset {name}: {e}")))
 }

@@ -420,7 +420,22 @@ pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<
 /// Read the file at `path` as what it holds, a 2-D map (one channel, in metres) or a line
 /// profile, with the names of all its channels.
 pub fn read_any(path: &Path, opts: &ReadOptions) -> Result<(AnyTopography, Vec<String>)> {
-    match decode(path, opts.format.as_deref(), &opts.limits)? {
+    any(path, decode(path, opts.format.as_deref(), &opts.limits)?, opts)
+}
+
+/// [`read_any`] of `bytes`, the content of a file named `name`, without the file: gzip data
+/// inflated, the format told from the content, then from `name`'s ending, unless `opts.format`
+/// names it; errors name `name`. What the fuzzing targets (`fuzz/`) read their inputs with.
+pub fn read_any_bytes(name: &str, bytes: Vec<u8>, opts: &ReadOptions) -> Result<(AnyTopography, Vec<String>)> {
+    let path = Path::new(name);
+    let (bytes, inner) =
+        gzip::unwrap(bytes, name.to_string(), &opts.limits).map_err(|reason| Error::file(path, reason))?;
+    any(path, decode_bytes(path, &inner, &bytes, opts.format.as_deref(), &opts.limits)?, opts)
+}
+
+/// What `decoded`, read from `path`, holds: a map (one channel, in metres) or a line profile.
+fn any(path: &Path, decoded: (bool, Decoded), opts: &ReadOptions) -> Result<(AnyTopography, Vec<String>)> {
+    match decoded {
         (_, Decoded::Maps(fmt, channels)) => {
             map(path, fmt, channels, opts).map(|(map, names)| (AnyTopography::Map(map), names))
         }
