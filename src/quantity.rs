@@ -138,10 +138,11 @@ pub fn pascals_per(unit: &str) -> Option<f64> {
 const QUOTED_CHARS: usize = 40;
 
 /// `text` as an error message quotes it: whole when short, else its start and its end around an
-/// ellipsis; control characters (a corrupt file's newlines, NULs) as `?`, so that the message
-/// stays one line wherever it is shown.
+/// ellipsis; control characters (a corrupt file's newlines, NULs) escaped (`\n`, `\0`), so that
+/// the message stays one line wherever it is shown.
 pub fn quoted(text: &str) -> String {
-    let shown: String = text.chars().map(|c| if c.is_control() { '?' } else { c }).collect();
+    let shown: String =
+        text.chars().map(|c| if c.is_control() { c.escape_debug().to_string() } else { c.to_string() }).collect();
     format!("'{}'", crate::error::middle_cut(&shown, QUOTED_CHARS))
 }
 
