@@ -163,14 +163,24 @@ pub fn height_factor(factor: f64, full_scale: Option<f64>) -> Result<(), String>
             human(factor)
         ));
     }
-    match full_scale.map(f64::abs) {
-        Some(m) if m < ROUGHNESS.possible.0 => Err(format!(
-            "the whole range of the stored values spans {}, below {}, the smallest heights any instrument measures",
+    match full_scale {
+        Some(m) => height_span(m.abs()).map_err(|e| format!("the whole range of the stored values spans {e}")),
+        None => Ok(()),
+    }
+}
+
+/// A span of heights [m], read or computed: none (a flat map) or at least the smallest heights
+/// any instrument measures, 0.1 pm; between, heights a rounding apart are no surface (a contact
+/// on them is an ill-posed solve, not a measurement).
+pub fn height_span(m: f64) -> Result<(), String> {
+    if m > 0.0 && m < ROUGHNESS.possible.0 {
+        return Err(format!(
+            "{}, below {}, the smallest heights any instrument measures",
             quantity::show(m, &LENGTH),
             quantity::show(ROUGHNESS.possible.0, &LENGTH)
-        )),
-        _ => Ok(()),
+        ));
     }
+    Ok(())
 }
 
 /// A friction coefficient (dimensionless): at most [`MAX_FRICTION_COEFFICIENT`], unusual above

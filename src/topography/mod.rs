@@ -124,12 +124,24 @@ impl Topography {
     /// An error naming the topography when a height is beyond ±[`MAX_LENGTH_M`] (infinite
     /// included; `NaN` marks a missing point) or its physical size is not between
     /// [`MIN_SIZE_M`] and [`MAX_LENGTH_M`]: such numbers overflow the statistics, spectra and
-    /// solves made of them (an x3p increment of 1e308 m gives an infinite size).
+    /// solves made of them (an x3p increment of 1e308 m gives an infinite size). Heights that
+    /// differ, but by less than any instrument measures, are refused too
+    /// ([`crate::plausible::height_span`]): a contact on them never converges.
     pub fn require_representable(&self) -> crate::error::Result<()> {
+        /// Heights apart by at most this [m] differ by rounding only.
+        const FLAT_M: f64 = 1e-20;
         if let Some(((j, i), h)) = self.heights.indexed_iter().find(|(_, h)| h.abs() > MAX_LENGTH_M) {
             return Err(self.error(format!(
                 "the value at row {j}, column {i} is {h:e}, beyond ±{MAX_LENGTH_M:e} (m): not representable"
             )));
+        }
+        let finite = self.heights.iter().filter(|h| h.is_finite());
+        let (low, high) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
+        // Heights a rounding apart (a levelled plane) are a flat map; apart by more, yet by less
+        // than any instrument measures, they are no surface.
+        if high - low > FLAT_M {
+            crate::plausible::height_span(high - low)
+                .map_err(|e| self.error(format!("the heights span {e}: a flat map has equal heights")))?;
         }
         match self.physical_size {
             Some((lx, ly)) if ![lx, ly].iter().all(|l| (MIN_SIZE_M..=MAX_LENGTH_M).contains(l)) => Err(self.error(
