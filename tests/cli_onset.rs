@@ -225,7 +225,7 @@ fn bad_input_is_one_line_and_leaves_no_output() {
         // Every load runs without --load-index; --out writes one.
         (
             &["two", "--mu-s", "0.6", "--mu-d", "0.4"],
-            "error: --out: two holds 2 loads: choose the one to write with --load-index",
+            "error: --out: writes the maps of one load, and the input two holds 2: choose it with --load-index",
         ),
         (&["two", "--mu-s", "0.6", "--mu-d", "0.4", "--load-index", "2"], "error: --load-index: 2 is out of range"),
         (&["empty", "--mu-s", "0.6", "--mu-d", "0.4"], "error: empty: holds no contact.json: give a contact directory"),

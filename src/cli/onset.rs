@@ -164,7 +164,11 @@ pub fn run(args: Args) -> Result<()> {
     if let (Some(_), [_, _, ..]) = (&args.out, &inputs[..]) {
         return Err(Error::invalid(
             "--out",
-            format!("{} holds {} loads: choose the one to write with --load-index", args.input.display(), inputs.len()),
+            format!(
+                "writes the maps of one load, and the input {} holds {}: choose it with --load-index",
+                args.input.display(),
+                inputs.len()
+            ),
         ));
     }
     let mut reports = Vec::with_capacity(inputs.len());
