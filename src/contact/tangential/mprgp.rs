@@ -18,7 +18,7 @@ const STALL: usize = 25;
 /// round-off, a relative 1e-7 to 5e-7 measured on 256² to 1500² windows, is at most half of
 /// it, and the transforms take 1.3–1.7 times less time. Tighter solves run in double
 /// throughout. A check in double precision of the single-precision solves below 5e-5 once
-/// converged (stop 27) moved the sliding onset's drop by 4e-7 (1500² with its wafer, 10 mN,
+/// converged moved the sliding onset's drop by 4e-7 (1500² with its wafer, 10 mN,
 /// mu_s 0.6, mu_d 0.4: 1.0011985 with, 1.0011981 without) and 3e-7 (31.6 mN) for 9 % and 7 %
 /// of the applications, each check a transform in double: not done.
 const SINGLE: f64 = 1e-6;
