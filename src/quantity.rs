@@ -141,9 +141,14 @@ const QUOTED_CHARS: usize = 40;
 /// ellipsis; control characters (a corrupt file's newlines, NULs) escaped (`\n`, `\0`), so that
 /// the message stays one line wherever it is shown.
 pub fn quoted(text: &str) -> String {
+    format!("'{}'", printable(text))
+}
+
+/// [`quoted`] without the quotes.
+pub fn printable(text: &str) -> String {
     let shown: String =
         text.chars().map(|c| if c.is_control() { c.escape_debug().to_string() } else { c.to_string() }).collect();
-    format!("'{}'", crate::error::middle_cut(&shown, QUOTED_CHARS))
+    crate::error::middle_cut(&shown, QUOTED_CHARS)
 }
 
 /// The length in bytes of the number at the start of `t` (sign, digits, point, exponent), in

@@ -237,16 +237,8 @@ pub fn one_line(reason: String) -> String {
     out
 }
 
-/// Text from a file as it may be quoted in a message: at most 40 characters, control
-/// characters as `?`.
-pub fn printable(s: &str) -> String {
-    let short: String = s.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
-    if s.chars().nth(40).is_some() {
-        short + "…"
-    } else {
-        short
-    }
-}
+/// Text from a file as it may be quoted in a message (one rule for every message).
+pub use crate::quantity::printable;
 
 /// A header count or size read as a signed integer, refused when negative.
 pub fn non_negative(v: i64, what: &str) -> Result<usize, String> {
@@ -307,8 +299,12 @@ mod tests {
     fn reasons_stay_on_one_short_line() {
         assert_eq!(one_line("a\nb\r".into()), "a?b?");
         assert_eq!(one_line("x".repeat(500)).chars().count(), 301);
-        assert_eq!(printable("ab\u{1}"), "ab?");
-        assert_eq!(printable(&"y".repeat(50)), format!("{}…", "y".repeat(40)));
+        assert_eq!(printable("ab\u{1}"), "ab\\u{1}");
+        let long = printable(&format!("a{}z", "y".repeat(50)));
+        assert!(
+            long.starts_with('a') && long.ends_with('z') && long.contains('…') && long.chars().count() <= 41,
+            "{long}"
+        );
     }
 
     #[test]
