@@ -54,7 +54,8 @@ pub struct RunArgs {
     /// exit.
     #[arg(long, conflicts_with_all = ["study", "quick", "fresh"])]
     print_default: bool,
-    /// Discard what an earlier run wrote in DIR and start over (files put there by hand stay).
+    /// Discard what an earlier run wrote in DIR and start over. Files put there by hand stay;
+    /// one where runs write (results, figures/, pressure/, snapshots/, solves/) is refused first.
     #[arg(long)]
     fresh: bool,
     /// When another run works in DIR on the same topographies, wait for it instead of refusing.
