@@ -821,6 +821,8 @@ impl Study {
             .into_iter()
             .filter_map(|p| std::fs::metadata(p).ok().map(|m| (p, (m.dev(), m.ino()))))
             .collect();
+        let by_path: std::collections::HashMap<&Path, &output::Written> =
+            recorded.iter().map(|w| (w.path.as_path(), w)).collect();
         let mut found = Vec::new();
         files_below(dir, Path::new(""), &mut found)?;
         found.sort();
@@ -851,8 +853,8 @@ impl Study {
                     ),
                 ));
             }
-            let ours =
-                reached_without_links(dir, &path).is_some_and(|m| recorded.iter().any(|w| w.path == path && w.is(&m)));
+            let ours = reached_without_links(dir, &path)
+                .is_some_and(|m| by_path.get(path.as_path()).is_some_and(|w| w.is(&m)));
             if !ours {
                 return Err(Error::file(
                     &full,
