@@ -21,3 +21,11 @@ pub mod study;
 pub mod topography;
 
 pub use error::{Error, Result};
+
+/// This asperity's version (the crate's, `0.2.0`), as `--version`, `results.json` and the report
+/// state it.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The commit this asperity was built from: a short git hash, with `-modified` when its tracked
+/// sources differed from that commit, or `unknown` when built outside a git checkout.
+pub const COMMIT: &str = env!("ASPERITY_COMMIT");

@@ -11,9 +11,9 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 /// (PRL 134, 176202, 2025). Units are SI throughout: metres, pascals, newtons.
 /// The version, and whether this build has the GPU backend (`--device gpu`).
 #[cfg(feature = "gpu")]
-const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (GPU backend: built; --device gpu needs an NVIDIA driver)");
+const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("ASPERITY_COMMIT"), "; GPU backend: built; --device gpu needs an NVIDIA driver)");
 #[cfg(not(feature = "gpu"))]
-const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (GPU backend: not built; build with --features gpu)");
+const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("ASPERITY_COMMIT"), "; GPU backend: not built; build with --features gpu)");
 
 #[derive(Parser)]
 #[command(name = "asperity", version = VERSION, about, long_about = None)]

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 use std::process::Command;
 
-use asperity::study::{MapSnapshot, Row};
+use asperity::study::{MapSnapshot, Results, Row};
 
 #[test]
 fn the_quick_study_shows_the_friction_drop_falling_with_load() {
@@ -15,7 +15,10 @@ fn the_quick_study_shows_the_friction_drop_falling_with_load() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = dir.path().join("results");
-    let rows: Vec<Row> = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let results: Results =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(results.asperity_version, env!("CARGO_PKG_VERSION"));
+    let rows = results.rows;
     assert_eq!(rows.len(), 3 * 2 * 7);
 
     let mut curves: BTreeMap<(String, String), Vec<(f64, f64)>> = BTreeMap::new();

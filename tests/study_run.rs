@@ -8,7 +8,7 @@ use asperity::contact::{
 use asperity::friction::{stuck_stiffness, ElementLoads, FrictionLaw, Onset};
 use asperity::study::config::StudyConfig;
 use asperity::study::run::{Progress, Study};
-use asperity::study::{MapSnapshot, Row, FIGURE_LOADS_N};
+use asperity::study::{MapSnapshot, Results, Row, FIGURE_LOADS_N};
 use asperity::topography::resample::compound;
 use asperity::topography::synth::{SelfAffine, SyntheticSurface};
 use ndarray::Array2;
@@ -136,7 +136,10 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
     assert_eq!((outcome.solved, outcome.resumed, outcome.rows.len()), (24, 0, 16));
 
     // results.json: the rows, which are the solver's and the model's run directly.
-    let json: Vec<Row> = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let results: Results =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!((results.asperity_version.as_str(), results.commit.as_str()), (asperity::VERSION, asperity::COMMIT));
+    let json = results.rows;
     assert_eq!(json, outcome.rows);
     assert_eq!(without_seconds(&json), without_seconds(&direct_rows()));
     for r in &json {

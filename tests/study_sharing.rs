@@ -112,7 +112,7 @@ fn both_sharings_give_their_rows_figure_and_resume() {
     assert_eq!(resolution.iter().filter(|r| r["coarsening"] == "1").count(), 12);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
-    assert_eq!(json.as_array().unwrap().iter().filter(|r| r["sharing"] == "elastic").count(), 12);
+    assert_eq!(json["rows"].as_array().unwrap().iter().filter(|r| r["sharing"] == "elastic").count(), 12);
 
     for f in ["friction-drop-sharing.png", "friction-drop-sharing.svg", "friction-drop.png"] {
         assert!(out.join("figures").join(f).is_file(), "{f}");

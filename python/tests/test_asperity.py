@@ -360,7 +360,8 @@ def test_a_study_from_a_dict_runs_and_resumes(tmp_path):
         assert (r["contact_points"], r["patches"], r["iterations"]) == (s.contact_points, s.patches, s.iterations)
         assert (r["friction_drop"], r["static_coefficient"]) == (o.friction_drop, o.static_coefficient)
     on_file = json.loads((tmp_path / "r" / "results.json").read_text())
-    assert on_file == rows
+    assert on_file["rows"] == rows
+    assert on_file["asperity_version"] == ap.__version__
     again = ap.run_study(SMALL_STUDY, out=tmp_path / "r")
     assert [{k: v for k, v in r.items() if k != "seconds"} for r in again] == \
         [{k: v for k, v in r.items() if k != "seconds"} for r in rows]

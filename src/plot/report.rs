@@ -74,12 +74,15 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
          <style>{STYLE}</style>\n</head>\n<body>\n<h1>asperity study: static friction from single- to \
          multi-asperity contact</h1>\n<p>The numerical study of Peng, Roch, Bonn &amp; Weber, Phys. Rev. Lett. \
          134, 176202 (2025): elastic contact of each topography at each load, then the stick-slip transition \
-         model with each local friction law. {} topograph{}, {} friction law{}, {} result rows.</p>\n",
+         model with each local friction law. {} topograph{}, {} friction law{}, {} result rows; computed by \
+         asperity {} (commit {}).</p>\n",
         input.topographies.len(),
         if input.topographies.len() == 1 { "y" } else { "ies" },
         input.laws.len(),
         if input.laws.len() == 1 { "" } else { "s" },
-        input.rows.len() + input.elastic_rows.len()
+        input.rows.len() + input.elastic_rows.len(),
+        crate::VERSION,
+        escape(crate::COMMIT)
     );
 
     // Plausibility first: a result a physicist knows is doubtful says so before any figure.

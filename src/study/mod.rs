@@ -42,6 +42,24 @@ impl Sharing {
     }
 }
 
+/// What `results.json` holds: the rows, and which asperity computed them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Results {
+    /// The version of asperity that wrote the file ([`crate::VERSION`]).
+    pub asperity_version: String,
+    /// The commit it was built from ([`crate::COMMIT`]).
+    pub commit: String,
+    /// One row per topography × sharing × law × load.
+    pub rows: Vec<Row>,
+}
+
+impl Results {
+    /// `rows` as computed by this asperity.
+    pub fn new(rows: Vec<Row>) -> Results {
+        Results { asperity_version: crate::VERSION.to_string(), commit: crate::COMMIT.to_string(), rows }
+    }
+}
+
 /// One result: one topography × friction law × load, with one sharing of the tangential force.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Row {

@@ -644,7 +644,7 @@ impl Study {
             }
             csv.flush()
         })?;
-        output::write_json(&dir.join("results.json"), &rows)?;
+        output::write_json(&dir.join("results.json"), &super::Results::new(rows.clone()))?;
 
         let snapshots = dir.join("snapshots");
         let maps = self
