@@ -170,11 +170,13 @@ pub fn run(args: RunArgs) -> Result<()> {
     let (topographies, loads) = (study.topographies().len(), study.loads().len());
     // What the solves are: the topographies, in each kind of solve, and their coarser copies.
     let kinds = if study.config().contact.plastic.modes().len() > 1 { ", each elastic and plastic," } else { "" };
+    let topographies = match topographies {
+        1 => "1 topography".to_string(),
+        n => format!("{n} topographies"),
+    };
     let solved = match study.coarse_copies() {
-        0 => format!("{topographies} topographies{grid}{kinds} × {loads} loads"),
-        n => format!(
-            "({topographies} topographies{grid}{kinds} and {n} coarser copies for the resolution figure) × {loads} loads"
-        ),
+        0 => format!("{topographies}{grid}{kinds} × {loads} loads"),
+        n => format!("({topographies}{grid}{kinds} and {n} coarser copies for the resolution figure) × {loads} loads"),
     };
     // The elastic onsets run now, and those an interrupted solve had finished (the solve
     // counts as solved now).
