@@ -6,6 +6,8 @@
 //! stick-slip transition model) → `study` (loads × topographies × friction laws) → `plot`.
 //! Units are SI everywhere: metres, pascals, newtons. Arrays are row-major, shape (ny, nx).
 
+#![warn(missing_docs)]
+
 pub mod contact;
 pub mod error;
 pub mod fft;

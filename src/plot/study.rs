@@ -2,8 +2,8 @@
 //! its [`FigureInput`] into `DIR/figures/` and writes `DIR/index.html`, which shows them.
 //!
 //! The line figures (friction drop, p(σ), class fractions, friction curve) use the plot
-//! foundation's [`Figure`]; the maps are drawn in [`super::maps`], the movies in
-//! [`super::movie`], the page in [`super::report`]. Data a figure needs but the study lacks (no
+//! foundation's [`Figure`]; the maps are drawn in `plot::maps`, the movies in
+//! `plot::movie`, the page in `plot::report`. Data a figure needs but the study lacks (no
 //! snapshot near a load, no measured points) is said in the figure or in the report; it is
 //! never an error.
 
