@@ -574,7 +574,7 @@ pub struct Records {
 mod tests {
     use super::*;
 
-    /// No record holds a NaN (issue 33 F: written as null, no later run could read it back).
+    /// No record holds a NaN (JSON would write it as null, which no later run could read back).
     #[test]
     fn a_non_finite_row_is_refused() {
         let law = FrictionLaw::new(0.6, 0.4).unwrap();
