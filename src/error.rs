@@ -13,27 +13,51 @@ pub enum Error {
     /// A file could not be opened, read or written.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file or directory at fault.
         path: PathBuf,
+        /// What the operating system reported.
         #[source]
         source: std::io::Error,
     },
     /// A file was read but its content is not what its format requires (truncated, corrupt,
     /// no topography in it, NaN heights, …).
     #[error("{}: {reason}", path.display())]
-    File { path: PathBuf, reason: String },
+    File {
+        /// The file at fault.
+        path: PathBuf,
+        /// What is wrong with its content.
+        reason: String,
+    },
     /// An option or parameter value that the physics or the grid cannot take.
     #[error("{option}: {reason}")]
-    Invalid { option: String, reason: String },
+    Invalid {
+        /// The option, config key or parameter at fault (a CLI flag such as `--load`).
+        option: String,
+        /// Why its value cannot be taken.
+        reason: String,
+    },
     /// An iterative solver stopped at its iteration limit above its tolerance.
     #[error(
         "{solver} did not converge: residual {residual:.3e} above tolerance {tolerance:.1e} \
          after {iterations} iterations (raise --max-iter or loosen --tolerance)"
     )]
-    NotConverged { solver: &'static str, iterations: usize, residual: f64, tolerance: f64 },
+    NotConverged {
+        /// The solver that stopped, as the message names it.
+        solver: &'static str,
+        /// Iterations done when it stopped.
+        iterations: usize,
+        /// Its last residual (dimensionless: the solver's own relative norm).
+        residual: f64,
+        /// The relative residual it had to reach.
+        tolerance: f64,
+    },
     /// Long work stopped early because its caller asked it to (a progress callback answered
     /// `ControlFlow::Break`, for instance on Ctrl-C).
     #[error("{what}: interrupted")]
-    Interrupted { what: String },
+    Interrupted {
+        /// The work that stopped (a file, a study).
+        what: String,
+    },
 }
 
 impl Error {
@@ -53,7 +77,7 @@ impl Error {
     }
 }
 
-/// The longest message line printed [characters].
+/// The longest message line printed \[characters].
 pub const MESSAGE_CHARS: usize = 300;
 
 /// The fewest characters of a path or value that a shortened message keeps, its start and its

@@ -22,7 +22,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-/// The default largest grid [points]: 2^28.
+/// The default largest grid \[points]: 2^28.
 pub const DEFAULT_MAX_POINTS: usize = 1 << 28;
 
 /// The most bytes any format needs per point: a line of text holding x, y and z at full
@@ -104,7 +104,7 @@ fn threads_asked(value: Option<&std::ffi::OsStr>, cores: usize) -> std::result::
 /// How large an input may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
-    /// The largest grid accepted [points].
+    /// The largest grid accepted \[points].
     pub max_points: usize,
 }
 
@@ -137,7 +137,7 @@ impl Limits {
     }
 
     /// The most bytes an input file may hold: what a file within the point limit can need, at
-    /// most [`LARGEST_FILE_BYTES`] however large the limit.
+    /// most `LARGEST_FILE_BYTES` however large the limit.
     pub fn max_file_bytes(&self) -> u64 {
         (self.max_points as u64).saturating_mul(BYTES_PER_POINT).saturating_add(HEADER_BYTES).min(LARGEST_FILE_BYTES)
     }
@@ -182,9 +182,9 @@ impl Limits {
     }
 }
 
-/// The memory this process may still allocate [bytes]: the smallest of what the system has
+/// The memory this process may still allocate \[bytes]: the smallest of what the system has
 /// available (`MemAvailable` of /proc/meminfo), what the memory limit of its control groups
-/// leaves (a container's, a batch job's: [`cgroup_left`]) and what the address-space and data
+/// leaves (a container's, a batch job's: `cgroup_left`) and what the address-space and data
 /// limits (`ulimit -v`, RLIMIT_AS; RLIMIT_DATA) leave beyond what the process already maps;
 /// `None` when none is known.
 pub fn available_memory() -> Option<u64> {
@@ -281,7 +281,7 @@ pub fn is_out_of_memory(message: &str) -> bool {
     message.contains(MORE_THAN_AVAILABLE) || message.contains(OUT_OF_MEMORY)
 }
 
-/// The memory `bytes_per_point` × nx × ny [bytes], saturating.
+/// The memory `bytes_per_point` × nx × ny \[bytes], saturating.
 pub fn grid_memory(nx: usize, ny: usize, bytes_per_point: u64) -> u64 {
     (nx as u64).saturating_mul(ny as u64).saturating_mul(bytes_per_point)
 }

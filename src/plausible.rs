@@ -113,37 +113,37 @@ const SLIP_DISTANCE: Kind = Kind {
     meant: &[("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)],
 };
 
-/// Young's modulus E [Pa] of a body: 1 MPa to 2 TPa (usually 10 MPa to 1.2 TPa, diamond's).
+/// Young's modulus E \[Pa] of a body: 1 MPa to 2 TPa (usually 10 MPa to 1.2 TPa, diamond's).
 pub fn modulus(pa: f64, spelling: Spelling) -> Verdict {
     check(&MODULUS, pa, spelling)
 }
 
-/// Hardness H [Pa] of the softer body: 1 MPa to 200 GPa (usually 100 MPa to 100 GPa).
+/// Hardness H \[Pa] of the softer body: 1 MPa to 200 GPa (usually 100 MPa to 100 GPa).
 pub fn hardness(pa: f64, spelling: Spelling) -> Verdict {
     check(&HARDNESS, pa, spelling)
 }
 
-/// One side of a topography's window [m]: 1 nm to 1 m (usually 10 nm to 10 cm).
+/// One side of a topography's window \[m]: 1 nm to 1 m (usually 10 nm to 10 cm).
 pub fn window(m: f64, spelling: Spelling) -> Verdict {
     check(&WINDOW, m, spelling)
 }
 
-/// A pixel size [m]: 1 pm to 1 m (usually 10 pm to 1 mm).
+/// A pixel size \[m]: 1 pm to 1 m (usually 10 pm to 1 mm).
 pub fn pixel(m: f64, spelling: Spelling) -> Verdict {
     check(&PIXEL, m, spelling)
 }
 
-/// The radius of a ball or spherical cap [m]: 1 nm to 1 km (usually 100 nm to 1 m).
+/// The radius of a ball or spherical cap \[m]: 1 nm to 1 km (usually 100 nm to 1 m).
 pub fn radius(m: f64, spelling: Spelling) -> Verdict {
     check(&RADIUS, m, spelling)
 }
 
-/// An RMS height of roughness [m]: 0.1 pm to 1 cm (usually 1 pm to 100 µm).
+/// An RMS height of roughness \[m]: 0.1 pm to 1 cm (usually 1 pm to 100 µm).
 pub fn roughness(m: f64, spelling: Spelling) -> Verdict {
     check(&ROUGHNESS, m, spelling)
 }
 
-/// A slip-weakening distance d_c [m]: 1 pm to 1 mm (usually 10 pm to 100 µm; nanoscale
+/// A slip-weakening distance d_c \[m]: 1 pm to 1 mm (usually 10 pm to 100 µm; nanoscale
 /// friction curves weaken over nanometres, rocks over micrometres). Zero (the instant drop) is
 /// the callers' own case.
 pub fn slip_distance(m: f64, spelling: Spelling) -> Verdict {
@@ -151,7 +151,7 @@ pub fn slip_distance(m: f64, spelling: Spelling) -> Verdict {
 }
 
 /// A height scale factor a file states: `factor` is what one stored unit is worth (in metres
-/// for heights, else in the channel's own unit), `full_scale` [m] the height the stored values'
+/// for heights, else in the channel's own unit), `full_scale` \[m] the height the stored values'
 /// whole range spans when the channel holds heights. Refused when the factor is zero, subnormal
 /// or not finite (every height would decode as flat, or as noise of rounding), or when the full
 /// scale is below the smallest roughness taken (0.1 pm): no instrument measures such heights.
@@ -169,7 +169,7 @@ pub fn height_factor(factor: f64, full_scale: Option<f64>) -> Result<(), String>
     }
 }
 
-/// A span of heights [m], read or computed: none (a flat map) or at least the smallest heights
+/// A span of heights \[m], read or computed: none (a flat map) or at least the smallest heights
 /// any instrument measures, 0.1 pm; between, heights a rounding apart are no surface (a contact
 /// on them is an ill-posed solve, not a measurement).
 pub fn height_span(m: f64) -> Result<(), String> {
@@ -213,7 +213,7 @@ pub fn friction_coefficient(mu: f64) -> Verdict {
     }))
 }
 
-/// A normal load [N] on a window of `size` (Lx, Ly) [m] pressed on a modulus `e_star` [Pa]:
+/// A normal load \[N] on a window of `size` (Lx, Ly) \[m] pressed on a modulus `e_star` \[Pa]:
 /// refused when its mean pressure over the window exceeds E* (no rough contact of this kind is
 /// strained that far), unusual above 1e-3 E*.
 pub fn load(n: f64, (lx, ly): (f64, f64), e_star: f64, spelling: Spelling) -> Verdict {

@@ -18,7 +18,7 @@ pub struct Dimension {
     shown: &'static [(&'static str, f64)],
 }
 
-/// A length [m].
+/// A length \[m].
 pub const LENGTH: Dimension = Dimension {
     name: "length",
     si: "m",
@@ -26,7 +26,7 @@ pub const LENGTH: Dimension = Dimension {
     per_unit: units::metres_per,
     shown: &[("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12)],
 };
-/// A force [N].
+/// A force \[N].
 pub const FORCE: Dimension = Dimension {
     name: "force",
     si: "N",
@@ -34,7 +34,7 @@ pub const FORCE: Dimension = Dimension {
     per_unit: newtons_per,
     shown: &[("N", 1.0), ("mN", 1e-3), ("µN", 1e-6), ("nN", 1e-9)],
 };
-/// A pressure, stress or modulus [Pa].
+/// A pressure, stress or modulus \[Pa].
 pub const PRESSURE: Dimension = Dimension {
     name: "pressure",
     si: "Pa",
@@ -42,7 +42,7 @@ pub const PRESSURE: Dimension = Dimension {
     per_unit: pascals_per,
     shown: &[("GPa", 1e9), ("MPa", 1e6), ("kPa", 1e3), ("Pa", 1.0)],
 };
-/// An area [m²].
+/// An area \[m²].
 pub const AREA: Dimension = Dimension {
     name: "area",
     si: "m²",
@@ -50,7 +50,7 @@ pub const AREA: Dimension = Dimension {
     per_unit: square_metres_per,
     shown: &[("m²", 1.0)],
 };
-/// A duration [s].
+/// A duration \[s].
 pub const TIME: Dimension = Dimension {
     name: "time",
     si: "s",
@@ -188,7 +188,7 @@ fn number_prefix(t: &str) -> usize {
     i
 }
 
-/// The value [SI] of `text`: a number followed by a unit of `dim` ("0.1 mN", "31.13µm"), or,
+/// The value \[SI] of `text`: a number followed by a unit of `dim` ("0.1 mN", "31.13µm"), or,
 /// when `bare_is_si`, also a bare number taken in SI units (the command line's form; in the
 /// study file a bare quantity is a TOML number, so a string must carry its unit).
 pub fn parse(text: &str, dim: &Dimension, bare_is_si: bool) -> Result<f64, String> {
@@ -268,7 +268,7 @@ pub fn human(x: f64) -> String {
     }
 }
 
-/// `x` [SI] of `dim` as people write it, to 6 significant digits, in the largest of its usual
+/// `x` \[SI] of `dim` as people write it, to 6 significant digits, in the largest of its usual
 /// units that keeps the number at 1 or more: `100 µN` for 9.999999999999999e-5 N, `31.13 µm`,
 /// `130 GPa`. The one way a quantity is printed for people (tables, messages); files keep SI
 /// numbers.

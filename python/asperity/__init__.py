@@ -13,6 +13,10 @@ likely meant, and an unusual one (a load pressing above 1e-3 E*, a contact cut b
 is a ``UserWarning`` through :mod:`warnings`. Solves release the GIL; Ctrl-C stops them.
 Plotting needs matplotlib (``pip install .[plot]``).
 
+``PRESETS``: the preset local laws, (name, mu_s, mu_d) tuples, for ``law=`` of ``onset`` and
+``slide`` (illustrative placeholders, not measurements). ``__version__``: the package's
+version, the same as that of the asperity library it is built from (``results.json`` states it).
+
 >>> import asperity as ap
 >>> t = ap.generate(size=31.13e-6, grid=256, hurst=0.8, rms=21e-9, rolloff=7e-6, cutoff=0.25e-6,
 ...                 sphere_radius=1.5e-3, seed=1)

@@ -861,14 +861,16 @@ struct Solved {
 /// Elastic normal contact of a rigid rough surface on an elastic half-space (boundary integral
 /// method, Polonsky–Keer conjugate gradient at imposed load), as ``asperity contact``.
 ///
-/// ``loads`` [N]: one or a sequence; solved in increasing order, each from the previous
-/// solution, and returned in the order given. ``youngs`` [Pa] and ``poisson`` of the elastic
-/// body (default silicon: 130e9 Pa and 0.26); ``youngs2`` [Pa] and ``poisson2`` of an elastic
-/// counter-body (default None: rigid; 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2). ``hardness`` [Pa] of the
-/// softer body (default None; silicon ≈ 12e9): each solution reports the share of its load
-/// carried at p ≥ hardness and a warning when it is not zero; ``plastic=True`` caps the
-/// pressure at it (elastic–perfectly-plastic). ``boundary``: "periodic" (default) or "free".
-/// ``tolerance`` (default 1e-10): on the solver's relative residual, below 1e-2.
+/// ``topography``: a ``Topography`` with heights [m] and a physical size [m] (higher heights
+/// touch first), prepared as it should be solved (detrended, capped). ``loads`` [N]: one or a
+/// sequence; solved in increasing order, each from the previous solution, and returned in the
+/// order given. ``youngs`` [Pa] and ``poisson`` of the elastic body (default silicon: 130e9 Pa
+/// and 0.26); ``youngs2`` [Pa] and ``poisson2`` of an elastic counter-body (default None:
+/// rigid; 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2). ``hardness`` [Pa] of the softer body (default None;
+/// silicon ≈ 12e9 Pa): each solution reports the share of its load carried at p ≥ hardness and a
+/// warning when it is not zero; ``plastic=True`` (default False) caps the pressure at it
+/// (elastic–perfectly-plastic). ``boundary``: "periodic" (default) or "free". ``tolerance``
+/// (default 1e-10): on the solver's relative residual, below 1e-2.
 /// ``max_iter`` (default 20000): iteration limit per load. ``device``: "cpu" (default, every
 /// core) or "gpu" (the first NVIDIA GPU; a build with the ``gpu`` feature).
 ///
@@ -1388,11 +1390,13 @@ struct Slide {
     /// 3 stuck.
     #[pyo3(get)]
     classes: Py<PyArray2<i8>>,
-    /// Displacement steps, tangential solves and their conjugate-gradient iterations.
+    /// Displacement steps along the path to sliding.
     #[pyo3(get)]
     steps: usize,
+    /// Tangential solves along the path (a step solves once more per cascade round).
     #[pyo3(get)]
     solves: usize,
+    /// Conjugate-gradient iterations of the tangential solves, summed.
     #[pyo3(get)]
     iterations: usize,
     /// Wall-clock time [s].
@@ -1447,15 +1451,21 @@ struct PartialSlip {
     tangential_force: f64,
     /// The rigid displacement δ that carries it [m].
     displacement: f64,
+    /// Contact points stuck (below their bound μ p).
     stick_points: usize,
+    /// Contact points slipping (on their bound μ p).
     slip_points: usize,
-    /// Shear tractions [Pa] and classes (1 slipping, 3 stuck), (ny, nx) as ``Slide``'s.
+    /// Shear traction along x [Pa], float64 (ny, nx).
     shear_x: Py<PyArray2<f64>>,
+    /// Shear traction along y [Pa], float64 (ny, nx).
     shear_y: Py<PyArray2<f64>>,
+    /// Class of each pixel, int8 (ny, nx): 0 no contact, 1 slipping, 3 stuck.
     classes: Py<PyArray2<i8>>,
-    /// Tangential solves, their iterations, and the wall-clock time [s].
+    /// Tangential solves of the force ramp.
     solves: usize,
+    /// Conjugate-gradient iterations of those solves, summed.
     iterations: usize,
+    /// Wall-clock time [s].
     seconds: f64,
 }
 

@@ -18,6 +18,8 @@ use asperity::{Error, Result};
 use super::topo_tools::PrepareArgs;
 use super::{MaterialArgs, ReadArgs};
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// Elastic normal contact of a topography at one or more loads: pressure maps and contact
 /// statistics (boundary integral method).
 ///

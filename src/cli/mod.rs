@@ -257,6 +257,8 @@ impl ReadArgs {
     }
 }
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// The elastic bodies in contact and their boundary: the options of every command that solves
 /// a contact.
 #[derive(Args)]
@@ -282,7 +284,7 @@ pub struct MaterialArgs {
 }
 
 impl MaterialArgs {
-    /// The bodies (one on a rigid counter-body, else two) and their effective modulus E* [Pa].
+    /// The bodies (one on a rigid counter-body, else two) and their effective modulus E* \[Pa].
     pub fn bodies(&self) -> Result<(Vec<Material>, f64)> {
         judge("--youngs", plausible::modulus(self.youngs, Spelling::CommandLine))?;
         if let Some(e2) = self.youngs2 {
@@ -403,27 +405,27 @@ pub fn judge(option: &str, verdict: plausible::Verdict) -> Result<()> {
 // Clap value parsers for quantities: a bare number in SI units, or a number with its unit as
 // in the study file ("1mN", "31.13 µm", "130GPa").
 
-/// A length [m].
+/// A length \[m].
 pub fn length(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::LENGTH, true)
 }
 
-/// A force [N].
+/// A force \[N].
 pub fn force(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::FORCE, true)
 }
 
-/// A pressure or modulus [Pa].
+/// A pressure or modulus \[Pa].
 pub fn pressure(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::PRESSURE, true)
 }
 
-/// An area [m²].
+/// An area \[m²].
 pub fn area(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::AREA, true)
 }
 
-/// A duration [s].
+/// A duration \[s].
 pub fn time(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::TIME, true)
 }

@@ -16,6 +16,9 @@ use ndarray::Array2;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit,
+// `<f>` stands for a value.
+#[allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 /// Static friction, friction drop and element classes from a pressure map (stick-slip model).
 ///
 /// The static friction coefficient, the friction drop and the critical, pre-sliding and
@@ -99,9 +102,9 @@ struct ContactLoad {
 struct Input {
     pressure: Array2<f64>,
     path: PathBuf,
-    /// [m²]; `None` for a bare map without --size or --pixel-area.
+    /// \[m²]; `None` for a bare map without --size or --pixel-area.
     pixel_area: Option<f64>,
-    /// The load index and its imposed load [N], for a contact directory.
+    /// The load index and its imposed load \[N], for a contact directory.
     load: Option<(usize, f64)>,
 }
 
@@ -128,19 +131,19 @@ struct Report<'a> {
     subcritical: ClassShare,
     /// k*: how many elements slipped before the peak.
     critical_index: usize,
-    /// Pressure of the critical elements [Pa].
+    /// Pressure of the critical elements \[Pa].
     critical_pressure_pa: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pixel_area_m2: Option<f64>,
-    /// N = Σ p_i · a [N].
+    /// N = Σ p_i · a \[N].
     #[serde(skip_serializing_if = "Option::is_none")]
     load_n: Option<f64>,
-    /// The imposed load of the contact solve [N].
+    /// The imposed load of the contact solve \[N].
     #[serde(skip_serializing_if = "Option::is_none")]
     imposed_load_n: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     static_force_n: Option<f64>,
-    /// s* = mu_s · n_(k*): the shear of each stuck element at the peak [N] (= k_t · δ_peak).
+    /// s* = mu_s · n_(k*): the shear of each stuck element at the peak \[N] (= k_t · δ_peak).
     #[serde(skip_serializing_if = "Option::is_none")]
     critical_shear_n: Option<f64>,
 }
@@ -362,10 +365,10 @@ fn not_a_pressure_map(path: &Path, limits: &Limits, reason: String) -> Error {
     }
 }
 
-/// The pressure map [Pa] of one load of a contact folder: `file`, as `contact.json` (at
+/// The pressure map \[Pa] of one load of a contact folder: `file`, as `contact.json` (at
 /// `json_path`) names it, a file of the folder itself, of shape `grid` (ny, nx), its pressures
-/// finite and not negative and carrying the folder's load `load_n` [N] on pixels of
-/// `pixel_area` [m²] (a map edited since asperity wrote it is refused, not taken at another
+/// finite and not negative and carrying the folder's load `load_n` \[N] on pixels of
+/// `pixel_area` \[m²] (a map edited since asperity wrote it is refused, not taken at another
 /// load).
 pub fn read_load_map(
     json_path: &Path,

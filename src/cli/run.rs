@@ -15,6 +15,8 @@ use asperity::study::run::{Progress, Study};
 use asperity::study::shard::Shard;
 use asperity::Result;
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// Run a study: elastic contact of every topography at every load, the stick-slip model with
 /// every local friction law, the results table and the figures.
 ///
@@ -211,7 +213,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     super::print(&drop_summary(&outcome.rows))
 }
 
-/// The loads the run's closing summary shows [N]: 0.1, 1, 10 and 100 mN, the paper's decades.
+/// The loads the run's closing summary shows \[N]: 0.1, 1, 10 and 100 mN, the paper's decades.
 const SUMMARY_LOADS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
 /// The results table in brief: per law (and sharing, and plastic solve where there is one),

@@ -6,6 +6,8 @@ use asperity::error::escaped;
 use asperity::shs::{self, Analysis, ShsOptions, ShsPoint, Stat, TraceFormat};
 use asperity::{plot, Error};
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// Static and dynamic friction after each hold of a slide-hold-slide trace.
 ///
 /// Finds every hold and restart in a slide-hold-slide friction trace and reports, per restart,

@@ -479,7 +479,7 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limi
     })
 }
 
-/// shear_x.npy, shear_y.npy [Pa] and classes.npy of a state.
+/// shear_x.npy, shear_y.npy \[Pa] and classes.npy of a state.
 fn write_maps(out: &StagedDir, solver: &TangentialSolver, normal: &Normal, state: &Snapshot) -> Result<()> {
     let (ny, nx) = normal.shape;
     let (mut sx, mut sy) = (Array2::<f64>::zeros((ny, nx)), Array2::<f64>::zeros((ny, nx)));

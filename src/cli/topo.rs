@@ -27,6 +27,8 @@ pub struct TopoArgs {
     command: TopoCommand,
 }
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 #[derive(Subcommand)]
 enum TopoCommand {
     /// Print a file's grid, physical size, channels, height unit and height statistics (of a line
@@ -51,6 +53,8 @@ pub fn run(args: TopoArgs) -> Result<()> {
     }
 }
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 #[derive(Args)]
 struct InfoArgs {
     #[command(flatten)]
@@ -259,7 +263,7 @@ struct ProfileInfo {
     metres: Option<MetreStats>,
     #[serde(flatten)]
     as_stored: Option<StoredStats>,
-    /// [1]; `None` unless both units are known.
+    /// \[1]; `None` unless both units are known.
     rms_slope: Option<f64>,
     /// [1/m]; `None` unless both units are known.
     rms_curvature_per_m: Option<f64>,
@@ -268,7 +272,7 @@ struct ProfileInfo {
     psd_fit: Option<PsdFitInfo>,
 }
 
-/// A profile's length and step (`None` when not uniform) [m].
+/// A profile's length and step (`None` when not uniform) \[m].
 #[derive(Serialize)]
 struct ExtentMetres {
     length_m: f64,

@@ -21,6 +21,8 @@ use asperity::{Error, Result};
 
 use super::{parse_size, ReadArgs};
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// How to prepare it, applied in this order: crop, missing points, detrend.
 #[derive(Args)]
 pub struct PrepareArgs {
@@ -52,6 +54,8 @@ impl PrepareArgs {
     }
 }
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// `asperity topo convert`.
 #[derive(Args)]
 pub struct ConvertArgs {
@@ -69,6 +73,8 @@ pub struct ConvertArgs {
     pub pixel_size: Option<f64>,
 }
 
+// Doc comments here are clap's --help text, printed as written (not Markdown): `[m]` states a unit.
+#[allow(rustdoc::broken_intra_doc_links)]
 /// `asperity topo generate`.
 #[derive(Args)]
 #[command(group(ArgGroup::new("amplitude").required(true).args(["rms", "rms_slope"])))]
@@ -206,7 +212,7 @@ impl OutFormat {
         }
     }
 
-    /// Write a profile's positions (from the file's origin) and heights [m], one point a line
+    /// Write a profile's positions (from the file's origin) and heights \[m], one point a line
     /// (shortest round-trip digits, `NaN` for a missing height).
     fn write_profile(self, out: &Path, p: &Profile) -> Result<()> {
         let OutFormat::Columns(sep) = self else {

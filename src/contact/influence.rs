@@ -36,7 +36,7 @@ impl Boundary {
     }
 }
 
-/// `u = K p` on an (ny, nx) window of physical size (lx, ly) [m], for effective modulus E* [Pa].
+/// `u = K p` on an (ny, nx) window of physical size (lx, ly) \[m], for effective modulus E* \[Pa].
 /// Owns its FFT plan and buffers: applying it never allocates.
 pub struct Influence {
     ny: usize,
@@ -107,7 +107,7 @@ impl Influence {
         &self.fft
     }
 
-    /// Displacement [m] of the window's points under `pressure` [Pa], both row-major (ny, nx).
+    /// Displacement \[m] of the window's points under `pressure` \[Pa], both row-major (ny, nx).
     pub fn apply(&mut self, pressure: &[f64], displacement: &mut [f64]) {
         let Influence { ny, nx, fft, kernel, spectrum, work } = self;
         fft.forward(pressure, *ny, *nx, spectrum, work);
@@ -188,7 +188,7 @@ impl Offsets {
 }
 
 impl TangentialInfluence {
-    /// The periodic operator on an (ny, nx) window of size (lx, ly) [m].
+    /// The periodic operator on an (ny, nx) window of size (lx, ly) \[m].
     pub fn periodic(ny: usize, nx: usize, (lx, ly): (f64, f64), c: ShearCompliance) -> Self {
         let fft = Fft2::new(ny, nx);
         let norm = 1.0 / (ny * nx) as f64;
@@ -247,7 +247,7 @@ impl TangentialInfluence {
     }
 
     /// The operator restricted to a box of (by, bx) points of an (ny, nx) window of size
-    /// (lx, ly) [m]: exact for tractions and displacements inside the box, on a grid no larger
+    /// (lx, ly) \[m]: exact for tractions and displacements inside the box, on a grid no larger
     /// than the box's offsets need. Free boundary: the free operator of the box itself.
     /// Periodic: the window's periodic kernel in real space, kept for the offsets inside the
     /// box and convolved on a zero-padded grid along each axis where the box is at most half
@@ -419,8 +419,8 @@ impl<T: FftNum + Into<f64>> TangentialInfluence<T> {
         ny * nx
     }
 
-    /// Displacements (u_x, u_y) [m] of the window's points under the shear traction
-    /// (q_x, q_y) [Pa], all row-major (ny, nx), computed in the precision T; only in the rows
+    /// Displacements (u_x, u_y) \[m] of the window's points under the shear traction
+    /// (q_x, q_y) \[Pa], all row-major (ny, nx), computed in the precision T; only in the rows
     /// of [`only_rows`](Self::only_rows) once it is set.
     pub fn apply(&mut self, q: [&[f64]; 2], u: [&mut [f64]; 2]) {
         let TangentialInfluence { ny, nx, fft, kernel, spectrum, works, rows } = self;

@@ -29,7 +29,7 @@ use crate::topography::Topography;
 /// An isotropic linear elastic material.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Material {
-    /// Young's modulus E [Pa].
+    /// Young's modulus E \[Pa].
     pub youngs: f64,
     /// Poisson's ratio ν, in (−1, 0.5).
     pub poisson: f64,
@@ -56,19 +56,19 @@ impl Material {
         Ok(Material { youngs, poisson })
     }
 
-    /// Plane-strain modulus E / (1 − ν²) [Pa]: the effective modulus E* of this body pressed
+    /// Plane-strain modulus E / (1 − ν²) \[Pa]: the effective modulus E* of this body pressed
     /// by a rigid one.
     pub fn plane_strain_modulus(&self) -> f64 {
         self.youngs / (1.0 - self.poisson * self.poisson)
     }
 }
 
-/// Effective modulus E* [Pa] of two elastic bodies: 1/E* = (1 − ν1²)/E1 + (1 − ν2²)/E2.
+/// Effective modulus E* \[Pa] of two elastic bodies: 1/E* = (1 − ν1²)/E1 + (1 − ν2²)/E2.
 pub fn combined_modulus(a: &Material, b: &Material) -> f64 {
     1.0 / (1.0 / a.plane_strain_modulus() + 1.0 / b.plane_strain_modulus())
 }
 
-/// Every load [N] positive and finite: checked before any long work.
+/// Every load \[N] positive and finite: checked before any long work.
 pub fn check_loads(loads: &[f64]) -> Result<()> {
     match loads.iter().find(|l| !(**l > 0.0 && l.is_finite())) {
         Some(load) => Err(Error::invalid("--load", format!("loads must be positive and finite, got {load} N"))),
@@ -76,7 +76,7 @@ pub fn check_loads(loads: &[f64]) -> Result<()> {
     }
 }
 
-/// The physical size (lx, ly) [m] of a surface the contact solver can take: heights known to
+/// The physical size (lx, ly) \[m] of a surface the contact solver can take: heights known to
 /// be metres, no missing heights, at least 2×2 points, a known size and heights spanning less
 /// than the window is wide; otherwise a one-line reason naming its file.
 pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
@@ -105,7 +105,7 @@ pub fn contact_size(surface: &Topography) -> Result<(f64, f64)> {
 /// (at least [`EDGE_BAND_MIN_POINTS`]): load carried there is cut by the window.
 pub const EDGE_BAND_FRACTION: f64 = 0.02;
 
-/// The narrowest edge band [points].
+/// The narrowest edge band \[points].
 pub const EDGE_BAND_MIN_POINTS: usize = 2;
 
 /// Above this fraction of the load in the edge band a solve is warned about: its contact is
@@ -119,12 +119,12 @@ pub struct ContactSummary {
     pub contact_points: usize,
     /// Fraction of the window in contact.
     pub contact_fraction: f64,
-    /// Real contact area [m²].
+    /// Real contact area \[m²].
     pub contact_area: f64,
     /// Sizes of the contact patches in pixels, largest first (wrapping across the edges only
     /// when the boundary is periodic).
     pub patch_sizes: Vec<usize>,
-    /// Largest local pressure [Pa].
+    /// Largest local pressure \[Pa].
     pub max_pressure: f64,
     /// Fraction of the load carried by points in the edge band ([`edge_band`]).
     pub edge_load_fraction: f64,
@@ -132,13 +132,13 @@ pub struct ContactSummary {
     pub load_above_hardness_fraction: Option<f64>,
 }
 
-/// Width [points] of the edge band of an axis of `n` points: 2 % of them, at least 2.
+/// Width \[points] of the edge band of an axis of `n` points: 2 % of them, at least 2.
 pub fn edge_band(n: usize) -> usize {
     ((EDGE_BAND_FRACTION * n as f64).round() as usize).max(EDGE_BAND_MIN_POINTS)
 }
 
 /// Contact points, area, patches and the plausibility figures of the pressure map `pressure`
-/// [Pa] (row-major, `shape`) on a window of physical size `size` [m]; `hardness` [Pa] is the
+/// \[Pa] (row-major, `shape`) on a window of physical size `size` \[m]; `hardness` \[Pa] is the
 /// material's, if known (it states a limit, it does not change the elastic solution).
 pub fn summarize(
     pressure: &[f64],
@@ -220,8 +220,8 @@ pub fn plausibility_warnings(
     warnings
 }
 
-/// The load [N] from which a periodic window of `heights` [m] (shape (ny, nx), row-major) over
-/// `size` (Lx, Ly) [m] touches everywhere on a half-space of modulus `e_star` [Pa]: the pressure
+/// The load \[N] from which a periodic window of `heights` \[m] (shape (ny, nx), row-major) over
+/// `size` (Lx, Ly) \[m] touches everywhere on a half-space of modulus `e_star` \[Pa]: the pressure
 /// that flattens the surface, p̄ + (E*/2)·F⁻¹[|q| ĥ(q)], is then nowhere negative. For a
 /// sinusoid of amplitude Δ and wavelength λ it is Westergaard's p* = π E* Δ / λ times the area.
 /// Known before any solve, so that what needs a partial contact can refuse such a load first.
@@ -244,7 +244,7 @@ pub fn full_contact_load(heights: &[f64], (ny, nx): (usize, usize), (lx, ly): (f
 }
 
 /// Probability density p(σ) of the local normal stress σ over the contact points: `bins`
-/// equal bins from 0 to the largest pressure. Returns (bin centre [Pa], density [1/Pa]).
+/// equal bins from 0 to the largest pressure. Returns (bin centre \[Pa], density [1/Pa]).
 pub fn pressure_density(pressure: &[f64], bins: usize) -> Vec<(f64, f64)> {
     let contact: Vec<f64> = pressure.iter().copied().filter(|p| *p > 0.0).collect();
     let max = contact.iter().copied().fold(0.0, f64::max);

@@ -245,9 +245,9 @@ impl Convergence {
 /// What one solve reports besides its fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveReport {
-    /// Normal load N [N].
+    /// Normal load N \[N].
     pub load: f64,
-    /// Mean pressure over the window, N / (Lx·Ly) [Pa].
+    /// Mean pressure over the window, N / (Lx·Ly) \[Pa].
     pub mean_pressure: f64,
     /// Conjugate-gradient iterations.
     pub iterations: usize,
@@ -257,9 +257,9 @@ pub struct SolveReport {
     /// check of convergence from scratch; an iteration whose projection changed points on many
     /// grid rows adds half a pair (the forward transform of the change).
     pub operator_applications: f64,
-    /// Wall-clock time of the solve [s].
+    /// Wall-clock time of the solve \[s].
     pub seconds: f64,
-    /// The cap on the pressure the solve ran with (elastic–perfectly-plastic) [Pa], if any.
+    /// The cap on the pressure the solve ran with (elastic–perfectly-plastic) \[Pa], if any.
     pub hardness: Option<f64>,
 }
 
@@ -348,8 +348,8 @@ struct Shifts {
 /// elasticity has it.
 const STRAIN_RANGE: (f64, f64) = (1e-100, 1e100);
 
-/// Whether a normal `load` [N] on a window of `size` [m] can be solved with effective modulus
-/// `e_star` [Pa]: its mean pressure must lie between 1e-100 E* and 1e100 E*.
+/// Whether a normal `load` \[N] on a window of `size` \[m] can be solved with effective modulus
+/// `e_star` \[Pa]: its mean pressure must lie between 1e-100 E* and 1e100 E*.
 pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     use crate::quantity::human;
     if !(load > 0.0 && load.is_finite()) {
@@ -385,7 +385,7 @@ pub fn check_load(load: f64, size: (f64, f64), e_star: f64) -> Result<()> {
     Ok(())
 }
 
-/// The memory of a contact solve on an ny × nx surface [bytes].
+/// The memory of a contact solve on an ny × nx surface \[bytes].
 pub fn solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> u64 {
     // A free boundary solves on the grid padded to 2nx × 2ny.
     let padding = if boundary == Boundary::Free { 4 } else { 1 };
@@ -481,8 +481,8 @@ macro_rules! on_engine {
 }
 
 impl ContactSolver {
-    /// Set up the problem for `heights` [m] (row-major, ny × nx) on a window of physical size
-    /// (lx, ly) [m], effective modulus E* [Pa] and the given boundary, on `options.device`.
+    /// Set up the problem for `heights` \[m] (row-major, ny × nx) on a window of physical size
+    /// (lx, ly) \[m], effective modulus E* \[Pa] and the given boundary, on `options.device`.
     pub fn new(
         heights: &[f64],
         (ny, nx): (usize, usize),
@@ -549,7 +549,7 @@ impl ContactSolver {
         on_engine!(&self.engine, s => s.shape())
     }
 
-    /// Physical size (lx, ly) [m].
+    /// Physical size (lx, ly) \[m].
     pub fn size(&self) -> (f64, f64) {
         on_engine!(&self.engine, s => s.size())
     }
@@ -559,17 +559,17 @@ impl ContactSolver {
         on_engine!(&self.engine, s => s.boundary())
     }
 
-    /// The heights h [m].
+    /// The heights h \[m].
     pub fn heights(&self) -> &[f64] {
         on_engine!(&self.engine, s => s.heights())
     }
 
-    /// Pressure of the last solve [Pa], row-major (ny, nx); zero after a failed solve.
+    /// Pressure of the last solve \[Pa], row-major (ny, nx); zero after a failed solve.
     pub fn pressure(&self) -> &[f64] {
         on_engine!(&self.engine, s => s.pressure())
     }
 
-    /// Gap of the last solve [m]: zero where 0 < p < H (the hardness, if set), positive where
+    /// Gap of the last solve \[m]: zero where 0 < p < H (the hardness, if set), positive where
     /// p = 0, and where p = H the penetration of the rigid surface as a negative gap (the
     /// plastic indentation).
     pub fn gap(&self) -> Vec<f64> {
@@ -577,7 +577,7 @@ impl ContactSolver {
         gap_of(p, u, h, on_engine!(&self.engine, s => s.hardness()))
     }
 
-    /// Surface displacement u = K p of the last solve [m]. In the periodic model its mean is
+    /// Surface displacement u = K p of the last solve \[m]. In the periodic model its mean is
     /// zero: the rigid-body approach is not defined there.
     pub fn displacement(&self) -> Vec<f64> {
         on_engine!(&self.engine, s => s.displacement().to_vec())
@@ -588,7 +588,7 @@ impl ContactSolver {
         on_engine!(&mut self.engine, s => s.reset())
     }
 
-    /// Start the next solve from `pressure` [Pa] (row-major (ny, nx), each ≥ 0) as if it were
+    /// Start the next solve from `pressure` \[Pa] (row-major (ny, nx), each ≥ 0) as if it were
     /// the last solve's: a load sweep resumed from a saved pressure map continues exactly as
     /// the uninterrupted sweep (a solve depends only on the pressure it starts from).
     pub fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
@@ -602,7 +602,7 @@ impl ContactSolver {
         on_engine!(&mut self.engine, s => s.warm_start(pressure))
     }
 
-    /// Cap the pressure at the hardness H [Pa] in the solves that follow (elastic–perfectly-
+    /// Cap the pressure at the hardness H \[Pa] in the solves that follow (elastic–perfectly-
     /// plastic contact, 0 ≤ p ≤ H; two FFT pairs per iteration), or lift the cap with `None`.
     pub fn set_hardness(&mut self, hardness: Option<f64>) -> Result<()> {
         if let Some(h) = hardness {
@@ -614,7 +614,7 @@ impl ContactSolver {
         Ok(())
     }
 
-    /// Solve for the normal load `load` [N]. `progress` is called after every iteration with
+    /// Solve for the normal load `load` \[N]. `progress` is called after every iteration with
     /// the iteration count and the current residual; it answers `()`, or a [`ControlFlow`]
     /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
     /// cold).

@@ -58,9 +58,9 @@ impl Loading {
 /// unless it was decimated).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CurvePoint {
-    /// s = k_t · δ: the shear force on every stuck element [N].
+    /// s = k_t · δ: the shear force on every stuck element \[N].
     pub element_shear: f64,
-    /// The tangential (friction) force F [N].
+    /// The tangential (friction) force F \[N].
     pub force: f64,
     /// How many elements are stuck.
     pub stuck: usize,
@@ -71,7 +71,7 @@ pub struct CurvePoint {
 pub struct Curve {
     /// The loading mode.
     pub loading: Loading,
-    /// The normal load N [N], for the coefficient F / N.
+    /// The normal load N \[N], for the coefficient F / N.
     pub normal_force: f64,
     /// Vertices in order of the loading path; a slip at fixed δ gives two vertices at the
     /// same δ (before and after).
@@ -184,16 +184,16 @@ struct CurveRow {
     stuck: usize,
 }
 
-/// δ = s / k_t [m]: the slider's displacement at which every stuck element carries the shear
-/// `element_shear` s [N], for an element shear stiffness `shear_stiffness` k_t [N/m].
+/// δ = s / k_t \[m]: the slider's displacement at which every stuck element carries the shear
+/// `element_shear` s \[N], for an element shear stiffness `shear_stiffness` k_t [N/m].
 pub fn displacement(element_shear: f64, shear_stiffness: f64) -> f64 {
     element_shear / shear_stiffness
 }
 
 /// Write `curves` as one CSV (long format, a block of rows per loading mode) with columns
 /// `mode` ([`Loading::name`]), `delta_over_peak` (δ/δ_peak = s/s*, s* = `critical_shear`
-/// [N]), `delta_m` (δ = s/k_t [m], empty without `shear_stiffness` k_t [N/m]),
-/// `element_shear_n` (s [N]), `force_n` (F [N]), `coefficient` (F/N) and `stuck`. With
+/// \[N]), `delta_m` (δ = s/k_t \[m], empty without `shear_stiffness` k_t [N/m]),
+/// `element_shear_n` (s \[N]), `force_n` (F \[N]), `coefficient` (F/N) and `stuck`. With
 /// `in_newtons` false (forces from a map of unknown pixel area) the columns in newtons and
 /// metres are left empty.
 pub fn write_curves_csv(

@@ -93,9 +93,9 @@ const ROUNDING: f64 = 1e-9;
 pub enum Weakening {
     /// At once on the first slip (the paper's law).
     Instant,
-    /// Linearly over an accumulated slip d_c [m].
+    /// Linearly over an accumulated slip d_c \[m].
     Linear(f64),
-    /// A measured μ(slip): (slip [m] from the onset of slip, μ) pairs, slip increasing from 0;
+    /// A measured μ(slip): (slip \[m] from the onset of slip, μ) pairs, slip increasing from 0;
     /// beyond the last point μ stays at its last value.
     Curve(Vec<(f64, f64)>),
 }
@@ -107,11 +107,12 @@ pub struct SlipLaw {
     pub mu_s: f64,
     /// Dynamic coefficient mu_d: the bound once weakened.
     pub mu_d: f64,
+    /// How the bound falls from mu_s to mu_d once a point slips.
     pub weakening: Weakening,
 }
 
 impl SlipLaw {
-    /// The coefficient of a point that has slipped `slip` [m] in all (path length), `slipped`
+    /// The coefficient of a point that has slipped `slip` \[m] in all (path length), `slipped`
     /// whether it has slipped at all.
     pub fn mu(&self, slip: f64, slipped: bool) -> f64 {
         match &self.weakening {
@@ -235,9 +236,9 @@ pub enum SlideClass {
 /// One state along the path.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SlidePoint {
-    /// Rigid displacement δ of the body [m].
+    /// Rigid displacement δ of the body \[m].
     pub displacement_m: f64,
-    /// Tangential force F = Σ q_x · a [N].
+    /// Tangential force F = Σ q_x · a \[N].
     pub force_n: f64,
     /// Points below their bound.
     pub stick_points: usize,
@@ -259,8 +260,9 @@ struct State {
 /// A solved state worth keeping: the largest force, or the end of a force ramp.
 #[derive(Debug, Clone)]
 pub struct Snapshot {
+    /// Displacement, force and point counts of the state.
     pub point: SlidePoint,
-    /// Shear traction [Pa] at each contact point.
+    /// Shear traction \[Pa] at each contact point.
     pub traction: Vec<[f64; 2]>,
     /// Class of each contact point.
     pub classes: Vec<SlideClass>,
@@ -282,23 +284,27 @@ pub struct SlideWork {
 /// The sliding onset with elastic sharing.
 #[derive(Debug, Clone)]
 pub struct ElasticOnset {
-    /// N = Σ p · a [N].
+    /// N = Σ p · a \[N].
     pub normal_force: f64,
     /// F_S: the largest tangential force along the path, or, when the path reaches total
-    /// sliding below it, the sliding force Σ μ p a it tends to as δ → ∞ [N].
+    /// sliding below it, the sliding force Σ μ p a it tends to as δ → ∞ \[N].
     pub static_force: f64,
+    /// The dynamic coefficient mu_d of the law the path was solved with.
     pub mu_d: f64,
     /// The state at the largest force (the steady sliding state at δ = ∞ when that is it).
     pub peak: Snapshot,
-    /// Per class at the peak: stuck, critical, slipped.
+    /// Stuck points at the peak (never slipped, below their bound): count and shares of N and F_S.
     pub stuck: ClassShare,
+    /// Critical points at the peak (never slipped, on their bound mu_s p): count and shares.
     pub critical: ClassShare,
+    /// Slipped points at the peak (weakened towards mu_d): count and shares.
     pub slipped: ClassShare,
     /// F(δ) along the path, in increasing δ: the coarse path with each refined step replaced by
     /// its finer steps; at a δ where a cascade happens, the force before it and after it (at the
     /// end of refined steps, after it the coarse path's, from which the path goes on). Its
     /// largest force is F_S unless that is the sliding limit.
     pub curve: Vec<SlidePoint>,
+    /// Steps, solves and iterations the path took.
     pub work: SlideWork,
 }
 
@@ -562,7 +568,7 @@ pub struct SlideProgress {
     pub level: usize,
     /// The state after the step (its cascade settled).
     pub point: SlidePoint,
-    /// The largest force reached so far [N].
+    /// The largest force reached so far \[N].
     pub largest_force_n: f64,
     /// Work done so far.
     pub work: SlideWork,
@@ -913,7 +919,7 @@ pub fn elastic_onset<R: Proceed>(
 }
 
 /// A partial-slip state under Coulomb friction (coefficient `mu`): the tangential force ramped
-/// to `force` [N] by increasing δ, located to a relative 1e-6.
+/// to `force` \[N] by increasing δ, located to a relative 1e-6.
 pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<(Snapshot, SlideWork)> {
     let normal_force = solver.normal_force();
     if !(force > 0.0 && force < mu * normal_force) {

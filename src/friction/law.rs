@@ -81,9 +81,9 @@ impl FrictionLaw {
         Ok(FrictionLaw::new(mu_s, mu_d)?.named(label))
     }
 
-    /// The law after a hold of `hold` [s] for Si–Si contacts that age (AFM, Li et al., Nature
+    /// The law after a hold of `hold` \[s] for Si–Si contacts that age (AFM, Li et al., Nature
     /// 480, 233, 2011): mu_s(t) = mu_s(t₀) + β·log10(t/t₀), mu_d fixed, where `mu_s` is
-    /// measured after a hold of `t0` [s] and `beta` is the gain per decade of hold time. An
+    /// measured after a hold of `t0` \[s] and `beta` is the gain per decade of hold time. An
     /// error when mu_s(t) falls below mu_d (named `--hold-time`).
     pub fn aged(mu_s: f64, mu_d: f64, t0: f64, beta: f64, hold: f64) -> Result<Self> {
         if !(t0 > 0.0 && hold > 0.0 && t0.is_finite() && hold.is_finite() && beta.is_finite()) {
@@ -124,8 +124,8 @@ impl FrictionLaw {
 }
 
 /// μ(slip) past the peak of the measured friction curve in the file at `path` (CSV, see
-/// [`parse_curve`]) whose displacements are in units of `unit` [m]: the points from its peak
-/// on, slip [m] counted from the peak, as [`crate::friction::Weakening::Curve`] follows them
+/// [`parse_curve`]) whose displacements are in units of `unit` \[m]: the points from its peak
+/// on, slip \[m] counted from the peak, as [`crate::friction::Weakening::Curve`] follows them
 /// (the curve's own slip-weakening distance). Content errors name the file.
 pub fn slip_curve_file(path: &Path, unit: f64) -> Result<Vec<(f64, f64)>> {
     let text = crate::limits::Limits::default().read_text(path)?;
@@ -155,7 +155,10 @@ pub fn slip_curve_file(path: &Path, unit: f64) -> Result<Vec<(f64, f64)>> {
 /// Why a curve gives no law: its content, or the averaging window chosen for it.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CurveError {
+    /// The curve itself gives no law (its peak is its last point, or the mean after the peak is
+    /// not positive): the reason, reported against the curve's file.
     Content(String),
+    /// The averaging window (`--window`) does not fit the curve: the reason.
     Window(String),
 }
 

@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 /// Below this many elements a serial sort beats rayon's parallel one.
 const PARALLEL_SORT_MIN: usize = 1 << 15;
 
-/// The normal forces n_i [N] of the M contact elements, sorted ascending: the order in which
+/// The normal forces n_i \[N] of the M contact elements, sorted ascending: the order in which
 /// they slip. Equal forces reach mu_s together; their order among themselves is arbitrary
 /// (unstable sort) and irrelevant, since they slip in one event (see [`Onset`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -21,7 +21,7 @@ pub struct ElementLoads {
 }
 
 impl ElementLoads {
-    /// The elements of a pressure map [Pa], shape (ny, nx): every pixel with `p > 0` carries
+    /// The elements of a pressure map \[Pa], shape (ny, nx): every pixel with `p > 0` carries
     /// `n = p · pixel_area`. A NaN, infinite or negative pressure, or a map without contact,
     /// is an error (named "pressure map"; callers reading a file name the file instead).
     pub fn from_pressure<S: Data<Elem = f64>>(pressure: &ArrayBase<S, Ix2>, pixel_area: f64) -> Result<Self> {
@@ -46,7 +46,7 @@ impl ElementLoads {
         Self::from_unsorted(loads, "pressure map", "no contact: every pressure is zero")
     }
 
-    /// Elements given by their normal forces [N], each positive and finite.
+    /// Elements given by their normal forces \[N], each positive and finite.
     pub fn from_forces(forces: &[f64]) -> Result<Self> {
         if let Some((i, f)) = forces.iter().enumerate().find(|(_, f)| !(f.is_finite() && **f > 0.0)) {
             return Err(Error::invalid(
@@ -88,12 +88,12 @@ impl ElementLoads {
         self.sorted.is_empty()
     }
 
-    /// The normal forces n_(0) ≤ … ≤ n_(M−1) [N].
+    /// The normal forces n_(0) ≤ … ≤ n_(M−1) \[N].
     pub fn sorted(&self) -> &[f64] {
         &self.sorted
     }
 
-    /// The total normal force N = Σ n_i [N].
+    /// The total normal force N = Σ n_i \[N].
     pub fn total(&self) -> f64 {
         self.total
     }
@@ -174,14 +174,14 @@ pub struct ClassShare {
 }
 
 impl ClassShare {
-    /// The share of a class of `count` elements that carry `normal` [N] of the normal load
-    /// `totals.0` [N] and `friction` [N] of the friction force `totals.1` [N].
+    /// The share of a class of `count` elements that carry `normal` \[N] of the normal load
+    /// `totals.0` \[N] and `friction` \[N] of the friction force `totals.1` \[N].
     pub fn new(count: usize, normal: f64, friction: f64, totals: (f64, f64)) -> ClassShare {
         ClassShare { count, normal_fraction: normal / totals.0, friction_fraction: friction / totals.1 }
     }
 
-    /// The share of the elements of `class` among `elements` (class, normal force [N],
-    /// friction force [N]), their forces summed in the order given; `totals` as for
+    /// The share of the elements of `class` among `elements` (class, normal force \[N],
+    /// friction force \[N]), their forces summed in the order given; `totals` as for
     /// [`ClassShare::new`].
     pub fn tally<C: PartialEq>(
         elements: impl IntoIterator<Item = (C, f64, f64)>,
@@ -226,15 +226,15 @@ pub struct Onset {
     pub law: FrictionLaw,
     /// Number of elements M.
     pub elements: usize,
-    /// The normal load N [N].
+    /// The normal load N \[N].
     pub normal_force: f64,
-    /// The static friction force F_S [N] (infinite when mu_s · N is past the largest float).
+    /// The static friction force F_S \[N] (infinite when mu_s · N is past the largest float).
     pub static_force: f64,
     /// The static friction coefficient F_S / N, computed on scaled forces: always finite.
     pub static_coefficient: f64,
     /// k*: the sorted index of the first critical element (= number of pre-sliding ones).
     pub critical_index: usize,
-    /// n_(k*): the normal force of the critical elements [N].
+    /// n_(k*): the normal force of the critical elements \[N].
     pub critical_normal_force: f64,
     /// Elements stuck at mu_s.
     pub critical: ClassShare,
@@ -316,13 +316,13 @@ impl Onset {
         self.static_coefficient / self.law.mu_d
     }
 
-    /// s* = mu_s · n_(k*) [N]: the shear of every stuck element at the critical state, so
+    /// s* = mu_s · n_(k*) \[N]: the shear of every stuck element at the critical state, so
     /// δ_peak = s* / k_t for an element shear stiffness k_t.
     pub fn critical_shear(&self) -> f64 {
         self.law.mu_s * self.critical_normal_force
     }
 
-    /// The class at the critical state of an element of normal force `n` [N].
+    /// The class at the critical state of an element of normal force `n` \[N].
     pub fn class_of(&self, n: f64) -> ElementClass {
         match n.total_cmp(&self.critical_normal_force) {
             std::cmp::Ordering::Less => ElementClass::PreSliding,
@@ -331,7 +331,7 @@ impl Onset {
         }
     }
 
-    /// The local stress ratio (shear / normal force) of an element of normal force `n` [N]
+    /// The local stress ratio (shear / normal force) of an element of normal force `n` \[N]
     /// at the imposed displacement δ = `fraction` · δ_peak, 0 < fraction ≤ 1: elements with
     /// mu_s · n below the stuck shear s = fraction · s* have slipped (mu_d); the others are
     /// stuck at s / n = mu_s · fraction · n_(k*) / n. At fraction = 1 these are the ratios
@@ -345,14 +345,14 @@ impl Onset {
         }
     }
 
-    /// Whether an element of normal force `n` [N] has slipped at δ = `fraction` · δ_peak,
+    /// Whether an element of normal force `n` \[N] has slipped at δ = `fraction` · δ_peak,
     /// 0 < fraction ≤ 1: whether mu_s · n is below the stuck shear fraction · s*.
     pub fn has_slipped(&self, n: f64, fraction: f64) -> bool {
         n < fraction * self.critical_normal_force
     }
 
-    /// The class of every pixel of `pressure` [Pa] (the map the onset was computed from,
-    /// with the same `pixel_area` [m²]): codes of [`ElementClass`], 0 where p = 0.
+    /// The class of every pixel of `pressure` \[Pa] (the map the onset was computed from,
+    /// with the same `pixel_area` \[m²]): codes of [`ElementClass`], 0 where p = 0.
     pub fn class_map<S: Data<Elem = f64>>(&self, pressure: &ArrayBase<S, Ix2>, pixel_area: f64) -> Array2<i8> {
         pressure.mapv(|p| if p > 0.0 { self.class_of(p * pixel_area) as i8 } else { ElementClass::NoContact as i8 })
     }

@@ -109,6 +109,7 @@ impl Identity {
 /// was written.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Written {
+    /// The file's path relative to the ledger's folder.
     pub path: PathBuf,
     identities: Vec<Identity>,
 }

@@ -8,11 +8,11 @@ use super::{style, LegendPosition};
 /// One onset under elastic sharing, with equal sharing's on the same pressure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConvergencePoint {
-    /// Pixel size [m].
+    /// Pixel size \[m].
     pub pixel_size_m: f64,
-    /// Normal load [N].
+    /// Normal load \[N].
     pub load_n: f64,
-    /// Slip-weakening distance d_c [m]; 0 for the instant drop from mu_s to mu_d.
+    /// Slip-weakening distance d_c \[m]; 0 for the instant drop from mu_s to mu_d.
     pub slip_distance_m: f64,
     /// Contact points (elements) at this pixel size and load.
     pub contact_points: usize,
@@ -31,7 +31,7 @@ fn weakening_label(dc: f64) -> String {
     }
 }
 
-/// One panel per load (in increasing order): the friction drop against the pixel size [nm]
+/// One panel per load (in increasing order): the friction drop against the pixel size \[nm]
 /// (logarithmic), a line with markers per slip weakening (the instant drop first) and equal
 /// sharing's drop dashed. `mu_d` is the law's dynamic coefficient, for the y label's μ_S.
 pub fn sharing_convergence(points: &[ConvergencePoint], mu_d: f64) -> Grid {

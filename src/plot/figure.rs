@@ -16,7 +16,7 @@ pub type DrawResult<DB, T = ()> = Result<T, DrawingAreaErrorKind<<DB as DrawingB
 
 /// Anything that draws itself onto an area of any backend (bitmap, SVG, a movie frame).
 pub trait Draw {
-    /// Canvas [px] this drawing is laid out for.
+    /// Canvas \[px] this drawing is laid out for.
     fn size(&self) -> (u32, u32) {
         style::SIZE
     }
@@ -98,16 +98,22 @@ impl Axis {
 /// Marker of a scatter series.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Marker {
+    /// A disc.
     Circle,
+    /// A square.
     Square,
+    /// An upward triangle.
     Triangle,
+    /// A diagonal cross (×).
     Cross,
 }
 
 /// How a line is stroked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dash {
+    /// An unbroken line.
     Solid,
+    /// Dashes several line widths long.
     Dashed,
     /// Dots one line width long (a reference level, a limit).
     Dotted,
@@ -117,19 +123,49 @@ pub enum Dash {
 #[derive(Clone, Debug)]
 pub enum Shape {
     /// A polyline through `points`, `width` px wide.
-    Line { points: Vec<(f64, f64)>, width: u32, dash: Dash },
+    Line {
+        /// The vertices (x, y), in order.
+        points: Vec<(f64, f64)>,
+        /// Stroke width \[px].
+        width: u32,
+        /// Solid, dashed or dotted.
+        dash: Dash,
+    },
     /// Markers at `points`, with optional symmetric vertical error bars (± `y_err`).
-    Scatter { points: Vec<(f64, f64)>, y_err: Option<Vec<f64>>, marker: Marker, filled: bool },
+    Scatter {
+        /// The marker positions (x, y).
+        points: Vec<(f64, f64)>,
+        /// Half-length of each point's error bar, in the y axis' unit; none without bars.
+        y_err: Option<Vec<f64>>,
+        /// The marker's shape.
+        marker: Marker,
+        /// Filled, or outlined only.
+        filled: bool,
+    },
     /// The area between `lower(x)` and `upper(x)`.
-    Band { x: Vec<f64>, lower: Vec<f64>, upper: Vec<f64> },
+    Band {
+        /// The abscissae, increasing.
+        x: Vec<f64>,
+        /// The lower edge at each `x`.
+        lower: Vec<f64>,
+        /// The upper edge at each `x`.
+        upper: Vec<f64>,
+    },
     /// A vertical stripe from `x0` to `x1` over the whole height of the panel.
-    Span { x0: f64, x1: f64 },
+    Span {
+        /// The stripe's left edge.
+        x0: f64,
+        /// The stripe's right edge.
+        x1: f64,
+    },
 }
 
 /// A series: a shape with its colour, opacity and legend entry.
 #[derive(Clone, Debug)]
 pub struct Series {
+    /// What is drawn: line, markers, band or stripe.
     pub shape: Shape,
+    /// Its colour.
     pub colour: RGBColor,
     /// 1 opaque, 0 invisible.
     pub opacity: f64,
@@ -169,12 +205,13 @@ impl Series {
         self
     }
 
+    /// Opacity: 1 opaque, 0 invisible.
     pub fn opacity(mut self, opacity: f64) -> Self {
         self.opacity = opacity;
         self
     }
 
-    /// Line width [px]; lines only.
+    /// Line width \[px]; lines only.
     pub fn width(mut self, px: u32) -> Self {
         match &mut self.shape {
             Shape::Line { width, .. } => *width = px,
@@ -257,12 +294,17 @@ impl Series {
 /// One set of axes with its series and an optional legend.
 #[derive(Clone, Debug)]
 pub struct Panel {
+    /// Text above the axes, if any.
     pub title: Option<String>,
+    /// The horizontal axis.
     pub x: Axis,
+    /// The vertical axis.
     pub y: Axis,
+    /// The series, drawn stripes and bands first, then lines, then markers.
     pub series: Vec<Series>,
+    /// Where the legend of the labelled series goes; none without a legend.
     pub legend: Option<SeriesLabelPosition>,
-    /// Width [px] kept right of the axes for the legend, when it is drawn beside them.
+    /// Width \[px] kept right of the axes for the legend, when it is drawn beside them.
     pub legend_beside: u32,
     /// A second x axis along the top: its label, and the factor from the bottom axis' values
     /// to its own (the same quantity in another unit).
@@ -273,6 +315,7 @@ pub struct Panel {
 const TOP_AXIS_PX: u32 = 90;
 
 impl Panel {
+    /// Empty axes `x` and `y`: no title, no series, no legend.
     pub fn new(x: Axis, y: Axis) -> Self {
         Panel { title: None, x, y, series: Vec::new(), legend: None, legend_beside: 0, top: None }
     }
@@ -284,6 +327,7 @@ impl Panel {
         self
     }
 
+    /// Put `title` above the axes.
     pub fn title(mut self, title: impl Into<String>) -> Self {
         self.title = Some(title.into());
         self
@@ -303,6 +347,7 @@ impl Panel {
         self
     }
 
+    /// Add a series; the legend lists labelled series in the order pushed.
     pub fn push(&mut self, series: Series) {
         self.series.push(series);
     }
@@ -769,7 +814,7 @@ impl Figure {
         Figure { size: style::SIZE, rows }
     }
 
-    /// Canvas size [px].
+    /// Canvas size \[px].
     pub fn with_size(mut self, width: u32, height: u32) -> Self {
         self.size = (width, height);
         self

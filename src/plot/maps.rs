@@ -96,8 +96,8 @@ impl View {
     }
 
     /// This view fitted to `plot` px and grown, as often as needed, over every patch of
-    /// `boxes` it cuts, so that each patch lies wholly inside it or wholly outside (a zoom at
-    /// 1 mN cut patches at the panel's edge: issue 37).
+    /// `boxes` it cuts, so that each patch lies wholly inside it or wholly outside (a patch cut
+    /// at the panel's edge reads as a smaller patch than the contact has, as at 1 mN).
     fn uncut(self, boxes: &[(View, f64)], plot: (u32, u32)) -> View {
         let mut view = self.fit(plot);
         loop {
@@ -360,7 +360,7 @@ pub(super) fn draw_layer<DB: DrawingBackend>(
     for (corners, c) in runs {
         let [(x0, y0), (x1, y1)] = clip(corners);
         // A run outside the view clips to nothing; drawn, plotters would pin it to the panel's
-        // edge as a sliver, which read as a cut patch (issue 37).
+        // edge as a sliver, which reads as a cut patch.
         if x0 < x1 && y0 < y1 {
             plotting.draw(&Rectangle::new([(x0, y0), (x1, y1)], c.filled()))?;
         }
@@ -932,8 +932,9 @@ mod tests {
         assert_eq!(percent(0.0), "0.0 %");
     }
 
-    /// A zoom cuts no contact patch (issue 37: the 1 mN zooms of Fig. S6 and the movies cut
-    /// patches at the panel's edge): as drawn, every patch lies inside the view or outside it.
+    /// A zoom cuts no contact patch (a 1 mN zoom, as in Fig. S6 and the movies, is where a
+    /// patch would reach past the panel's edge): as drawn, every patch lies inside the view or
+    /// outside it.
     #[test]
     fn zooms_cut_no_patch() {
         let mut pressure = Array2::zeros((400, 400));

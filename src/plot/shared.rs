@@ -18,18 +18,18 @@ pub struct FigureInput<'a> {
     pub topographies: &'a [String],
     /// Friction laws, in the study's order; maps, curves and movies use the first.
     pub laws: &'a [FrictionLaw],
-    /// The hold time [s] of each law, where known (matches measured points to laws).
+    /// The hold time \[s] of each law, where known (matches measured points to laws).
     pub hold_times: &'a [Option<f64>],
     /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only):
     /// by linear elasticity drop(N; E*) = drop(N·E*₀/E*; E*₀).
     pub modulus_ratios: &'a [f64],
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: &'a [ResolutionRow],
-    /// Loads [N] of the hold-time figure.
+    /// Loads \[N] of the hold-time figure.
     pub hold_time_loads: &'a [f64],
     /// p(σ) on a logarithmic density axis.
     pub log_density: bool,
-    /// The hardness [Pa] marked on p(σ), when the study sets one.
+    /// The hardness \[Pa] marked on p(σ), when the study sets one.
     pub hardness_pa: Option<f64>,
     /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
     pub grid: Option<(usize, usize)>,

@@ -2,8 +2,8 @@
 //! its [`FigureInput`] into `DIR/figures/` and writes `DIR/index.html`, which shows them.
 //!
 //! The line figures (friction drop, p(σ), class fractions, friction curve) use the plot
-//! foundation's [`Figure`]; the maps are drawn in [`super::maps`], the movies in
-//! [`super::movie`], the page in [`super::report`]. Data a figure needs but the study lacks (no
+//! foundation's [`Figure`]; the maps are drawn in `plot::maps`, the movies in
+//! `plot::movie`, the page in `plot::report`. Data a figure needs but the study lacks (no
 //! snapshot near a load, no measured points) is said in the figure or in the report; it is
 //! never an error.
 
@@ -441,7 +441,7 @@ mod tests {
             .collect()
     }
 
-    /// Issue 37: Fig. 4a gave δ in units of δ_peak only. With the contact's K_t recorded it
+    /// Fig. 4a's δ in metres, not only in units of δ_peak: with the contact's K_t recorded it
     /// reads δ in nm along the top and states δ_peak = n s*/K_t: here the fourth element is the
     /// critical one (F_k = 2.4, 4, 4.8, 5.4 × 10⁻⁷ N), s* = 0.6 · 5e-7 N = 3e-7 N, and with
     /// K_t = 1000 N/m over n = 4 elements, k_t = 250 N/m and δ_peak = 4 · 3e-7 / 1000 m = 1.2 nm.

@@ -8,20 +8,23 @@ use plotters::style::{FontStyle, RGBColor};
 /// The font family every text element asks for; it resolves to the embedded DejaVu Sans.
 pub const FONT: &str = "sans-serif";
 
-/// Default canvas [px] of a single-panel figure (PNG; the SVG has the same size).
+/// Default canvas \[px] of a single-panel figure (PNG; the SVG has the same size).
 pub const SIZE: (u32, u32) = (1200, 800);
 
-/// Text sizes [px].
+/// Text size \[px] of a panel's title.
 pub const TITLE_SIZE: f64 = 30.0;
+/// Text size \[px] of an axis' name.
 pub const AXIS_LABEL_SIZE: f64 = 26.0;
+/// Text size \[px] of tick labels.
 pub const TICK_LABEL_SIZE: f64 = 21.0;
+/// Text size \[px] of legend entries.
 pub const LEGEND_SIZE: f64 = 21.0;
 
-/// Line width [px] of data lines, and of axes and frames.
+/// Line width \[px] of data lines, and of axes and frames.
 pub const LINE_WIDTH: u32 = 2;
-/// Marker radius [px] of scatter points.
+/// Marker radius \[px] of scatter points.
 pub const MARKER_SIZE: u32 = 6;
-/// Margin [px] around a panel.
+/// Margin \[px] around a panel.
 pub const MARGIN: u32 = 16;
 
 /// Element classes of the stick-slip transition model, in the colours of the paper's movies.

@@ -34,11 +34,11 @@ use crate::error::{Error, Result};
 pub struct ShsOptions {
     /// Sliding speed [m/s], for displacement derived from time when the trace has none.
     pub speed: f64,
-    /// Sliding displacement after the peak over which F_D and N are averaged [m].
+    /// Sliding displacement after the peak over which F_D and N are averaged \[m].
     pub window: f64,
-    /// Sliding displacement after the restart within which the peak F_S is sought [m].
+    /// Sliding displacement after the restart within which the peak F_S is sought \[m].
     pub peak_within: f64,
-    /// Shortest hold and shortest slide [s]: briefer stops, dips or bursts are noise; each hold
+    /// Shortest hold and shortest slide \[s]: briefer stops, dips or bursts are noise; each hold
     /// so dropped is reported among the skipped.
     pub min_duration: f64,
     /// Friction below this fraction of the sliding level is near zero: a hold (without a
@@ -95,14 +95,14 @@ impl ShsOptions {
 /// One restart after a hold. Forces in newtons, times in seconds from the trace's clock.
 #[derive(Clone, Debug, Serialize)]
 pub struct Cycle {
-    /// The hold before the restart [s]: from the stage stopping to its moving again when the
+    /// The hold before the restart \[s]: from the stage stopping to its moving again when the
     /// trace records displacement, else the time the friction spends near zero.
     pub hold_s: f64,
-    /// F_S: the friction peak after the restart [N].
+    /// F_S: the friction peak after the restart \[N].
     pub static_force_n: f64,
-    /// F_D: mean friction over the window after the peak [N].
+    /// F_D: mean friction over the window after the peak \[N].
     pub dynamic_force_n: f64,
-    /// N: mean normal force over the same window [N].
+    /// N: mean normal force over the same window \[N].
     pub normal_force_n: f64,
     /// mu_s = F_S / N.
     pub static_coefficient: f64,
@@ -110,15 +110,15 @@ pub struct Cycle {
     pub dynamic_coefficient: f64,
     /// F_S / F_D (= mu_s / mu_d).
     pub friction_drop: f64,
-    /// When the hold began [s]: the stage stopped (between samples), or the friction had
+    /// When the hold began \[s]: the stage stopped (between samples), or the friction had
     /// settled near zero.
     pub hold_start_s: f64,
-    /// When the hold ended [s]: the stage moved again (between samples), or half a sample after
+    /// When the hold ended \[s]: the stage moved again (between samples), or half a sample after
     /// the last sample at the hold's friction level.
     pub restart_s: f64,
-    /// The sample of the peak F_S [s].
+    /// The sample of the peak F_S \[s].
     pub peak_s: f64,
-    /// The last sample of the dynamic window [s].
+    /// The last sample of the dynamic window \[s].
     pub window_end_s: f64,
 }
 
@@ -126,7 +126,9 @@ pub struct Cycle {
 /// `None` for a single restart).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Stat {
+    /// Mean over the restarts, in the quantity's unit.
     pub mean: f64,
+    /// Sample standard deviation (n − 1 in the denominator), in the quantity's unit.
     pub std: Option<f64>,
 }
 
@@ -142,13 +144,21 @@ impl Stat {
 /// Restarts after holds of similar length, summarised.
 #[derive(Clone, Debug, Serialize)]
 pub struct Group {
+    /// Restarts in the group.
     pub n_restarts: usize,
+    /// Hold time \[s].
     pub hold_s: Stat,
+    /// F_S, the friction peak after the restart \[N].
     pub static_force_n: Stat,
+    /// F_D, the mean friction over the window after the peak \[N].
     pub dynamic_force_n: Stat,
+    /// N, the mean normal force over that window \[N].
     pub normal_force_n: Stat,
+    /// mu_s = F_S / N.
     pub static_coefficient: Stat,
+    /// mu_d = F_D / N.
     pub dynamic_coefficient: Stat,
+    /// F_S / F_D.
     pub friction_drop: Stat,
 }
 
@@ -161,8 +171,11 @@ pub struct Analysis {
     pub holds_from: &'static str,
     /// Holds after a slide, those skipped included (one shorter than the minimum duration too).
     pub holds_found: usize,
+    /// Every measured restart, in time order.
     pub cycles: Vec<Cycle>,
+    /// The restarts grouped by hold time, shortest hold first.
     pub groups: Vec<Group>,
+    /// The holds that gave no measurement, in time order.
     pub skipped: Vec<Skipped>,
 }
 
@@ -170,8 +183,9 @@ pub struct Analysis {
 /// its reason alone.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skipped {
-    /// When the hold began and ended [s] (the end of the trace for a hold it ends in).
+    /// When the hold began \[s].
     pub start_s: f64,
+    /// When the hold ended \[s] (the end of the trace for a hold it ends in).
     pub end_s: f64,
     /// Why it gave no measurement, starting with when it began ("hold from 12.50 s: …").
     pub reason: String,

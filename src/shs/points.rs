@@ -23,26 +23,34 @@ use crate::error::{Error, Result};
 /// One measured point: a group of restarts after holds of similar length.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShsPoint {
-    /// Mean normal force [N].
+    /// Mean normal force \[N].
     pub load_n: f64,
+    /// Its sample standard deviation \[N]; none for a single restart.
     #[serde(default)]
     pub load_n_std: Option<f64>,
     /// Mean F_S / F_D.
     pub friction_drop: f64,
+    /// Its sample standard deviation; none for a single restart.
     #[serde(default)]
     pub friction_drop_std: Option<f64>,
+    /// Mean mu_s = F_S / N; none when the file has no such column.
     #[serde(default)]
     pub static_coefficient: Option<f64>,
+    /// Its sample standard deviation; none for a single restart.
     #[serde(default)]
     pub static_coefficient_std: Option<f64>,
+    /// Mean mu_d = F_D / N; none when the file has no such column.
     #[serde(default)]
     pub dynamic_coefficient: Option<f64>,
+    /// Its sample standard deviation; none for a single restart.
     #[serde(default)]
     pub dynamic_coefficient_std: Option<f64>,
-    /// Mean hold time [s].
+    /// Mean hold time \[s].
     pub hold_s: f64,
+    /// Its sample standard deviation \[s]; none for a single restart.
     #[serde(default)]
     pub hold_s_std: Option<f64>,
+    /// Restarts averaged.
     pub n_restarts: usize,
 }
 

@@ -9,8 +9,11 @@ use crate::error::{Error, Result};
 /// `time_s,friction_n,normal_n[,displacement_m]` in seconds, newtons and metres.
 #[derive(Clone, Debug)]
 pub struct TraceFormat {
+    /// Header of the time column (default `time_s`).
     pub time_column: String,
+    /// Header of the friction (shear) force column (default `friction_n`).
     pub friction_column: String,
+    /// Header of the normal force column (default `normal_n`).
     pub normal_column: String,
     /// `None`: use a column `displacement_m` if the file has one, else derive displacement from
     /// time and the sliding speed. `Some(name)`: the file must have that column.
@@ -43,8 +46,8 @@ impl Default for TraceFormat {
 /// The default name of the optional displacement column.
 pub const DISPLACEMENT_COLUMN: &str = "displacement_m";
 
-/// A slide-hold-slide trace in SI units: time [s] strictly increasing, friction and normal
-/// force [N], and displacement [m] when the instrument recorded it.
+/// A slide-hold-slide trace in SI units: time \[s] strictly increasing, friction and normal
+/// force \[N], and displacement \[m] when the instrument recorded it.
 #[derive(Clone, Debug)]
 pub struct Trace {
     source: PathBuf,
@@ -91,25 +94,27 @@ impl Trace {
     pub fn source(&self) -> &Path {
         &self.source
     }
-    /// Time [s].
+    /// Time \[s].
     pub fn time(&self) -> &[f64] {
         &self.time
     }
-    /// Friction force [N].
+    /// Friction force \[N].
     pub fn friction(&self) -> &[f64] {
         &self.friction
     }
-    /// Normal force [N].
+    /// Normal force \[N].
     pub fn normal(&self) -> &[f64] {
         &self.normal
     }
-    /// Measured sliding displacement [m], if the file had it.
+    /// Measured sliding displacement \[m], if the file had it.
     pub fn displacement(&self) -> Option<&[f64]> {
         self.displacement.as_deref()
     }
+    /// Number of samples.
     pub fn len(&self) -> usize {
         self.time.len()
     }
+    /// Whether the trace has no sample.
     pub fn is_empty(&self) -> bool {
         self.time.is_empty()
     }

@@ -73,13 +73,13 @@ use crate::topography::synth::{Amplitude, Cap, SyntheticSurface};
 /// balls against synthetic wafers, silicon, 13 loads from 0.1 to 100 mN, two placeholder laws.
 pub const DEFAULT_STUDY: &str = include_str!("default.toml");
 
-/// The grid of `asperity run --quick` [points].
+/// The grid of `asperity run --quick` \[points].
 pub const QUICK_GRID: (usize, usize) = (256, 256);
 
 /// The number of loads of `asperity run --quick`.
 pub const QUICK_LOADS: usize = 7;
 
-/// The slip-weakening distance d_c [m] of elastic sharing when the study gives none: μ falls
+/// The slip-weakening distance d_c \[m] of elastic sharing when the study gives none: μ falls
 /// linearly from mu_s to mu_d over 2 nm of slip. With the instant drop the onset under elastic
 /// sharing has no length of its own and its drop falls with the pixel (default ball, 0.4 mN,
 /// "hold 100 s": 1.042, 1.014, 1.007 on pixels of 41.5, 20.75, 10.4 nm); with d_c = 2 nm the
@@ -99,20 +99,28 @@ pub const MAX_SNAPSHOT_FRACTIONS: usize = 12;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StudyConfig {
+    /// The `[[topography]]` tables: each surface is solved at every load with every law.
     #[serde(rename = "topography", default = "defaults::topographies")]
     pub topographies: Vec<SurfaceSpec>,
+    /// `[material]`: the elastic body and counter-body.
     #[serde(default = "defaults::material")]
     pub material: MaterialSpec,
+    /// `[contact]`: the normal contact solver.
     #[serde(default = "defaults::contact")]
     pub contact: ContactSpec,
+    /// `[loads]`: the normal loads \[N].
     #[serde(default = "defaults::loads")]
     pub loads: LoadsSpec,
+    /// The `[[law]]` tables: the local (element-scale) friction laws.
     #[serde(rename = "law", default = "defaults::laws")]
     pub laws: Vec<LawSpec>,
+    /// `[model]`: how the tangential force is shared among the contact elements.
     #[serde(default, skip_serializing_if = "ModelSpec::is_default")]
     pub model: ModelSpec,
+    /// `[output]`: what is written besides the results table.
     #[serde(default = "defaults::output")]
     pub output: OutputSpec,
+    /// `[limits]`: how large inputs and grids may be.
     #[serde(default, skip_serializing_if = "LimitsSpec::is_default")]
     pub limits: LimitsSpec,
 }
@@ -121,6 +129,8 @@ pub struct StudyConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceSpec {
+    /// The topography's unique label in rows and folder names (required for a topography,
+    /// absent for a wafer).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// A generated surface; lengths in keys ending in `_m` may carry units.
@@ -135,7 +145,7 @@ pub struct SurfaceSpec {
     /// Channel by name or 0-based index.
     #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "channel")]
     pub channel: Option<String>,
-    /// Physical size (lx, ly) [m].
+    /// Physical size (lx, ly) \[m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub size: Option<Size>,
     /// Height unit of a file that states none.
@@ -150,7 +160,7 @@ pub struct SurfaceSpec {
     /// Levelling: `none`, `mean`, `plane`, `poly:N` or `sphere` (files: default `plane`).
     #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "detrend")]
     pub detrend: Option<String>,
-    /// Pixel size to resample to [m].
+    /// Pixel size to resample to \[m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pixel_size: Option<Length>,
     /// A spherical cap added to a measured scan after levelling (`cap = { radius_m = "1.5 mm" }`),
@@ -162,16 +172,20 @@ pub struct SurfaceSpec {
     pub wafer: Option<Box<SurfaceSpec>>,
 }
 
-/// A physical window (`x`, `y` [m]) or a pixel window (`columns`, `rows`, end excluded).
+/// A physical window (`x`, `y` \[m]) or a pixel window (`columns`, `rows`, end excluded).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CropSpec {
+    /// Physical range [x0, x1) \[m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<[Length; 2]>,
+    /// Physical range [y0, y1) \[m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub y: Option<[Length; 2]>,
+    /// Column range, 0-based, end excluded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub columns: Option<[usize; 2]>,
+    /// Row range, 0-based, end excluded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rows: Option<[usize; 2]>,
 }
@@ -180,21 +194,24 @@ pub struct CropSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
-    /// Young's modulus E [Pa].
+    /// Young's modulus E \[Pa].
     #[serde(default = "defaults::youngs")]
     pub youngs: Stress,
     /// Poisson's ratio ν.
     #[serde(default = "defaults::poisson")]
     pub poisson: f64,
+    /// Young's modulus E₂ \[Pa] of an elastic counter-body (given with `counter_poisson`);
+    /// none: a rigid counter-body, as in the paper.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub counter_youngs: Option<Stress>,
+    /// Poisson's ratio ν₂ of an elastic counter-body (given with `counter_youngs`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub counter_poisson: Option<f64>,
-    /// Hardness H [Pa] of the softer body (silicon ≈ 12 GPa): the load carried at p ≥ H is
+    /// Hardness H \[Pa] of the softer body (silicon ≈ 12 GPa): the load carried at p ≥ H is
     /// reported and warned about; the cap on the pressure of plastic solves. None by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hardness: Option<Stress>,
-    /// Uncertainty ΔE of `youngs` [Pa]: the friction-drop figure's band also covers E ± ΔE.
+    /// Uncertainty ΔE of `youngs` \[Pa]: the friction-drop figure's band also covers E ± ΔE.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub youngs_uncertainty: Option<Stress>,
 }
@@ -203,10 +220,15 @@ pub struct MaterialSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
+    /// `"periodic"` (the window repeats, as the paper's computation; the default) or `"free"`
+    /// (an isolated window on an infinite half-space).
     #[serde(with = "boundary", default = "defaults::boundary")]
     pub boundary: Boundary,
+    /// Relative residual at which a normal solve has converged (default 1e-8; see
+    /// [`crate::contact`]'s solver).
     #[serde(default = "defaults::tolerance")]
     pub tolerance: f64,
+    /// Iterations after which a solve that has not converged is an error (default 20 000).
     #[serde(default = "defaults::max_iterations")]
     pub max_iterations: usize,
     /// Solve every topography on this grid (nx, ny) over the same physical window.
@@ -229,7 +251,9 @@ fn is_cpu(device: &Device) -> bool {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Plastic {
+    /// One sweep: elastic (`false`) or elastic–perfectly-plastic (`true`).
     One(bool),
+    /// One sweep per entry, in this order.
     Each(Vec<bool>),
 }
 
@@ -257,12 +281,16 @@ impl Plastic {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadsSpec {
+    /// The loads \[N], listed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub values: Option<Vec<Force>>,
+    /// The smallest load \[N] of a log-spaced range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min: Option<Force>,
+    /// The largest load \[N] of a log-spaced range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max: Option<Force>,
+    /// The number of loads of a log-spaced range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub count: Option<usize>,
 }
@@ -271,32 +299,38 @@ pub struct LoadsSpec {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LawSpec {
+    /// The law's label in the results (relabels a preset; a curve's default is its file name).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
+    /// Local static coefficient mu_s (≥ mu_d).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mu_s: Option<f64>,
+    /// Local dynamic coefficient mu_d (> 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mu_d: Option<f64>,
+    /// A named (mu_s, mu_d) pair, such as `"hold 100 s"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
+    /// A measured nanoscale friction curve (CSV of displacement, friction coefficient): mu_s is
+    /// its peak, mu_d its mean past the peak.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curve: Option<PathBuf>,
     /// (start, end) past the curve's peak over which mu_d is averaged, in the curve's
     /// displacement unit.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window: Option<(f64, f64)>,
-    /// The displacement unit of `curve` as a length [m]: with it, elastic sharing follows the
+    /// The displacement unit of `curve` as a length \[m]: with it, elastic sharing follows the
     /// curve past its peak as μ(slip) (the curve's own slip weakening) instead of
     /// `[model] slip_distance`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curve_unit: Option<Length>,
-    /// The AFM hold time the law was measured at [s] (t₀ of an aging law).
+    /// The AFM hold time the law was measured at \[s] (t₀ of an aging law).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hold_time: Option<Time>,
     /// β of an aging law, mu_s(t) = mu_s(t₀) + β·log10(t/t₀) with mu_d fixed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub aging: Option<f64>,
-    /// The hold times [s] an aging law is evaluated at: one law of the study each.
+    /// The hold times \[s] an aging law is evaluated at: one law of the study each.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hold_times: Option<Vec<Time>>,
 }
@@ -309,7 +343,7 @@ pub struct ModelSpec {
     /// gives its own rows (the `sharing` column), in this order.
     #[serde(default = "equal_sharing")]
     pub sharing: Vec<Sharing>,
-    /// Elastic sharing's slip-weakening distance d_c [m]: μ falls linearly from mu_s to mu_d
+    /// Elastic sharing's slip-weakening distance d_c \[m]: μ falls linearly from mu_s to mu_d
     /// over an accumulated slip d_c (0: at once on the first slip, the paper's law, whose
     /// onset depends on the pixel). A `curve` law with its `curve_unit` follows its curve.
     #[serde(default = "default_slip_distance")]
@@ -351,15 +385,19 @@ fn equal_sharing() -> Vec<Sharing> {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
+    /// Also keep every full pressure map \[Pa] as `DIR/pressure/<topography>/NN.npy`.
     #[serde(default)]
     pub pressure_maps: bool,
+    /// A CSV of measured points (as `asperity shs --out` writes it) to overlay on the figures.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub experiments: Option<PathBuf>,
+    /// The figures to draw (default: all).
     #[serde(default = "all_figures")]
     pub figures: Vec<FigureKind>,
+    /// δ/δ_peak of the stress-ratio snapshots, each in (0, 1] (default 0.25, 0.5, 0.75, 1).
     #[serde(default = "default_fractions")]
     pub snapshot_fractions: Vec<f64>,
-    /// Loads [N] of the hold-time figure.
+    /// Loads \[N] of the hold-time figure.
     #[serde(default = "default_hold_time_loads")]
     pub hold_time_loads: Vec<Force>,
     /// p(σ) on a logarithmic density axis.
@@ -371,7 +409,7 @@ pub struct OutputSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LimitsSpec {
-    /// The largest grid read from a file, generated, resampled or solved [points].
+    /// The largest grid read from a file, generated, resampled or solved \[points].
     #[serde(default = "defaults::max_points")]
     pub max_points: usize,
 }
@@ -539,7 +577,7 @@ impl StudyConfig {
         self
     }
 
-    /// The loads [N], ascending.
+    /// The loads \[N], ascending.
     pub fn load_values(&self) -> Vec<f64> {
         let mut loads: Vec<f64> = match (&self.loads.values, self.loads.min, self.loads.max, self.loads.count) {
             (Some(values), ..) => values.iter().map(|f| f.0).collect(),
@@ -590,7 +628,7 @@ impl StudyConfig {
         found
     }
 
-    /// The material's hardness [Pa], if given.
+    /// The material's hardness \[Pa], if given.
     pub fn hardness(&self) -> Option<f64> {
         self.material.hardness.map(|h| h.0)
     }
@@ -605,7 +643,7 @@ impl StudyConfig {
         bodies
     }
 
-    /// The effective modulus E* [Pa].
+    /// The effective modulus E* \[Pa].
     pub fn effective_modulus(&self) -> f64 {
         match self.bodies()[..] {
             [body, counter] => crate::contact::combined_modulus(&body, &counter),
@@ -1170,7 +1208,7 @@ fn check_synthetic(s: &SyntheticSurface) -> std::result::Result<(), String> {
     Ok(())
 }
 
-/// `count` loads from `min` to `max` [N], evenly spaced in log scale, rounded to 12
+/// `count` loads from `min` to `max` \[N], evenly spaced in log scale, rounded to 12
 /// significant digits so that decades come out exact (1e-3, not 9.999999999999998e-4).
 pub fn log_spaced(min: f64, max: f64, count: usize) -> Vec<f64> {
     if count == 1 {
@@ -1227,27 +1265,27 @@ macro_rules! quantity {
 }
 
 quantity!(
-    /// A length [m].
+    /// A length \[m].
     Length,
     LENGTH
 );
 quantity!(
-    /// A force [N].
+    /// A force \[N].
     Force,
     FORCE
 );
 quantity!(
-    /// A stress or modulus [Pa].
+    /// A stress or modulus \[Pa].
     Stress,
     PRESSURE
 );
 quantity!(
-    /// A time [s].
+    /// A time \[s].
     Time,
     TIME
 );
 
-/// A physical size (lx, ly) [m]: one length for a square, or two.
+/// A physical size (lx, ly) \[m]: one length for a square, or two.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Size(pub Length, pub Length);
 

@@ -63,7 +63,7 @@ impl Results {
 /// One result: one topography × friction law × load, with one sharing of the tangential force.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Row {
-    /// Normal load N [N].
+    /// Normal load N \[N].
     pub load_n: f64,
     /// Topography name.
     pub topography: String,
@@ -74,8 +74,9 @@ pub struct Row {
     /// How the tangential force is shared among the elements (records of earlier runs: equal).
     #[serde(default)]
     pub sharing: Sharing,
-    /// Local static and dynamic friction coefficients of the law.
+    /// Local static friction coefficient mu_s of the law.
     pub mu_s: f64,
+    /// Local dynamic friction coefficient mu_d of the law.
     pub mu_d: f64,
     /// Contact elements (pixels with p > 0).
     pub contact_points: usize,
@@ -83,7 +84,7 @@ pub struct Row {
     pub patches: usize,
     /// Fraction of the window in contact.
     pub contact_fraction: f64,
-    /// Largest local pressure [Pa].
+    /// Largest local pressure \[Pa].
     pub max_pressure_pa: f64,
     /// Fraction of the load carried within 2 % of the window's edges (at least 2 pixels).
     pub edge_load_fraction: f64,
@@ -98,22 +99,34 @@ pub struct Row {
     /// Element classes at the critical state (the peak of the friction force): count, fraction
     /// of N, fraction of F_S. Under elastic sharing: critical = not slipped before, on its bound
     /// μ_s p; pre-sliding = slipped before the peak; subcritical = stuck below its bound.
+    ///
+    /// Critical elements (stuck at the stress ratio mu_s): their number.
     pub critical_count: usize,
+    /// Fraction of N the critical elements carry.
     pub critical_normal_fraction: f64,
+    /// Fraction of F_S the critical elements carry.
     pub critical_friction_fraction: f64,
+    /// Pre-sliding elements (slipped before the peak, at mu_d): their number.
     pub pre_sliding_count: usize,
+    /// Fraction of N the pre-sliding elements carry.
     pub pre_sliding_normal_fraction: f64,
+    /// Fraction of F_S the pre-sliding elements carry.
     pub pre_sliding_friction_fraction: f64,
+    /// Subcritical elements (stuck below mu_s): their number.
     pub subcritical_count: usize,
+    /// Fraction of N the subcritical elements carry.
     pub subcritical_normal_fraction: f64,
+    /// Fraction of F_S the subcritical elements carry.
     pub subcritical_friction_fraction: f64,
-    /// Contact solver iterations and wall-clock time [s] of the solve this row comes from.
+    /// Contact solver iterations of the solve this row comes from.
     pub iterations: usize,
+    /// Wall-clock time \[s] of that solve.
     pub seconds: f64,
     /// Elastic sharing only: the tangential solver's iterations, summed over the path to
-    /// sliding, and the path's wall-clock time [s].
+    /// sliding.
     #[serde(default)]
     pub slide_iterations: Option<usize>,
+    /// Elastic sharing only: the path's wall-clock time \[s].
     #[serde(default)]
     pub slide_seconds: Option<f64>,
 }
@@ -261,13 +274,21 @@ pub struct SolveFacts {
     /// Whether the solve capped the pressure at the hardness.
     #[serde(default)]
     pub plastic: bool,
+    /// Contact elements (pixels with p > 0).
     pub contact_points: usize,
+    /// Contact patches (4-connected clusters).
     pub patches: usize,
+    /// Fraction of the window in contact.
     pub contact_fraction: f64,
+    /// Largest local pressure \[Pa].
     pub max_pressure_pa: f64,
+    /// Fraction of the load carried within 2 % of the window's edges (at least 2 pixels).
     pub edge_load_fraction: f64,
+    /// Fraction of the load carried at p ≥ the material's hardness (none when none is given).
     pub load_above_hardness_fraction: Option<f64>,
+    /// Solver iterations.
     pub iterations: usize,
+    /// Wall-clock time of the solve \[s].
     pub seconds: f64,
 }
 
@@ -308,16 +329,17 @@ impl SolveFacts {
 /// whole window), with where that box sits in the window.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MapSnapshot {
+    /// Topography name.
     pub topography: String,
-    /// Normal load N [N].
+    /// Normal load N \[N].
     pub load_n: f64,
-    /// Pressure [Pa] on the box, shape (rows, columns).
+    /// Pressure \[Pa] on the box, shape (rows, columns).
     pub pressure: Array2<f64>,
     /// (row, column) of the box's first pixel in the window.
     pub origin: (usize, usize),
     /// The window's grid (ny, nx).
     pub grid: (usize, usize),
-    /// Pixel size (dx, dy) [m].
+    /// Pixel size (dx, dy) \[m].
     pub pixel_size: (f64, f64),
     /// The contact's stuck tangential stiffness K_t [N/m] ([`crate::friction::stuck_stiffness`]
     /// on the solve's contact set), which gives the elements k_t = K_t / n and δ in metres:
@@ -372,7 +394,7 @@ impl MapSnapshot {
         })
     }
 
-    /// Area of one pixel [m²].
+    /// Area of one pixel \[m²].
     pub fn pixel_area(&self) -> f64 {
         self.pixel_size.0 * self.pixel_size.1
     }
@@ -472,17 +494,25 @@ pub const COARSENING: [usize; 2] = [2, 4];
 /// `coarsening` times coarser than the study's (1: the study's own).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResolutionRow {
+    /// Pixel size as a multiple of the study's (1: the study's own grid).
     pub coarsening: usize,
-    /// Pixel size along x [m].
+    /// Pixel size along x \[m].
     pub pixel_size_m: f64,
+    /// Normal load N \[N].
     pub load_n: f64,
+    /// Topography name.
     pub topography: String,
+    /// Friction law name.
     pub law: String,
+    /// Contact elements (pixels with p > 0) on this grid.
     pub contact_points: usize,
+    /// F_S / (mu_d N) on this grid.
     pub friction_drop: f64,
 }
 
 impl ResolutionRow {
+    /// The resolution row of `row`, solved on a grid `coarsening` times coarser, of pixel size
+    /// `pixel_size_m` \[m].
     pub fn new(coarsening: usize, pixel_size_m: f64, row: &Row) -> ResolutionRow {
         ResolutionRow {
             coarsening,
@@ -496,7 +526,7 @@ impl ResolutionRow {
     }
 }
 
-/// The loads [N] at which the paper shows maps, distributions, curves and movies; a study keeps
+/// The loads \[N] at which the paper shows maps, distributions, curves and movies; a study keeps
 /// a [`MapSnapshot`] of its first topography at the swept load nearest to each (in log scale).
 pub const FIGURE_LOADS_N: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
@@ -516,17 +546,17 @@ pub struct Records {
     pub topographies: Vec<String>,
     /// Friction laws, in the study's order; maps, curves and movies use the first.
     pub laws: Vec<FrictionLaw>,
-    /// The hold time [s] of each law, where known (matches measured points to laws).
+    /// The hold time \[s] of each law, where known (matches measured points to laws).
     pub hold_times: Vec<Option<f64>>,
     /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only).
     pub modulus_ratios: Vec<f64>,
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: Vec<ResolutionRow>,
-    /// Loads [N] of the hold-time figure.
+    /// Loads \[N] of the hold-time figure.
     pub hold_time_loads: Vec<f64>,
     /// p(σ) on a logarithmic density axis.
     pub log_density: bool,
-    /// The hardness [Pa] marked on p(σ), when the study sets one.
+    /// The hardness \[Pa] marked on p(σ), when the study sets one.
     pub hardness_pa: Option<f64>,
     /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
     pub grid: Option<(usize, usize)>,
@@ -544,7 +574,7 @@ pub struct Records {
 mod tests {
     use super::*;
 
-    /// No record holds a NaN (issue 33 F: written as null, no later run could read it back).
+    /// No record holds a NaN (JSON would write it as null, which no later run could read back).
     #[test]
     fn a_non_finite_row_is_refused() {
         let law = FrictionLaw::new(0.6, 0.4).unwrap();

@@ -16,7 +16,7 @@
 //! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
 //!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order),
 //!   the one the friction curve draws with its contact's stuck tangential stiffness K_t;
-//! - `pressure/<topography>/NN.npy`: every full pressure map [Pa], when asked for (a plastic
+//! - `pressure/<topography>/NN.npy`: every full pressure map \[Pa], when asked for (a plastic
 //!   sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
 //! - `figures/`, `index.html`: the figures and their report, written by `crate::report` while
 //!   the run's results lock is held (see [`Outcome::records`]);
@@ -37,7 +37,7 @@
 //!   names there (and under `pressure/`), so no name collides with the run's own files.
 //!
 //! Units of work are pieces of a sweep's chain of loads: a whole chain, or with a
-//! [shard](super::shard) its share of the chains. A piece starts cold at its first load. A
+//! [shard] its share of the chains. A piece starts cold at its first load. A
 //! shard writes its solves only (records, snapshots, maps); a run without a shard solves what
 //! is missing, going on from the map a piece that ended before a gap kept, and writes the
 //! table and figures.
@@ -155,11 +155,31 @@ pub enum Progress<'a> {
     /// Before the first solve: `done` of the `total` solves were finished by an earlier run,
     /// and `onsets_done` of the `onsets` elastic-sharing onsets those solves run (one per law
     /// and solve of the study's own grid; they take most of such a run's time).
-    Start { total: usize, done: usize, onsets: usize, onsets_done: usize },
+    Start {
+        /// Solves of the run's share.
+        total: usize,
+        /// Of those, solves an earlier run finished.
+        done: usize,
+        /// Elastic-sharing onsets of the run's share.
+        onsets: usize,
+        /// Of those, onsets an earlier run recorded.
+        onsets_done: usize,
+    },
     /// The elastic-sharing onset of one law on a (topography, load) solve finished and was
     /// recorded (before that solve's `Solved`): its tangential solver iterations and seconds.
     /// Onsets an earlier run recorded are not run again, nor reported.
-    Slid { topography: &'a str, load_n: f64, law: &'a str, iterations: usize, seconds: f64 },
+    Slid {
+        /// Topography name.
+        topography: &'a str,
+        /// Normal load N \[N].
+        load_n: f64,
+        /// Friction law name.
+        law: &'a str,
+        /// Tangential solver iterations, summed over the path to sliding.
+        iterations: usize,
+        /// Wall-clock time of the onset \[s].
+        seconds: f64,
+    },
     /// An elastic-sharing onset under way took a displacement step (one may take minutes: a
     /// log shows it is alive): its refinement `level` (0 on the path from δ = 0, up to
     /// [`crate::friction::SLIDE_LEVELS`]), its `steps` and tangential `solves` so far, the
@@ -167,17 +187,34 @@ pub enum Progress<'a> {
     /// and the run with [`Error::Interrupted`]; the onset is not recorded (the onsets finished
     /// are).
     Sliding {
+        /// Topography name.
         topography: &'a str,
+        /// Normal load N \[N].
         load_n: f64,
+        /// Friction law name.
         law: &'a str,
+        /// Refinement level of the step (0: the path from δ = 0).
         level: usize,
+        /// Displacement steps so far.
         steps: usize,
+        /// Tangential solves so far.
         solves: usize,
+        /// The largest tangential force so far over mu_d N.
         largest_drop: f64,
+        /// Wall-clock time of the onset so far \[s].
         seconds: f64,
     },
     /// One (topography, load) solve finished.
-    Solved { topography: &'a str, load_n: f64, iterations: usize, seconds: f64 },
+    Solved {
+        /// Topography name.
+        topography: &'a str,
+        /// Normal load N \[N].
+        load_n: f64,
+        /// Normal contact solver iterations.
+        iterations: usize,
+        /// Wall-clock time of the solve \[s].
+        seconds: f64,
+    },
 }
 
 /// What a run did.
@@ -187,12 +224,14 @@ pub struct Outcome {
     pub rows: Vec<Row>,
     /// The solves of this run's share: all of the study's, or a shard's.
     pub share: usize,
-    /// Of those, solves run now, and solves found finished by an earlier run.
+    /// Of those, solves run now.
     pub solved: usize,
+    /// Of those, solves found finished by an earlier run.
     pub resumed: usize,
-    /// Elastic onsets run now, and those of the solves run now that an earlier run had
-    /// finished (and recorded) before it stopped.
+    /// Elastic onsets run now.
     pub onsets: usize,
+    /// Elastic onsets of the solves run now that an earlier run had finished (and recorded)
+    /// before it stopped.
     pub onsets_resumed: usize,
     /// What the figures and the report are drawn from; none for a shard.
     pub records: Option<Records>,
@@ -474,17 +513,17 @@ impl Study {
         self.claim(dir, false, &[]).map(drop)
     }
 
-    /// The study as it runs: paths absolute, loads explicit.
     /// Names the study in errors: its file, or "default study".
     pub fn origin(&self) -> &str {
         &self.origin
     }
 
+    /// The study as it runs: paths absolute, loads explicit.
     pub fn config(&self) -> &StudyConfig {
         &self.config
     }
 
-    /// The loads [N], ascending.
+    /// The loads \[N], ascending.
     pub fn loads(&self) -> &[f64] {
         &self.loads
     }

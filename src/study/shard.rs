@@ -18,6 +18,7 @@ use std::str::FromStr;
 pub struct Shard {
     /// From 1 to `count`.
     pub index: usize,
+    /// The number of shards N the study is split into.
     pub count: usize,
 }
 
@@ -50,7 +51,10 @@ impl fmt::Display for Shard {
 /// `sweep`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Piece {
+    /// Index of the sweep (a topography or a coarser copy of it, elastic or plastic) in the
+    /// study's order.
     pub sweep: usize,
+    /// Indices of the loads of this piece, ascending, within the sweep's load list.
     pub loads: Range<usize>,
 }
 

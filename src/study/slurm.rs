@@ -13,8 +13,10 @@ use crate::output;
 const MARK: &str = "# Written by asperity slurm";
 /// The folder of the scripts and the jobs' logs in the study's DIR.
 pub const FOLDER: &str = "slurm";
-/// The scripts' names in [`FOLDER`].
+/// The name in [`FOLDER`] of the script that runs the shards (a Slurm job array).
 pub const SHARDS: &str = "shards.sh";
+/// The name in [`FOLDER`] of the script of the job that writes the table, figures and report
+/// once every shard is done.
 pub const ASSEMBLE: &str = "assemble.sh";
 
 /// What the scripts run and ask of the scheduler.
@@ -29,9 +31,12 @@ pub struct SlurmJob {
     pub dir: PathBuf,
     /// Number of shards N (array tasks 1 to N).
     pub shards: usize,
-    /// `--partition`, `--time` (Slurm's forms: minutes, `H:MM:SS`, `D-HH`…), `--mem` (`4G`).
+    /// Slurm's `--partition`; none: the cluster's default.
     pub partition: Option<String>,
+    /// Slurm's `--time` per job (Slurm's forms: minutes, `H:MM:SS`, `D-HH`…); none: the
+    /// partition's default.
     pub time: Option<String>,
+    /// Slurm's `--mem` per job (`4G`); none: the partition's default.
     pub mem: Option<String>,
     /// CPUs per task, 1 to [`MAX_THREADS`]; the solver then uses as many threads.
     pub cpus: Option<usize>,

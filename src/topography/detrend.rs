@@ -121,19 +121,19 @@ fn legendre_table(n: usize, degree: usize) -> Vec<Vec<f64>> {
 /// A sphere fitted to a topography by least squares on the heights.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SphereFit {
-    /// Radius of curvature [m]: positive when the apex is the highest point (a ball, the
+    /// Radius of curvature \[m]: positive when the apex is the highest point (a ball, the
     /// contact solver's convention), negative for a bowl.
     pub radius: f64,
-    /// Apex position (x, y) [m] in the map's coordinates (sample (row j, column i) at (i·dx, j·dy)).
+    /// Apex position (x, y) \[m] in the map's coordinates (sample (row j, column i) at (i·dx, j·dy)).
     pub apex: (f64, f64),
-    /// Height of the apex [m].
+    /// Height of the apex \[m].
     pub apex_height: f64,
-    /// RMS height of the residual about the sphere [m].
+    /// RMS height of the residual about the sphere \[m].
     pub rms_residual: f64,
 }
 
 impl SphereFit {
-    /// Height of the sphere at (x, y) [m]: the exact cap, `NaN` beyond its rim.
+    /// Height of the sphere at (x, y) \[m]: the exact cap, `NaN` beyond its rim.
     pub fn height(&self, x: f64, y: f64) -> f64 {
         let rho2 = (x - self.apex.0).powi(2) + (y - self.apex.1).powi(2);
         self.apex_height - sag(1.0 / self.radius, rho2)

@@ -24,24 +24,26 @@ use ndarray::Array2;
 /// 2 or 1). What needs a map reads with [`io::read`], which refuses a profile.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AnyTopography {
+    /// A height map h(x, y) on a regular grid.
     Map(Topography),
+    /// A line profile h(x).
     Profile(profile::Profile),
 }
 
-/// The largest magnitude of a height or a size asperity takes [m]: far beyond any surface,
+/// The largest magnitude of a height or a size asperity takes \[m]: far beyond any surface,
 /// and small enough that the fourth powers and Fourier sums of the statistics stay finite.
 pub const MAX_LENGTH_M: f64 = 1e50;
 
-/// The smallest physical size [m]: its inverse (a wavevector, a slope) stays finite too.
+/// The smallest physical size \[m]: its inverse (a wavevector, a slope) stays finite too.
 pub const MIN_SIZE_M: f64 = 1e-50;
 
 /// A height map.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Topography {
-    /// Heights [m], shape (ny, nx): row index = y, column index = x. `NaN` marks a missing
+    /// Heights \[m], shape (ny, nx): row index = y, column index = x. `NaN` marks a missing
     /// point, kept as such until the user decides to fill or refuse it.
     pub heights: Array2<f64>,
-    /// Physical size (lx, ly) [m], or `None` when the source carries none (a bare array).
+    /// Physical size (lx, ly) \[m], or `None` when the source carries none (a bare array).
     pub physical_size: Option<(f64, f64)>,
     /// Whether the map repeats across its edges (synthetic surfaces may; measurements do not).
     pub periodic: bool,

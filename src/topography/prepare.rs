@@ -24,7 +24,7 @@ pub struct Preparation {
     pub fill_missing: bool,
     /// Levelling.
     pub detrend: Detrend,
-    /// Pixel size to resample to [m].
+    /// Pixel size to resample to \[m].
     pub pixel_size: Option<f64>,
     /// Grid (nx, ny) to resample to over the same window.
     pub grid: Option<(usize, usize)>,

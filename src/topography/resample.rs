@@ -26,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::limits::{check_memory, grid_memory, Limits, RESAMPLE_BYTES_PER_POINT};
 
 impl Topography {
-    /// Pixel size (dx, dy) [m]; an error naming the topography when it has no physical size
+    /// Pixel size (dx, dy) \[m]; an error naming the topography when it has no physical size
     /// (`purpose` says what needs it).
     pub fn pixel_size(&self, purpose: &str) -> Result<(f64, f64)> {
         let (lx, ly) = self
@@ -48,9 +48,19 @@ impl Topography {
 #[derive(Debug, Clone, PartialEq)]
 pub enum CropWindow {
     /// Column range `x` and row range `y`, 0-based, end excluded.
-    Pixels { x: Range<usize>, y: Range<usize> },
-    /// Physical ranges [x0, x1) and [y0, y1) [m]: keeps the samples whose position lies inside.
-    Physical { x: (f64, f64), y: (f64, f64) },
+    Pixels {
+        /// Columns kept.
+        x: Range<usize>,
+        /// Rows kept.
+        y: Range<usize>,
+    },
+    /// Physical ranges [x0, x1) and [y0, y1) \[m]: keeps the samples whose position lies inside.
+    Physical {
+        /// (x0, x1) \[m].
+        x: (f64, f64),
+        /// (y0, y1) \[m].
+        y: (f64, f64),
+    },
 }
 
 /// The part of `topo` inside `window`. The pixel size is kept; the result is periodic only
@@ -110,7 +120,7 @@ fn samples_within(a: f64, b: f64, d: f64, n: usize) -> Range<usize> {
     (first.min(n as f64) as usize)..(end.min(n as f64) as usize)
 }
 
-/// `topo` resampled to a pixel size as close to `pixel_size` [m] as the physical size allows:
+/// `topo` resampled to a pixel size as close to `pixel_size` \[m] as the physical size allows:
 /// the physical size is kept, the number of points along each axis is `round(l / pixel_size)`
 /// (refused below 2), so the pixel size becomes `l / round(l / pixel_size)`.
 pub fn resample(topo: &Topography, pixel_size: f64, limits: &Limits) -> Result<Topography> {

@@ -21,13 +21,13 @@ use crate::fft::Fft2;
 /// Moments of the defined heights.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeightStats {
-    /// Mean height [m].
+    /// Mean height \[m].
     pub mean: f64,
-    /// RMS height about the mean (Rq, Sq) [m].
+    /// RMS height about the mean (Rq, Sq) \[m].
     pub rms_height: f64,
-    /// Skewness m3/m2^(3/2) [1]; `NaN` for a flat map.
+    /// Skewness m3/m2^(3/2) \[1]; `NaN` for a flat map.
     pub skewness: f64,
-    /// Kurtosis m4/m2² [1] (3 for Gaussian heights, not the excess); `NaN` for a flat map.
+    /// Kurtosis m4/m2² \[1] (3 for Gaussian heights, not the excess); `NaN` for a flat map.
     pub kurtosis: f64,
     /// Number of defined (non-`NaN`) points.
     pub defined: usize,
@@ -54,7 +54,7 @@ pub fn height_stats(topo: &Topography) -> Result<HeightStats> {
     Ok(HeightStats { mean, rms_height: m2.sqrt(), skewness, kurtosis, defined })
 }
 
-/// RMS slope [1]: √(⟨(∂h/∂x)²⟩ + ⟨(∂h/∂y)²⟩) with each derivative a forward difference
+/// RMS slope \[1]: √(⟨(∂h/∂x)²⟩ + ⟨(∂h/∂y)²⟩) with each derivative a forward difference
 /// (h(i+1) − h(i))/dx averaged over the pairs of neighbouring defined points; a periodic map
 /// includes the pairs across its edges. Needs the physical size.
 pub fn rms_slope(topo: &Topography) -> Result<f64> {
@@ -118,7 +118,7 @@ impl Window {
 pub struct Psd {
     /// Wavevector |q| [rad/m]: the mean over the modes of each annulus, ascending.
     pub q: Vec<f64>,
-    /// C(q) [m⁴]: the mean over the modes of each annulus (of a profile [m³], see
+    /// C(q) \[m⁴]: the mean over the modes of each annulus (of a profile \[m³], see
     /// [`profile_psd`]).
     pub c: Vec<f64>,
     /// Number of Fourier modes (over the full q plane) in each annulus (of a profile: ±q).
@@ -182,9 +182,9 @@ pub fn psd(topo: &Topography, window: Window) -> Result<Psd> {
 /// - a periodic map takes every point, its neighbours across the edges.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SlopeCurvature {
-    /// RMS gradient √⟨(∂h/∂x)² + (∂h/∂y)²⟩ [1] (SurfaceTopography's `rms_gradient`).
+    /// RMS gradient √⟨(∂h/∂x)² + (∂h/∂y)²⟩ \[1] (SurfaceTopography's `rms_gradient`).
     pub rms_gradient: f64,
-    /// RMS slope along x √⟨(∂h/∂x)²⟩ [1] (`rms_slope_from_profile`, Rdq).
+    /// RMS slope along x √⟨(∂h/∂x)²⟩ \[1] (`rms_slope_from_profile`, Rdq).
     pub rms_slope_from_profile: f64,
     /// RMS curvature √⟨(∇²h / 2)²⟩ [1/m], half the Laplacian: the mean curvature
     /// (`rms_curvature_from_area`).
@@ -351,7 +351,7 @@ fn refuse_missing_nonuniform(p: &Profile) -> Result<()> {
 }
 
 /// The power spectral density of a uniform line profile after subtracting its mean and
-/// applying `window`: C(q) = |h̃(q)|² / L [m³] with h̃(q) = Σ h(x) e^(−iqx) dx over the profile
+/// applying `window`: C(q) = |h̃(q)|² / L \[m³] with h̃(q) = Σ h(x) e^(−iqx) dx over the profile
 /// of length L = n·dx (SurfaceTopography's `power_spectrum_from_profile`), at q = 2πk/L for
 /// k = 1 … n/2, C(q) and C(−q) averaged (`modes` counts them: 2, and 1 at q = πn/L for even n),
 /// so that (1/L) Σ modes · C is the variance of the windowed heights. Refuses a non-uniform
@@ -434,9 +434,9 @@ pub struct PsdFit {
     pub window_q: (f64, f64),
     /// Log bins in the window.
     pub bins: usize,
-    /// RMS residual of log10 C about the model over the window's bins [decades].
+    /// RMS residual of log10 C about the model over the window's bins \[decades].
     pub rms_residual_log10: f64,
-    /// The RMS residual a random surface's PSD leaves by its scatter alone [decades]: per bin
+    /// The RMS residual a random surface's PSD leaves by its scatter alone \[decades]: per bin
     /// of m independent modes (each power exponentially distributed) log10 e·√ψ′(m), ψ′ the
     /// trigamma function (0.56 for one mode, ≈ 0.43/√m for many); 0 would mean no scatter.
     pub expected_scatter_log10: f64,
@@ -535,8 +535,8 @@ pub fn fit_psd(psd: &Psd, of: SpectrumOf, window: (f64, f64)) -> std::result::Re
     })
 }
 
-/// The wavevectors [rad/m] `topo info --psd-fit` fits for a spectrum of length `length` [m]
-/// and pixel `pixel` [m]: from the smallest (2π/L) without a window, from 3 × 2π/L with a Hann
+/// The wavevectors [rad/m] `topo info --psd-fit` fits for a spectrum of length `length` \[m]
+/// and pixel `pixel` \[m]: from the smallest (2π/L) without a window, from 3 × 2π/L with a Hann
 /// window, whose main lobe (±2 × 2π/L) carries the power of longer wavelengths into the first
 /// annuli; up to π/(2·pixel), half the Nyquist wavevector.
 pub fn psd_fit_window(length: f64, pixel: f64, window: Window) -> (f64, f64) {

@@ -39,9 +39,9 @@ use crate::limits::{check_memory, grid_memory, zeroed, Limits, GENERATE_BYTES_PE
 /// How large the roughness is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Amplitude {
-    /// RMS height [m], about the mean.
+    /// RMS height \[m], about the mean.
     RmsHeight(f64),
-    /// RMS slope [1], as [`super::stats::rms_slope`] measures it (forward differences).
+    /// RMS slope \[1], as [`super::stats::rms_slope`] measures it (forward differences).
     RmsSlope(f64),
 }
 
@@ -55,11 +55,11 @@ pub enum Amplitude {
 pub struct SelfAffine {
     /// Hurst exponent H, 0 < H ≤ 1.
     pub hurst: f64,
-    /// Roll-off wavelength λ_r [m]: the spectrum is flat above it. `None`: no plateau.
+    /// Roll-off wavelength λ_r \[m]: the spectrum is flat above it. `None`: no plateau.
     pub rolloff_wavelength: Option<f64>,
-    /// Short cut-off wavelength λ_s [m]: no roughness below it. `None`: down to the pixel.
+    /// Short cut-off wavelength λ_s \[m]: no roughness below it. `None`: down to the pixel.
     pub short_cutoff_wavelength: Option<f64>,
-    /// Long cut-off wavelength λ_L [m], the largest wavelength present. `None`: up to the
+    /// Long cut-off wavelength λ_L \[m], the largest wavelength present. `None`: up to the
     /// window size.
     pub long_cutoff_wavelength: Option<f64>,
     /// Target RMS height or slope.
@@ -215,7 +215,7 @@ impl SelfAffine {
         }
     }
 
-    /// A periodic self-affine surface of physical size (lx, ly) [m] on an (nx, ny) grid,
+    /// A periodic self-affine surface of physical size (lx, ly) \[m] on an (nx, ny) grid,
     /// zero mean, from `seed`.
     pub fn generate(&self, size: (f64, f64), grid: (usize, usize), seed: u64) -> Result<Topography> {
         self.validate()?;
@@ -368,7 +368,7 @@ pub enum CapShape {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Cap {
-    /// Radius of curvature R [m].
+    /// Radius of curvature R \[m].
     #[serde(rename = "radius_m")]
     pub radius: f64,
     /// Sphere (default) or paraboloid.
@@ -381,7 +381,7 @@ fn default_shape() -> CapShape {
 }
 
 impl Cap {
-    /// Heights [m] of the cap over a window of physical size (lx, ly) [m] on an (nx, ny) grid,
+    /// Heights \[m] of the cap over a window of physical size (lx, ly) \[m] on an (nx, ny) grid,
     /// apex at (lx/2, ly/2) (a sample when n is even). A sphere must cover the window.
     pub fn heights(&self, size: (f64, f64), grid: (usize, usize)) -> Result<Array2<f64>> {
         check_grid(size, grid)?;
@@ -420,10 +420,10 @@ impl Cap {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SyntheticSurface {
-    /// Physical size (lx, ly) [m].
+    /// Physical size (lx, ly) \[m].
     #[serde(rename = "size_m")]
     pub size: (f64, f64),
-    /// Grid (nx, ny) [points].
+    /// Grid (nx, ny) \[points].
     pub grid: (usize, usize),
     /// Roughness, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]

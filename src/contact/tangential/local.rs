@@ -32,7 +32,7 @@ impl TangentialSolver {
     /// [`solve_within`](Self::solve_within) after the bounds changed at the points `changed`
     /// (indices into the contact points) alone, as in a round of a slip cascade. The traction
     /// changes mostly near them (K's inverse is short-ranged), so the tractions within
-    /// [`LOCAL_RADIUS`] pixels of them are first solved for, with the others held, to half the
+    /// `LOCAL_RADIUS` pixels of them are first solved for, with the others held, to half the
     /// tolerance: each group of nearby points as a dense problem of its own, the groups side
     /// by side (their interaction left to what follows). The whole is then solved from there,
     /// as before, and often has converged at the one application that checks it (with one

@@ -3,9 +3,9 @@
 //!
 //! The normal pressure p comes from the normal solve and is not changed (normal and
 //! tangential problems uncoupled: exact for identical bodies, Goodman's approximation
-//! otherwise). Unknown: the shear traction q_i = (q_x, q_y) [Pa] on the contact points. Given a
-//! target surface displacement b_i [m] (the body's displacement minus the slip accumulated
-//! before this increment) and a bound g_i [Pa] (μ_i p_i), q minimises
+//! otherwise). Unknown: the shear traction q_i = (q_x, q_y) \[Pa] on the contact points. Given a
+//! target surface displacement b_i \[m] (the body's displacement minus the slip accumulated
+//! before this increment) and a bound g_i \[Pa] (μ_i p_i), q minimises
 //!
 //! ```text
 //!     Π(q) = ½ qᵀ K q − bᵀ q     subject to |q_i| ≤ g_i,
@@ -26,7 +26,7 @@
 //! 1500², 10 mN, where ‖K‖ is 45 times K's diagonal); proportioning steps that release points
 //! whose gradient pulls them off their bounds, taken when that part of the gradient outweighs
 //! the free part. The conjugate gradient is preconditioned by K's inverse near the diagonal
-//! (its offsets up to [`NEAR`](operator::NEAR) pixels, a pass over each point's neighbours),
+//! (its offsets up to `operator::NEAR` pixels, a pass over each point's neighbours),
 //! scaled at each point by the Hessian's diagonal, K's diagonal plus the curvature term: a point that slipped
 //! far in one increment has a curvature up to 10⁴ times K's diagonal, and without it such
 //! points set the iteration count (measured: 0.47 of the iterations at 256², 10 mN, 0.13 at
@@ -86,7 +86,7 @@ impl Default for Convergence {
     }
 }
 
-/// The memory of a tangential solve on an ny × nx window [bytes], as if its contact spread over
+/// The memory of a tangential solve on an ny × nx window \[bytes], as if its contact spread over
 /// the whole window ([`TANGENTIAL_BYTES_PER_POINT`]), with a dense operator at its largest.
 pub fn solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> u64 {
     let padding = if boundary == Boundary::Free { 4 } else { 1 };
@@ -148,8 +148,8 @@ pub struct TangentialSolver {
 }
 
 impl TangentialSolver {
-    /// The problem on the contact set (p > 0) of `pressure` [Pa] (row-major, `shape`) on a
-    /// window of physical size `size` [m], with the bodies' shear compliance and the boundary
+    /// The problem on the contact set (p > 0) of `pressure` \[Pa] (row-major, `shape`) on a
+    /// window of physical size `size` \[m], with the bodies' shear compliance and the boundary
     /// of the normal solve.
     pub fn new(
         pressure: &[f64],
@@ -231,7 +231,7 @@ impl TangentialSolver {
         self.shape
     }
 
-    /// Area of one pixel [m²].
+    /// Area of one pixel \[m²].
     pub fn pixel_area(&self) -> f64 {
         self.size.0 / self.shape.1 as f64 * (self.size.1 / self.shape.0 as f64)
     }
@@ -241,27 +241,27 @@ impl TangentialSolver {
         &self.points
     }
 
-    /// Normal pressure p [Pa] at the contact points.
+    /// Normal pressure p \[Pa] at the contact points.
     pub fn pressure(&self) -> &[f64] {
         &self.pressure
     }
 
-    /// The normal force N = Σ p · a [N] (one sum, so that every N of a solver is the same bits).
+    /// The normal force N = Σ p · a \[N] (one sum, so that every N of a solver is the same bits).
     pub fn normal_force(&self) -> f64 {
         self.pressure.iter().sum::<f64>() * self.pixel_area()
     }
 
-    /// Shear traction q [Pa] at the contact points, from the last solve.
+    /// Shear traction q \[Pa] at the contact points, from the last solve.
     pub fn traction(&self) -> &[[f64; 2]] {
         &self.traction
     }
 
-    /// Surface displacement u = K q [m] at the contact points, from the last solve.
+    /// Surface displacement u = K q \[m] at the contact points, from the last solve.
     pub fn displacement(&self) -> &[[f64; 2]] {
         &self.displacement
     }
 
-    /// Tangential force Σ q · a [N] of the current traction, (F_x, F_y).
+    /// Tangential force Σ q · a \[N] of the current traction, (F_x, F_y).
     pub fn force(&self) -> [f64; 2] {
         let a = self.pixel_area();
         let (fx, fy) = self.traction.iter().fold((0.0, 0.0), |(x, y), q| (x + q[0], y + q[1]));

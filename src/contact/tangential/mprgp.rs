@@ -40,7 +40,7 @@ const SEARCH: usize = 24;
 const GAMMA: f64 = 1.0;
 
 impl TangentialSolver {
-    /// Solve for the targets `target` b_i [m] and bounds `bound` g_i [Pa] (one per contact
+    /// Solve for the targets `target` b_i \[m] and bounds `bound` g_i \[Pa] (one per contact
     /// point), starting from the last traction.
     pub fn solve(&mut self, target: &[[f64; 2]], bound: &[f64]) -> Result<TangentialReport> {
         self.solve_within(target, bound, self.options.tolerance)

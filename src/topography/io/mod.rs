@@ -7,7 +7,7 @@
 //! What needs a map reads with [`read`], which refuses a profile by name.
 //!
 //! In front of the registry, two layers serve every format: gzip data are inflated
-//! ([`gzip`]), and a member of a zip container is named `archive.zip#member` ([`container`],
+//! (`gzip`), and a member of a zip container is named `archive.zip#member` (`container`,
 //! whose members [`container_members`] lists). Both inflate within the input limits.
 
 mod al3d;
@@ -68,7 +68,7 @@ pub struct Channel {
     /// Values, shape (ny, nx); in metres when `is_height`, as stored otherwise. `NaN` marks
     /// a missing point.
     pub data: Array2<f64>,
-    /// Physical size (lx, ly) [m], when the file states one.
+    /// Physical size (lx, ly) \[m], when the file states one.
     pub physical_size: Option<(f64, f64)>,
     /// The data unit as the file writes it (`"nm"`, `"V"`, `"deg"`…), `None` if it gives none.
     pub unit: Option<String>,
@@ -115,8 +115,9 @@ pub struct ProfileData {
     pub positions: Vec<f64>,
     /// Heights as stored; `NaN` marks a missing point.
     pub heights: Vec<f64>,
-    /// The positions' and the heights' length units as the file writes them, if it does.
+    /// The positions' length unit as the file writes it, if it does.
     pub position_unit: Option<String>,
+    /// The heights' length unit as the file writes it, if it does.
     pub height_unit: Option<String>,
     /// Whether the content says it is a profile rather than a map two points wide (a header, a
     /// format of profiles, enough rows); an undecided file is read only when `--format` says so.
@@ -225,7 +226,7 @@ pub struct ReadOptions {
     pub format: Option<String>,
     /// Channel by name or by 0-based index; default the first height channel.
     pub channel: Option<String>,
-    /// Physical size (lx, ly) [m]: required for bare formats, checked against the file's
+    /// Physical size (lx, ly) \[m]: required for bare formats, checked against the file's
     /// otherwise.
     pub physical_size: Option<(f64, f64)>,
     /// Height unit of a bare file (default metres).

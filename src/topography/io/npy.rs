@@ -10,6 +10,7 @@ use ndarray::{Array2, ShapeBuilder};
 use super::{Channel, Format};
 use crate::quantity::quoted;
 
+/// The reader of `.npy` files (`--format npy`): one height channel, without size or unit.
 pub struct Npy;
 
 impl Format for Npy {
