@@ -1,4 +1,4 @@
-//! Reading the text and Gwyddion Simple Field samples (the issue asks ≤ 50 ms for any sample).
+//! Reading the text and Gwyddion Simple Field samples (target: ≤ 50 ms for any sample).
 
 use std::path::Path;
 

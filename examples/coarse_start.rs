@@ -1,5 +1,6 @@
-//! Does a coarse-grid start lower the cost of a cold contact solve? (issue 15, point 4; the
-//! measurement behind the README's answer: no, so the solver does not do it.)
+//! Does a coarse-grid start lower the cost of a cold contact solve? The measurement behind
+//! the solver's cold start from a uniform pressure: the iterations a coarse start saves on the
+//! fine grid are spent on the coarse one, so the solver does not start from one.
 //!
 //! For a periodic surface saved as `.npy` (square, even side, heights in metres, the paper's
 //! 31.13 µm window) and a load [N], each round solves it three ways, interleaved so that the

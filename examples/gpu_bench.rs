@@ -1,5 +1,5 @@
-//! The GPU normal solve against the CPU's on the same host (issue 38's benchmark, run by
-//! `tools/gpu-check.sh`): the default rough ball (31.13 µm window, roughness on a 1.5 mm
+//! The GPU normal solve against the CPU's on the same host (the benchmark that
+//! `tools/gpu-check.sh` runs): the default rough ball (31.13 µm window, roughness on a 1.5 mm
 //! sphere, seed 1), periodic, at one load (10 mN) and tolerance 1e-10, on N × N grids, each
 //! solve cold. One Markdown row per grid: seconds, iterations, ms per iteration, the GPU's
 //! memory in use during the solve (nvidia-smi), and the GPU's pressure against the CPU's.

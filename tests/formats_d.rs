@@ -156,7 +156,7 @@ fn opdx_survives_mutation() {
 #[test]
 fn the_stylus_profile_printed_to_six_decimals_is_uniform() {
     // Positions 0.000000, 0.000100, 0.000199…: one grid of 0.298684 / 3000 as printed, the
-    // length SurfaceTopography gives (3001 steps), not the last position (issue 34).
+    // length SurfaceTopography gives (3001 steps), not the last position.
     let path =
         PathBuf::from(format!("{}#uncd_stylus_300um_5mar_3_k0HpKJt.txt", common::sample("container-2.zip").display()));
     let opts = ReadOptions { height_unit: Some("m".into()), ..ReadOptions::default() };

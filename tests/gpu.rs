@@ -1,8 +1,8 @@
 //! The GPU backend (`--features gpu`) against the CPU solver on the same problems: pressures
 //! within 1e-9 relative L2 at the same tolerance, 1e-12, and the same contact points. (At the
 //! default 1e-10 the two iterations, each within its tolerance, differ by 1e-9 to 3e-9 on
-//! these grids and up to 2.3e-8 at 16384², with the same contact points: the README's
-//! benchmark.) The capped solve is the CPU's iteration, equal to rounding. Where no GPU
+//! these grids and up to 2.3e-8 at 16384², with the same contact points: the benchmark of
+//! `tools/gpu-check.sh`.) The capped solve is the CPU's iteration, equal to rounding. Where no GPU
 //! can be used (no driver, no device, no CUDA libraries) each test prints one line saying so
 //! and passes; `tools/gpu-check.sh` runs them where there is one.
 #![cfg(feature = "gpu")]

@@ -300,7 +300,7 @@ fn short_holds_are_reported() {
     // --json (and Python) keep a list of reasons.
     assert_eq!(serde_json::to_value(&analysis).unwrap()["skipped"][0], skipped.reason.as_str());
 
-    // The figure marks it (issue 37: holds shorter than --min-duration were not marked).
+    // The figure marks it too: a hold shorter than --min-duration is crossed below the trace.
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("trace.png");
     let figure = asperity::plot::trace_figure(&trace(&s, true), &analysis, &ShsOptions::default());

@@ -265,10 +265,11 @@ fn help_states_the_input_and_the_outputs() {
 }
 
 /// Results the path cannot stand behind are refused in one line, and nothing is written: a
-/// μ(slip) curve whose tail falls below its mean mu_d (issue 33 E: F_S/N 0.4275 below mu_d
-/// 0.4333, exit 0), coefficients whose tractions are not representable (F: 5e-324 wrote null),
-/// and options checked before the normal solve (R: --tolerance 0, --max-iter 0, Q ≥ μN after
-/// it; Q = 1e-300 N ended "not reached after 1600 displacement steps").
+/// μ(slip) curve whose tail falls below its mean mu_d (an F_S/N of 0.4275 below a mu_d of
+/// 0.4333 would be a drop below 1), coefficients whose tractions are not representable
+/// (5e-324 would write null), and options checked before the normal solve (--tolerance 0,
+/// --max-iter 0, Q ≥ μN after it; a Q of 1e-300 N, whose ramp would end only at the step
+/// limit).
 #[test]
 fn refuses_results_outside_the_law_and_options_before_solving() {
     let dir = tempfile::tempdir().unwrap();

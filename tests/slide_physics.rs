@@ -253,7 +253,7 @@ fn mindlin_solver(h: &Hertz) -> TangentialSolver {
 /// (a = 115.2 px), one test per Q/μN so that the harness runs them side by side. Measured at
 /// Q/μN = 0.25, 0.5, 0.75: stick radius 0.15, 0.15, 0.09 px off; δ 3e-7, 9e-7, 2e-7; shear
 /// within 1.65, 1.23, 1.63 % of its peak on the pixels the stick circle crosses, 0.39, 0.43,
-/// 0.34 % on the others, RMS 0.087, 0.072, 0.057 %. So the 2 % of the peak holds on
+/// 0.34 % on the others, RMS 0.087, 0.072, 0.057 %. So the target of 2 % of the peak holds on
 /// every contact pixel (asserted), and off the circle by far (asserted 0.6 %).
 ///
 /// The error on the circle is the pixel-wise stick boundary: a pixel is stuck or slipping as a
@@ -279,7 +279,7 @@ fn cattaneo_mindlin_at_zero_poisson(ratio: f64) {
     eprintln!("ν = 0, Q/μN {ratio}: {m:?}");
     assert!(m.stick_radius.abs() < 0.5, "Q/μN {ratio}: {m:?}");
     assert!(m.displacement.abs() < 1e-3, "Q/μN {ratio}: {m:?}");
-    assert!(m.shear_on_circle < 0.02, "the issue's 2 % of the peak, Q/μN {ratio}: {m:?}");
+    assert!(m.shear_on_circle < 0.02, "the target of 2 % of the peak, Q/μN {ratio}: {m:?}");
     assert!(m.shear_off_circle < 0.006 && m.shear_rms < 0.0015, "Q/μN {ratio}: {m:?}");
     assert!(m.shear_y < 1e-9, "Q/μN {ratio}: {m:?}");
 }

@@ -125,7 +125,7 @@ fn compare(meta: &serde_json::Value, case: &serde_json::Value, coupling: f64, ny
 
 /// asperity's problem with both of Tamaas' terms in the target is Tamaas' problem: the same
 /// shear field and δ at every ν (measured 2.2e-13, 2.8e-13 and 1.0e-12 relative L2 at ν = 0,
-/// 0.26, 0.5; the issue asks 1e-4, the bound here is what Tamaas' own accuracy allows). At
+/// 0.26, 0.5; the target is 1e-4, the bound here is what Tamaas' own accuracy allows). At
 /// ν = 0 nothing of asperity's operator is changed: the term taken from Tamaas is the
 /// pressure's, C p, which asperity's uncoupled model leaves out.
 #[test]

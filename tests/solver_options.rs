@@ -6,9 +6,9 @@ use asperity::contact::{Boundary, ContactSolver, Convergence, ShearCompliance, S
 const E_STAR: f64 = 1.5e11;
 
 /// A tolerance of 1e-2 or more, or no iteration, is refused by the convergence check, and so
-/// by the contact and the tangential solvers built with it (issue 33 G: `contact --tolerance
-/// 1` returned the uniform start after 0 iterations, contact fraction 1.0 where the solution's
-/// is 0.047).
+/// by the contact and the tangential solvers built with it (a tolerance the uniform start
+/// passes would return that start after 0 iterations: with `contact --tolerance 1`, contact
+/// fraction 1.0 where the solution's is 0.047).
 #[test]
 fn tolerances_the_start_passes_are_refused() {
     for tolerance in [1.0, 0.5, 1e-2, 0.0, -1e-6, f64::NAN, f64::INFINITY] {

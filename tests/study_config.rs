@@ -183,10 +183,10 @@ fn files_are_read_before_anything_is_solved() {
     assert!(!dir.path().join("out").exists());
 }
 
-/// Issue 33: a study refuses what `contact` and `slide` refuse, before any solve: a synthetic
-/// surface whose heights span more than its window (H: rms_slope = 1e6 gave ±1.7 m on a 10 µm
-/// window, solved), a tolerance its solver's start passes (G) and a subnormal coefficient (F:
-/// 5e-324 wrote NaN into a solve record that every later run failed to read).
+/// A study refuses what `contact` and `slide` refuse, before any solve: a synthetic surface
+/// whose heights span more than its window (rms_slope = 1e6 gives ±1.7 m on a 10 µm window), a
+/// tolerance its solver's start passes, and a subnormal coefficient (5e-324 would write NaN
+/// into a solve record that no later run could read).
 #[test]
 fn implausible_surfaces_loose_tolerances_and_subnormal_laws_are_refused() {
     let steep = GOOD.replace("rms_height_m = \"22 nm\"", "rms_slope = 1e6").replace("31.13 µm", "10 µm");

@@ -380,7 +380,7 @@ fn bad_snapshot_fractions_are_left_out_with_a_note() {
     assert!(html.contains("outside (0, 1] left out: [0.0, 1.5]"), "{html}");
 }
 
-/// What a referee reads in each figure (issue 37): labels that say what is drawn, a key for
+/// What a referee reads in each figure: labels that say what is drawn, a key for
 /// every colour, no literal markup, no figure-load markers among the friction drop's entries.
 #[test]
 fn figures_say_what_they_show() {
@@ -420,7 +420,7 @@ fn figures_say_what_they_show() {
 }
 
 /// The hold-time figure samples the aging law through the study's two laws, between and beyond
-/// them, and marks the laws (issue 37: two hold times made a straight segment).
+/// them, and marks the laws (two hold times alone would draw a straight segment).
 #[test]
 fn hold_time_samples_the_aging_law() {
     let s = study();

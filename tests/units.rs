@@ -1,4 +1,4 @@
-//! Issue 36: bare numbers in the wrong unit are refused with the unit meant, `onset` runs every
+//! Bare numbers in the wrong unit are refused with the unit meant, `onset` runs every
 //! load of a contact folder, `contact` prints a line per load, and study sections partially
 //! given keep the default's other keys.
 

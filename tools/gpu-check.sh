@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU backend's checks (issue 38) on a machine with an NVIDIA GPU and no network: the GPU
+# The GPU backend's checks on a machine with an NVIDIA GPU and no network: the GPU
 # tests, the CPU-against-GPU benchmark on the same host, and the default study on both devices.
 #
 #   tools/gpu-check.sh --build DIR   here, with Rust: build with --features gpu and pack the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The cost of elastic sharing (issue 35), in one go, on any machine with a copy of the binary
+# The cost of elastic sharing, in one go, on any machine with a copy of the binary
 # (no network, no cargo):
 #
 #   tools/sharing-bench.sh [BINARY] [THREADS] [--quick] [--no-slide]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Convergence of the elastic-sharing onset with the pixel size (issue 35, point 4).
+# Convergence of the elastic-sharing onset with the pixel size.
 #
 # With an instant drop from mu_s to mu_d the onset under elastic sharing has no length of its
 # own: its slip front is set by the pixel. A slip-weakening distance d_c gives it one, the
