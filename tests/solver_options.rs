@@ -59,7 +59,11 @@ fn a_build_without_the_gpu_backend_says_so() {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_asperity")).arg("--version").output().unwrap();
     assert_eq!(
         String::from_utf8(o.stdout).unwrap(),
-        "asperity 0.1.0 (GPU backend: not built; build with --features gpu)\n"
+        format!(
+            "asperity {} (commit {}; GPU backend: not built; build with --features gpu)\n",
+            asperity::VERSION,
+            asperity::COMMIT
+        )
     );
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_asperity"))
         .args(["contact", "s.npy", "--load", "1mN", "--device", "gpu", "--out", "o"])
