@@ -69,7 +69,7 @@ struct InfoArgs {
     /// definitions for line scans. A map in metres with a size and no missing point adds
     /// SurfaceTopography's rms_gradient [1] (√⟨|∇h|²⟩), rms_slope_from_profile [1] (along x),
     /// rms_curvature_from_area_per_m [1/m] (half the Laplacian) and
-    /// rms_curvature_from_profile_per_m [1/m] (along x); see the README for the differences.
+    /// rms_curvature_from_profile_per_m [1/m] (along x); docs/your-scan.md says how they differ.
     /// With --psd-fit, psd_fit (see there).
     #[arg(long)]
     json: bool,

@@ -81,10 +81,9 @@ pub const QUICK_LOADS: usize = 7;
 
 /// The slip-weakening distance d_c \[m] of elastic sharing when the study gives none: μ falls
 /// linearly from mu_s to mu_d over 2 nm of slip. With the instant drop the onset under elastic
-/// sharing has no length of its own and its drop falls with the pixel (default ball, 0.4 mN,
-/// "hold 100 s": 1.042, 1.014, 1.007 on pixels of 41.5, 20.75, 10.4 nm); with d_c = 2 nm the
-/// nucleation length G d_c / ((mu_s − mu_d) p) is resolved and the drop converges (1.1632,
-/// 1.1578, 1.1575): `tools/sharing-convergence.sh`, the README's convergence figure.
+/// sharing has no length of its own and its drop falls with the pixel; with d_c = 2 nm the
+/// nucleation length G d_c / ((mu_s − mu_d) p) is resolved on the default study's pixel and the
+/// drop converges (`tools/sharing-convergence.sh`; its figure in docs/results.md).
 pub const DEFAULT_SLIP_DISTANCE_M: f64 = 2e-9;
 
 /// The most loads a study takes: each is a contact solve of every topography.

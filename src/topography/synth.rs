@@ -135,7 +135,7 @@ impl SelfAffine {
     /// at 0.1 mN 30–100 elements in a few patches close together, many patches at 10 mN, local
     /// pressures below silicon's hardness (12 GPa) up to 10 mN; without the short cut-off the
     /// surface is rough down to the pixel (RMS slope ≈ 0.1) and touches in scattered patches
-    /// at 15–30 GPa. (The README's calibration table gives the numbers.)
+    /// at 15–30 GPa. (docs/results.md gives the default study's numbers.)
     pub fn silicon_ball() -> Self {
         SelfAffine {
             hurst: 0.8,
