@@ -162,6 +162,25 @@ def test_the_quick_table_lists_every_load_and_the_elastic_table_both_sharings(tm
     assert rc == 2 and "one sharing only" in err
 
 
+def test_the_balls_table_gives_each_topographys_contact_at_three_loads(tmp_path):
+    results = tiny_results()
+    for r in results["rows"]:
+        r["patches"] = 2 + (r["topography"] == "ball-2")
+        r["max_pressure_pa"] = 1e9 * (1 + 10 * r["load_n"]) + 0.5e9 * (r["topography"] == "ball-2")
+    doc = tmp_path / "page.md"
+    doc.write_text("<!-- docs-tables: balls begin -->\n<!-- docs-tables: balls end -->\n", encoding="utf-8")
+    rc, _, err = tables("render", "balls", write_json(tmp_path / "r.json", results), doc)
+    assert rc == 0, err
+    text = doc.read_text(encoding="utf-8")
+    assert "| topography | 0.1 mN: elements, patches | 1 mN: elements, patches | 10 mN: elements, patches |" in text
+    assert "| ball-1 | 31, 2 | 41, 2 | 51, 2 | 1.0 / 1.0 / 1.1 GPa |" in text
+    assert "| ball-2 | 32, 3 | 42, 3 | 52, 3 | 1.5 / 1.5 / 1.6 GPa |" in text
+    # A run without 10 mN cannot describe the balls there.
+    results["rows"] = [r for r in results["rows"] if r["load_n"] != 1e-2]
+    rc, _, err = tables("render", "balls", write_json(tmp_path / "s.json", results), doc)
+    assert rc == 2 and "10 mN" in err
+
+
 def test_an_unclosed_region_is_refused_and_nothing_written(tmp_path):
     results = write_json(tmp_path / "results.json", tiny_results())
     for broken in (
