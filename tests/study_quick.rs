@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 use std::process::Command;
 
-use asperity::study::{MapSnapshot, Results, Row};
+use asperity::study::{MapSnapshot, Results};
 
 #[test]
 fn the_quick_study_shows_the_friction_drop_falling_with_load() {

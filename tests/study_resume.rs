@@ -90,7 +90,7 @@ fn a_killed_run_resumes_to_the_uninterrupted_results() {
     // The same in results.json, bit for bit apart from the timings.
     let json = |p: &Path| {
         let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
-        v.as_array_mut().unwrap().iter_mut().for_each(|r| r["seconds"] = 0.into());
+        v["rows"].as_array_mut().unwrap().iter_mut().for_each(|r| r["seconds"] = 0.into());
         v
     };
     assert_eq!(json(&killed.join("results.json")), json(&dir.path().join("whole/results.json")));
