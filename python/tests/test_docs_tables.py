@@ -277,7 +277,7 @@ def test_check_says_a_table_is_older_than_a_later_solver_change(tmp_path):
     (repo / "src" / "contact").mkdir(parents=True)
     (repo / "docs").mkdir()
     git(repo, "init", "-q")
-    (repo / "src" / "contact" / "solver.rs").write_text("// one\n", encoding="utf-8")
+    (repo / "src" / "contact" / "solver.rs").write_text("// one\nfn a() {}\n", encoding="utf-8")
     page = repo / "docs" / "results.md"
     page.write_text("# Results\n<!-- docs-tables: default begin -->\n<!-- docs-tables: default end -->\n", encoding="utf-8")
     git(repo, "add", "-A")
@@ -298,7 +298,20 @@ def test_check_says_a_table_is_older_than_a_later_solver_change(tmp_path):
     assert rc == 0 and f"computed at commit {computed}" in out and "current" in out and "older" not in out, out
     assert tables("check", "--strict", page)[0] == 0
 
-    (repo / "src" / "contact" / "solver.rs").write_text("// two\n", encoding="utf-8")
+    # A comment cannot change a number: the table stays current.
+    (repo / "src" / "contact" / "solver.rs").write_text("/// two\nfn a() {}\n", encoding="utf-8")
+    git(repo, "commit", "-q", "-am", "a comment")
+    rc, out, _ = tables("check", page)
+    assert rc == 0 and "current" in out and "older" not in out, out
+    # Nor can reformatting (rustfmt splitting a list over lines, with its trailing comma).
+    (repo / "src" / "contact" / "solver.rs").write_text("/// two\nfn a(\n    x: u8,\n) {}\n", encoding="utf-8")
+    git(repo, "commit", "-q", "-am", "an argument")
+    (repo / "src" / "contact" / "solver.rs").write_text("/// two\nfn a(x: u8) {}\n", encoding="utf-8")
+    git(repo, "commit", "-q", "-am", "reformatted")
+    rc, out, _ = tables("check", page)
+    assert rc == 0 and "older" in out and "an argument" in out and "reformatted" not in out, out
+
+    (repo / "src" / "contact" / "solver.rs").write_text("/// two\nfn a(x: u8) { b() }\n", encoding="utf-8")
     git(repo, "commit", "-q", "-am", "a faster solver")
     newest = git(repo, "rev-parse", "--short", "HEAD")
     rc, out, _ = tables("check", page)
