@@ -24,20 +24,9 @@ import numpy as np
 import pytest
 
 import asperity as ap
+from conftest import cli
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def cli():
-    """The asperity binary, or skip when this checkout has none and none was named."""
-    named = os.environ.get("ASPERITY_CLI")
-    if named:
-        assert Path(named).is_file(), f"ASPERITY_CLI={named} does not exist"
-        return named
-    built = ROOT / "target" / "release" / "asperity"
-    if not built.is_file():
-        pytest.skip("no asperity binary: run `cargo build --release` or set ASPERITY_CLI")
-    return str(built)
 
 
 def run_cli(*args):

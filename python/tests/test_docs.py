@@ -6,17 +6,14 @@ target/release/asperity of this checkout (skipped when neither exists).
 """
 
 import inspect
-import os
 import re
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import asperity as ap
-
-ROOT = Path(__file__).resolve().parents[2]
+from conftest import cli
 
 # Data, not callables: the package's docstring describes them.
 DATA = {"PRESETS", "__version__"}
@@ -92,17 +89,6 @@ def test_the_stated_tolerance_is_the_solvers_default():
     assert (default.iterations, default.residual) == (explicit.iterations, explicit.residual)
     assert np.array_equal(default.pressure, explicit.pressure)
     assert looser.iterations < default.iterations
-
-
-def cli():
-    named = os.environ.get("ASPERITY_CLI")
-    if named:
-        assert Path(named).is_file(), f"ASPERITY_CLI={named} does not exist"
-        return named
-    built = ROOT / "target" / "release" / "asperity"
-    if not built.is_file():
-        pytest.skip("no asperity binary: run `cargo build --release` or set ASPERITY_CLI")
-    return str(built)
 
 
 def test_contact_defaults_are_the_command_lines():
