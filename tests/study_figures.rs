@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 use asperity::contact::{
     summarize, Boundary, ContactSolver, Material, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
-use asperity::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
+use asperity::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening, PEAK_TOLERANCE};
 use asperity::plot::study::render;
 use asperity::plot::FigureInput;
 use asperity::shs::ShsPoint;
@@ -99,7 +99,7 @@ fn study() -> &'static Study {
                     .unwrap();
                     for law in &laws {
                         let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
-                        let onset = elastic_onset(&mut tangential, &slip, |_| {}).unwrap();
+                        let onset = elastic_onset(&mut tangential, &slip, PEAK_TOLERANCE, |_| {}).unwrap();
                         elastic.push(Row::elastic(&name, load, &facts, law, &onset, 0.0));
                     }
                 }

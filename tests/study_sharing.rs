@@ -235,6 +235,7 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
     let slid = std::sync::atomic::AtomicUsize::new(0);
     // Each onset run reports its steps as it goes (their count rising), before it is done.
     let steps = std::sync::Mutex::new(std::collections::HashMap::new());
+    let searched = std::sync::Mutex::new(std::collections::HashMap::new());
     let count = |event: Progress| match event {
         Progress::Slid { topography, load_n, law, iterations, .. } => {
             assert!(law.starts_with("hold") && iterations > 0);
@@ -242,10 +243,14 @@ fn a_break_at_an_elastic_onset_interrupts_and_the_run_resumes() {
             assert!(steps.lock().unwrap().get(&key).is_some_and(|s| *s > 0), "{key:?}");
             slid.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         }
-        Progress::Sliding { topography, load_n, law, level, steps: n, solves, largest_drop, .. } => {
-            assert!(level <= asperity::friction::SLIDE_LEVELS && solves >= n);
+        Progress::Sliding { topography, load_n, law, stage, steps: n, solves, largest_drop, .. } => {
+            assert!(solves >= n);
             assert!(largest_drop > 0.0 && largest_drop < 0.6 / 0.4 * (1.0 + 1e-9), "{largest_drop}");
             let key = (topography.to_string(), load_n.to_bits(), law.to_string());
+            // The march, then the search: never back.
+            let searching = stage == asperity::friction::SlideStage::Search;
+            let last = searched.lock().unwrap().insert(key.clone(), searching);
+            assert!(searching || last != Some(true), "{key:?} marched after its search");
             let last = steps.lock().unwrap().insert(key, n);
             assert!(last.is_none_or(|last| n > last), "{last:?} then {n}");
         }

@@ -23,7 +23,7 @@ use asperity::contact::{
 };
 use asperity::friction::{
     elastic_onset, ramp_force, slip_curve_file, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading,
-    Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening,
+    Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening, PEAK_TOLERANCE,
 };
 use asperity::limits::{self as core_limits, Limits};
 use asperity::plausible::{self, Spelling, Verdict};
@@ -1608,7 +1608,7 @@ fn slide(
     let (solver, onset, equal) = py
         .detach(|| {
             let mut solver = TangentialSolver::new(&pressure, shape, size, compliance, boundary, options)?;
-            let onset = elastic_onset(&mut solver, &law, |_| signals.check())?;
+            let onset = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| signals.check())?;
             let map = Array2::from_shape_vec(shape, pressure.clone()).expect("the pressure's shape");
             let loads = ElementLoads::from_pressure(&map, solver.pixel_area())?;
             let equal = CoreOnset::new(&loads, &FrictionLaw::new(law.mu_s, law.mu_d)?);

@@ -8,7 +8,7 @@ use std::time::Instant;
 use clap::Args;
 
 use asperity::error::escaped;
-use asperity::friction::SLIDE_LEVELS;
+use asperity::friction::SlideStage;
 use asperity::quantity::{show, FORCE};
 use asperity::study::config::{StudyConfig, DEFAULT_STUDY};
 use asperity::study::run::{Progress, Study};
@@ -127,11 +127,15 @@ pub fn run(args: RunArgs) -> Result<()> {
         }
         // An onset under way, once it has taken a second: on the bar as it goes, in a batch log
         // with the other lines.
-        Progress::Sliding { topography, load_n, law, level, steps, solves, largest_drop, seconds }
+        Progress::Sliding { topography, load_n, law, stage, steps, solves, largest_drop, seconds }
             if seconds >= 1.0 =>
         {
+            let stage = match stage {
+                SlideStage::March => "marching",
+                SlideStage::Search => "searching for the peak",
+            };
             let line = format!(
-                "{} at {}: elastic onset of \"{}\" under way, level {level}/{SLIDE_LEVELS}, {steps} steps, \
+                "{} at {}: elastic onset of \"{}\" under way, {stage}, {steps} steps, \
                  {solves} solves, largest force {largest_drop:.4} mu_d N, {seconds:.0} s",
                 escaped(topography),
                 show(load_n, &FORCE),

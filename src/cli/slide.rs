@@ -12,8 +12,8 @@ use asperity::contact::{
     self, Boundary, ContactSolver, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
-    elastic_onset, ramp_force, slip_curve_file, ClassShare, ElementLoads, FrictionLaw, Onset, SlideWork, SlipLaw,
-    Snapshot, Weakening, SLIDE_LEVELS,
+    check_peak_tolerance, elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset,
+    ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw, Snapshot, Weakening, PEAK_TOLERANCE,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -32,13 +32,16 @@ use super::{MaterialArgs, ReadArgs};
 /// (mu_s until a point first slips, then mu_d, or a slip-weakening distance). The normal
 /// pressure is that of the normal solve (or of the contact directory given) and stays
 /// fixed; normal and tangential problems are uncoupled (exact for identical bodies,
-/// Goodman's approximation otherwise).
+/// Goodman's approximation otherwise). F_S is the largest force once every cascade of slips has
+/// settled: a march from δ = 0 brackets it and a search in δ locates it to --peak-tolerance.
 ///
-/// Writes DIR/slide.json (its keys end in their unit: _n newtons, _m metres), DIR/curve.csv
-/// (displacement_m, force_n, stick_points, slip_points; a cascade of slips at one displacement
-/// adds rows at that displacement as the force falls), DIR/shear_x.npy and DIR/shear_y.npy
-/// (Pa) and DIR/classes.npy (int8: 0 no contact, 1 slipped, 2 critical, 3 stuck) at the peak
-/// force, or at the imposed --tangential-force.
+/// Writes DIR/slide.json (its keys end in their unit: _n newtons, _m metres; beside elastic
+/// sharing, equal sharing with the instant drop, the paper's model, and with the same
+/// weakening, each element a spring–slider of the contact's stuck stiffness K_t / n),
+/// DIR/curve.csv (displacement_m, force_n, stick_points, slip_points of the settled states: the
+/// march's and the search's), DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy
+/// (int8: 0 no contact, 1 slipped, 2 critical: slipping for the first time, 3 stuck) at the
+/// peak force, or at the imposed --tangential-force.
 #[derive(Args)]
 #[command(mut_arg("file", |a| a.value_name("SURFACE|CONTACT_DIR").help(
     "A topography file, in any format asperity reads (solved for --load first), or the output \
@@ -91,10 +94,14 @@ pub struct SlideArgs {
     material: MaterialArgs,
     #[command(flatten)]
     device: super::DeviceArgs,
-    /// Tolerance of the tangential solve (relative norm of its projected gradient, below 1e-2); the path
-    /// from δ = 0 to the step holding F_S solves to 100 times it, at most 1e-4.
+    /// Tolerance of the tangential solve (relative norm of its projected gradient, below 1e-2); the march
+    /// from δ = 0 that brackets F_S solves to 100 times it, at most 1e-4.
     #[arg(long, value_name = "T", default_value_t = TangentialOptions::default().tolerance)]
     tolerance: f64,
+    /// The search for F_S ends when the settled forces of its bracket agree within this fraction of F_S
+    /// (or, before a snap, when the last stable state is located as closely), in (0, 0.1).
+    #[arg(long, value_name = "R", default_value_t = PEAK_TOLERANCE)]
+    peak_tolerance: f64,
     /// Iteration limit of one tangential solve.
     #[arg(long, value_name = "K", default_value_t = TangentialOptions::default().max_iterations)]
     max_iter: usize,
@@ -144,6 +151,8 @@ struct LawReport {
 struct EqualSharing {
     static_coefficient: f64,
     friction_drop: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    peak_displacement_m: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -172,7 +181,12 @@ struct OnsetReport {
     stuck: ClassShare,
     critical: ClassShare,
     slipped: ClassShare,
+    /// The paper's model: equal sharing, the instant drop.
     equal_sharing: EqualSharing,
+    /// Equal sharing with the law's own weakening (spring–sliders of K_t / n); absent for a
+    /// measured μ(slip).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    equal_sharing_same_law: Option<EqualSharing>,
     work: WorkReport,
 }
 
@@ -197,6 +211,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
     let (bodies, e_star) = args.material.bodies()?;
     let options = TangentialOptions { tolerance: args.tolerance, max_iterations: args.max_iter };
     options.check()?;
+    check_peak_tolerance(args.peak_tolerance)?;
     if let Some(q) = args.tangential_force {
         if !(q > 0.0 && q.is_finite()) {
             return Err(Error::invalid("--tangential-force", format!("must be positive and finite, got {q:e} N")));
@@ -259,16 +274,17 @@ pub fn run(args: SlideArgs) -> Result<()> {
             report.work.seconds
         ));
     } else {
-        // Level 0 is the path from δ = 0, levels 1… the refinements of the step holding the
-        // largest force; the bar shows the finest level reached.
-        let bar = super::progress_bar(SLIDE_LEVELS as u64 + 1, "sliding", false);
+        // The march from δ = 0, then the search for the peak.
+        let bar = super::progress_bar(2, "sliding", false);
         let batch = !std::io::stderr().is_terminal();
         let mut last_line = Instant::now();
-        let onset = elastic_onset(&mut solver, &law, |p| {
+        let onset = elastic_onset(&mut solver, &law, args.peak_tolerance, |p| {
+            let stage = match p.stage {
+                SlideStage::March => "march from δ = 0",
+                SlideStage::Search => "search for the peak",
+            };
             let line = format!(
-                "level {}/{}: δ {:.4e} m, F {:.4e} N (largest {:.4e} N), {} stuck, {} slipping; {} steps, {} solves",
-                p.level,
-                SLIDE_LEVELS,
+                "{stage}: δ {:.4e} m, F {:.4e} N (largest {:.4e} N), {} stuck, {} slipping; {} steps, {} solves",
                 p.point.displacement_m,
                 p.point.force_n,
                 p.largest_force_n,
@@ -283,7 +299,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
                     super::message(&format!("sliding: {line} after {:.0} s", start.elapsed().as_secs_f64()));
                 }
             } else {
-                bar.set_position(bar.position().max(p.level.min(SLIDE_LEVELS) as u64));
+                bar.set_position(u64::from(p.stage == SlideStage::Search));
                 bar.set_message(line);
             }
         });
@@ -294,7 +310,20 @@ pub fn run(args: SlideArgs) -> Result<()> {
         let (ny, nx) = normal.shape;
         let pressure = Array2::from_shape_vec((ny, nx), normal.pressure.clone()).expect("grid shape");
         let area = solver.pixel_area();
-        let equal = Onset::new(&ElementLoads::from_pressure(&pressure, area)?, &FrictionLaw::new(law.mu_s, law.mu_d)?);
+        let loads = ElementLoads::from_pressure(&pressure, area)?;
+        let equal = Onset::new(&loads, &FrictionLaw::new(law.mu_s, law.mu_d)?);
+        let same_law = match law.weakening {
+            Weakening::Curve(_) => None,
+            _ => {
+                let k = element_stiffness(onset.stuck_stiffness, loads.len());
+                let same = spring_slider_onset(&loads, &law, k)?;
+                Some(EqualSharing {
+                    static_coefficient: same.static_coefficient(),
+                    friction_drop: same.friction_drop(),
+                    peak_displacement_m: Some(same.peak_displacement_m),
+                })
+            }
+        };
         let report = OnsetReport {
             input,
             boundary: normal.boundary.name(),
@@ -312,14 +341,17 @@ pub fn run(args: SlideArgs) -> Result<()> {
             equal_sharing: EqualSharing {
                 static_coefficient: equal.static_coefficient(),
                 friction_drop: equal.friction_drop(),
+                peak_displacement_m: None,
             },
+            equal_sharing_same_law: same_law,
             work: work_report(onset.work),
         };
         output::write_json(&out.path("slide.json"), &report)?;
         super::message(&format!(
-            "friction drop {:.6} (equal sharing {:.6}), static coefficient {:.6} ({} steps, {} solves, {} iterations, {:.1} s)",
+            "friction drop {:.6} (equal sharing {:.6}{}), static coefficient {:.6} ({} steps, {} solves, {} iterations, {:.1} s)",
             report.friction_drop,
             report.equal_sharing.friction_drop,
+            report.equal_sharing_same_law.as_ref().map_or(String::new(), |e| format!(", with the same weakening {:.6}", e.friction_drop)),
             report.static_coefficient,
             onset.work.steps,
             onset.work.solves,

@@ -9,15 +9,14 @@
 //! ([`Weakening::Curve`]). Each displacement step is one increment: targets b_i = δ e_x − c_i
 //! (c_i the slip accumulated so far), bounds μ_i p_i; when the solve makes points slip, their
 //! coefficients are updated from the new slip and the step is solved again at the same δ
-//! (a slip cascade) until no bound moves by more than the solve resolves. F(δ) = Σ q_x · a;
-//! F_S is its largest value along the path. A coarse step overestimates the force before its
-//! cascade, so the step holding the largest force is repeated from its start with finer
-//! steps, until that force lies in a step of the finest length; the path from δ = 0 takes
-//! longer steps while its force is far below μ_d N (for a law whose coefficients only fall),
-//! which F_S is never below, so that they hold no force worth refining. Once every point
-//! slides, the tractions turn towards x as δ grows and F tends to the sliding force Σ μ p a (μ_d N for the
-//! instant drop): F_S is never below it, though the path stops at total sliding with tractions
-//! still turned by the elastic coupling.
+//! (a slip cascade) until no bound moves by more than the solve resolves. The settled force
+//! F(δ) = Σ q_x · a of these states is the curve, and F_S its largest value: a march from
+//! δ = 0 in coarse steps (longer while the force is far below μ_d N, which F_S is never below,
+//! for a law whose coefficients only fall) brackets it, and a line search in δ locates it, or
+//! the last stable state before a snap. Once every point slides, the tractions turn towards x
+//! as δ grows and F tends to the sliding force Σ μ p a (μ_d N for the instant drop): F_S is
+//! never below it, though the path stops at total sliding with tractions still turned by the
+//! elastic coupling.
 
 use serde::Serialize;
 
@@ -26,40 +25,28 @@ use crate::contact::tangential::magnitude;
 use crate::contact::{Proceed, TangentialReport, TangentialSolver};
 use crate::error::{Error, Result};
 
-/// Displacement steps up to the stuck estimate of the peak, μ_s N / k_t (the path's longer
-/// first steps aside). More do not make the drop converge: at 1500² with its wafer, 10 mN,
-/// mu_s 0.6, mu_d 0.4, 16, 32, 64, 128, 256, 1 024 and 4 096 steps give drops within
-/// 1.00114–1.00121 (16: 1.0011937), as the order of the cascades, and with it the one that
-/// peaks highest, changes with the steps; at 0.1 and 1 mN within 4e-6 (16 to 256). 64 rather
-/// than 16 (with one refinement less, the same finest step): a coarse step overestimates its
-/// force by about its length times the path's stiffness, and every coarse step whose
-/// overestimate passes F_S is refined; shorter ones leave fewer to refine. Measured (stand-in
-/// ball, mu_s 0.6, mu_d 0.4; with the refinement of one step alone, below): 512², 10 and
-/// 100 mN, d_c 2 nm 2 444 → 1 906 and 7 757 → 5 180 applications, instant drop 1 078 → 714 and
-/// 1 598 → 1 075; 1500², 100 mN instant 2 214 → 1 659; 1500², 1 mN, d_c 2 nm 4 431 → 4 302;
-/// drops moved by 2e-6 to 7e-6, and by 3.0e-5 at 512², 100 mN instant (another cascade peaks).
+/// Displacement steps of the march up to the stuck estimate of the peak, μ_s N / k_t (the
+/// longer first steps aside). The march only brackets the largest settled force, which the
+/// search then locates.
 const STEPS: usize = 64;
-/// A step holding the largest force is refined up to this many times, each time in steps this
-/// many times finer: F_S located to 1/(64·4⁶) = 1/262144 of μ_s N / k_t.
-const REFINEMENTS: usize = 6;
-const REFINE: usize = 4;
-/// The path from δ = 0 solves to this many times the tolerance: it only carries the memory
-/// (which points slipped, and how far) to the step holding F_S, whose refinements solve to the
-/// tolerance. Against all solves at the tolerance (1e-6), F_S moves by at most 7e-6 (256² at
-/// 10 and 100 mN, 1500² at 0.1, 0.3 and 1 mN) for 0.64–0.74 of the applications, 0.67 at
-/// 1500², 10 mN (1.2e-6); at 1000 times, by up to 5e-5, as do looser refinements.
+/// The default fraction of F_S within which the forces of the search's bracket agree when it
+/// ends ([`elastic_onset`]'s `peak_tolerance`).
+pub const PEAK_TOLERANCE: f64 = 1e-4;
+/// The march from δ = 0 solves to this many times the tolerance: it only carries the memory
+/// (which points slipped, and how far) to the bracket of F_S, whose search solves to the
+/// tolerance. A march at the tolerance itself moved the drop by 5e-6 and 7e-6 at 1500², 1
+/// and 10 mN, d_c 2 nm, for 2.1 and 1.9 times the march's applications.
 const COARSE_TOLERANCE: f64 = 100.0;
 /// ... but never looser than this (measured above) nor than the tolerance itself: with
 /// `--tolerance 1e-4` a path at 1e-2 moved the drop by 9e-4.
 const COARSEST: f64 = 1e-4;
 /// The rounds of a cascade after its first solve solve to this many times the tolerance of
-/// their step (never looser than [`COARSEST`] nor than the step's own): like the path from
-/// δ = 0 they carry the memory (which points slipped, and how far) to the next step, while the
-/// largest force of a step is that of its first solve, before the cascade lowers bounds (a
-/// measured μ(slip) that rises again aside), where the snapshot is taken. Measured (mu_s 0.6,
-/// mu_d 0.4, against all rounds at the step's tolerance): 1500² with its wafer, 10 mN 9 % fewer
-/// applications, the drop moved by 2e-7; 31.6 mN 13 %, 4e-7; 256², 100 mN 11 %, < 1e-7. At
-/// 100 times: 9–20 % fewer, but drops moved by up to 4e-6.
+/// their step (never looser than [`COARSEST`] nor than the step's own). Measured with a
+/// search that took F_S from first solves (mu_s 0.6, mu_d 0.4, against all rounds at the
+/// step's tolerance): 1500² with its wafer, 10 mN 9 % fewer applications, the drop moved by
+/// 2e-7; 31.6 mN 13 %, 4e-7; 256², 100 mN 11 %, < 1e-7; at 100 times, drops moved by up to
+/// 4e-6. With F_S from settled states the drops of 256² and 1500² (1 and 10 mN) stay within
+/// 6e-5 of that search's at its finest steps.
 const CASCADE_TOLERANCE: f64 = 10.0;
 /// Steps of a force ramp up to its stuck estimate Q / k_t.
 const RAMP_STEPS: usize = 64;
@@ -299,11 +286,12 @@ pub struct ElasticOnset {
     pub critical: ClassShare,
     /// Slipped points at the peak (weakened towards mu_d): count and shares.
     pub slipped: ClassShare,
-    /// F(δ) along the path, in increasing δ: the coarse path with each refined step replaced by
-    /// its finer steps; at a δ where a cascade happens, the force before it and after it (at the
-    /// end of refined steps, after it the coarse path's, from which the path goes on). Its
-    /// largest force is F_S unless that is the sliding limit.
+    /// The settled force F(δ), in increasing δ: the march from δ = 0 and the probes of the
+    /// search near the peak (each settled from the settled state just below it). Its largest
+    /// force is F_S unless that is the sliding limit.
     pub curve: Vec<SlidePoint>,
+    /// The fully stuck tangential stiffness K_t of the contact \[N/m].
+    pub stuck_stiffness: f64,
     /// Steps, solves and iterations the path took.
     pub work: SlideWork,
 }
@@ -399,16 +387,13 @@ impl<'a> Path<'a> {
         self.solver.set_traction(&state.traction);
     }
 
-    /// One increment to `delta`, with its cascade. `visit` sees every solved state (the state
-    /// before its memory is updated) with its point on the curve. Returns the first state
-    /// (before the cascade) and the settled one; without `cascade`, the settled one only when
-    /// the first solve has no cascade to follow (else the path's state is left as before).
-    fn step(
-        &mut self,
-        delta: f64,
-        cascade: bool,
-        visit: &mut impl FnMut(&Self, SlidePoint),
-    ) -> Result<(SlidePoint, Option<SlidePoint>)> {
+    /// One increment from the path's state to `delta`, with its cascade: the first solve holds
+    /// the state's bounds, then rounds move the bounds of the points that slipped until they
+    /// settle. Returns the first solve's force [N] and the settled point, the path's state then
+    /// the settled one. For a law whose coefficients only fall a round only lowers the force:
+    /// once it is below `abandon` [N] the settled force will be too, and the step stops there
+    /// (`None`, the path's state left as it was).
+    fn step(&mut self, delta: f64, abandon: f64) -> Result<(f64, Option<SlidePoint>)> {
         self.work.steps += 1;
         let p = self.solver.pressure();
         let st = &self.state;
@@ -435,13 +420,12 @@ impl<'a> Path<'a> {
             self.solve(tolerance, &changed)?;
             changed.clear();
             let slip_noise = tolerance * rms;
-            let point = self.point(delta);
-            visit(self, point);
+            let force = self.solver.force()[0];
             if first.is_none() {
                 let change = self.solver.traction().iter().zip(&self.state.traction);
                 self.first_change =
                     Some((delta - self.state.delta, change.map(|(q, q0)| [q[0] - q0[0], q[1] - q0[1]]).collect()));
-                first = Some(point);
+                first = Some(force);
             }
             // The slip of this increment, and the bounds it implies.
             let (q, u, p) = (self.solver.traction(), self.solver.displacement(), self.solver.pressure());
@@ -467,8 +451,8 @@ impl<'a> Path<'a> {
             if same {
                 break;
             }
-            if !cascade {
-                return Ok((point, None));
+            if force < abandon && self.law.only_falls() {
+                return Ok((first.unwrap_or(force), None));
             }
             if rounds == MAX_CASCADE {
                 return Err(Error::invalid(
@@ -490,7 +474,7 @@ impl<'a> Path<'a> {
         st.traction = q.to_vec();
         st.delta = delta;
         let settled = self.point(delta);
-        Ok((first.unwrap_or(settled), Some(settled)))
+        Ok((first.unwrap_or(settled.force_n), Some(settled)))
     }
 
     /// The curve point of the solver's current state.
@@ -505,11 +489,14 @@ impl<'a> Path<'a> {
         }
     }
 
-    fn snapshot(&self, point: SlidePoint) -> Snapshot {
+    /// The snapshot of the settled state at `point`, reached from a state whose points
+    /// `before` had slipped: those are slipped, the others on their bound critical (slipping
+    /// for the first time in this increment), the rest stuck.
+    fn snapshot(&self, before: &[bool], point: SlidePoint) -> Snapshot {
         let q = self.solver.traction();
         let classes = (0..q.len())
             .map(|i| {
-                if self.state.slipped[i] {
+                if before[i] {
                     SlideClass::Slipped
                 } else if at_bound(q[i], self.bound[i]) {
                     SlideClass::Critical
@@ -559,207 +546,175 @@ fn at_bound(q: [f64; 2], g: f64) -> bool {
     magnitude(q) >= g * (1.0 - ON_BOUND)
 }
 
-/// Where a path is, after each displacement step.
+/// Where a path is, after each settled state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlideProgress {
-    /// The refinement level of the step: 0 on the path from δ = 0, k = 1..=[`SLIDE_LEVELS`] on
-    /// a step k times refined (four times finer each time); a few more in the rare case that a
-    /// longer step of the path from δ = 0 is refined (its force came up to the floor of F_S).
-    pub level: usize,
-    /// The state after the step (its cascade settled).
+    /// The march from δ = 0, or the search for the peak near the march's largest force.
+    pub stage: SlideStage,
+    /// The settled state reached.
     pub point: SlidePoint,
-    /// The largest force reached so far \[N].
+    /// The largest settled force so far \[N].
     pub largest_force_n: f64,
     /// Work done so far.
     pub work: SlideWork,
 }
 
-/// The finest refinement level (the largest [`SlideProgress::level`]).
-pub const SLIDE_LEVELS: usize = REFINEMENTS;
+/// The stage of a path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SlideStage {
+    /// Settled states from δ = 0 in coarse steps, to total sliding or until no later state can
+    /// exceed the largest settled force.
+    March,
+    /// The line search for the largest settled force, in the bracket around the march's.
+    Search,
+}
 
-/// One displacement step of the path at a refinement level (0 on the path from δ = 0).
-struct Step {
-    level: usize,
-    /// δ at its start [m].
-    from: f64,
-    /// δ at its end [m]: the next step's start, bit for bit.
+/// A settled state of the path, to go on from.
+struct Probe {
+    point: SlidePoint,
+    state: State,
+}
+
+/// A stretch of δ from a settled state to `to` [m] in which no settled force exceeds `bound`
+/// [N]: the force of the first solve from `start` to `to` (the bounds held; a cascade only
+/// lowers it), and at most start's force plus k_t times the stretch.
+struct Stretch {
+    start: Probe,
     to: f64,
-    /// Its points on the curve: the force before its cascade, the largest force it reached
-    /// when that is another (a measured law can raise bounds), and the settled force.
-    points: Vec<SlidePoint>,
-    /// The largest force it reached.
-    largest: SlidePoint,
-    /// Its state after the cascade, from which the next step goes on.
-    settled: SlidePoint,
-    /// While the step may hold F_S: the state at its start and the snapshot at `largest`.
-    kept: Option<Box<(State, Snapshot)>>,
+    bound: f64,
 }
 
-impl Step {
-    fn length(&self) -> f64 {
-        self.to - self.from
-    }
-
-    /// The state at its start and the snapshot at its largest force, which only a step far
-    /// below the largest force lacks.
-    fn kept(&self) -> Result<&(State, Snapshot)> {
-        self.kept.as_deref().ok_or_else(|| {
-            Error::invalid(
-                "sliding onset",
-                format!("the state before the largest force (δ = {:.3e} m) was not kept", self.from),
-            )
-        })
-    }
-}
-
-/// Where a refined run ends.
-#[derive(Clone, Copy)]
-struct RunEnd {
-    /// δ [m] at its end.
-    at: f64,
-    /// The coarse path's settled point there, when the path goes on from it.
-    coarse: Option<SlidePoint>,
-}
-
-/// The steps of a path: the coarse path with each refined step replaced by its finer steps.
-struct Steps {
-    live: Vec<Step>,
-    /// The fully stuck tangential stiffness k_t [N/m]: no step raises the force by more than
-    /// k_t times its length before its cascade (fixed bounds only soften the response).
+/// The search for the largest settled force: a branch and bound over the stretches of the
+/// march. The settled curve is a sawtooth (each cascade of first slips is a small snap, even
+/// with a slip-weakening distance: at 1500², 10 mN, d_c 2 nm, a tooth of 7e-4 F stood between
+/// two steps of the march), so a line search on it finds a tooth but not the highest: each
+/// stretch whose bound exceeds the largest settled force found is halved instead, the probe at
+/// its middle settling from its start, until every bound is within the tolerance of it.
+struct Search<'p> {
+    /// The fully stuck stiffness k_t [N/m]: no settled force rises faster with δ.
     stiffness: f64,
-    /// A force [N] F_S is never below: Σ μ_lowest p a, as every bound stays at or above
-    /// μ_lowest p, so that the sliding force and the ceiling are at least that.
-    floor: f64,
-    /// The largest force any step reached [N].
-    largest: f64,
-    /// The largest settled force [N]: the path from δ = 0 ends once no later state can exceed it.
-    settled: f64,
-    /// Steps more than this below `largest` [N] can never hold F_S; their states are dropped.
-    band: f64,
-    /// How far below `largest` [N] a step may still hold F_S: `band`, or twice k_t times the
-    /// length of the step that reached `largest` when it is longer (a leap whose force passed
-    /// the floor, which refinement may lower by up to k_t times its length).
-    reach: f64,
+    /// The search ends when no stretch may hold a settled force more than this fraction above
+    /// the largest found.
+    tolerance: f64,
+    /// The largest settled force found and its snapshot.
+    peak: Option<Snapshot>,
+    /// Every settled point found.
+    curve: Vec<SlidePoint>,
+    progress: &'p mut dyn FnMut(SlideProgress) -> bool,
 }
 
-impl Steps {
-    /// Steps from `start` with length `h` to `until`, or (`None`) to total sliding or until no
-    /// later state can exceed the largest settled force. Returns whether the path reached total
-    /// sliding. On the path from δ = 0 of a law whose coefficients only fall, a step is longer
-    /// while the force is far below [`floor`](Self::floor): (floor − F)/k, so that its force
-    /// before the cascade stays below the floor, which F_S is not below: such a step does not
-    /// hold F_S and is not refined. The first step takes k = k_t, which its force cannot pass;
-    /// the next ones the rise per unit δ of the last step's first solve, as the path softens
-    /// (at 1500², 100 mN 1.3 k_t/k after the first step, 14 after the sixth): in the cases
-    /// measured no such step passed the floor, and one that did would be refined as any other.
-    /// Measured at 1500² with its wafer, mu_d 0.4, against coarse steps from δ = 0: at 10, 31.6 and 100 mN 44, 37 and
-    /// 49 % fewer applications with mu_s 0.6, 51, 49 and 68 % with 0.5 (the last also spared
-    /// refinements below the sliding force); the drops moved by −1.5e-6 to −4.0e-6 (with k_t
-    /// throughout, by −1.1e-6 to +1.4e-6, for 23–48 % fewer): the memory these steps leave
-    /// (which points slipped, and how far) matters little.
-    fn run(
-        &mut self,
-        path: &mut Path,
-        level: usize,
-        start: &State,
-        h: f64,
-        until: Option<RunEnd>,
-        progress: &mut impl FnMut(SlideProgress) -> bool,
-    ) -> Result<bool> {
-        path.go_back(start);
-        let tolerance = path.solver.tolerance();
-        path.tolerance =
-            if level == 0 { (COARSE_TOLERANCE * tolerance).min(COARSEST).max(tolerance) } else { tolerance };
-        path.cascade_tolerance = (CASCADE_TOLERANCE * tolerance).min(COARSEST).max(path.tolerance);
-        let leap = until.is_none() && path.law.only_falls();
-        // The settled force at the path's state, the end of the last step, and the stiffness
-        // the next leap is sized by.
-        let (mut force, mut to, mut stiffness) = (0.0, start.delta, self.stiffness);
-        for k in 1..=MAX_STEPS {
-            let before = path.state.clone();
-            let from = to;
-            let length = if leap { h.max((self.floor - force) / stiffness) } else { h };
-            // Uniform steps from their start; a refined run's last ends where the step it
-            // refines ended, to the bit, so that no curve points are a rounding apart.
-            let uniform = start.delta + h * k as f64;
-            to = match until {
-                _ if leap => from + length,
-                Some(end) if uniform >= end.at * (1.0 - 1e-12) => end.at,
-                _ => uniform,
-            };
-            let delta = to;
-            let floor = self.largest - self.reach;
-            let mut largest: Option<SlidePoint> = None;
-            let mut snapshot = None;
-            let mut visit = |p: &Path, point: SlidePoint| {
-                if largest.is_none_or(|l| point.force_n > l.force_n) {
-                    largest = Some(point);
-                    if point.force_n >= floor {
-                        snapshot = Some(p.snapshot(point));
-                    }
-                }
-            };
-            let last = until.is_some_and(|end| delta >= end.at * (1.0 - 1e-12));
-            // The cascade of a refined run's last step would only lead to the coarse path's
-            // state at its end, from which the following steps go on: its settled point on the
-            // curve is the coarse path's.
-            let coarse = until.and_then(|end| end.coarse).filter(|_| last && path.law.only_falls());
-            let (first, settled) = path.step(delta, coarse.is_none(), &mut visit)?;
-            let settled = settled.or(coarse).expect("a step without its cascade has the coarse path's point");
-            let largest = largest.expect("a step solves");
-            let mut points = vec![first];
-            for p in [largest, settled] {
-                if !points.contains(&p) {
-                    points.push(p);
-                }
-            }
-            if largest.force_n > self.largest {
-                self.largest = largest.force_n;
-                self.reach = self.band.max(2.0 * self.stiffness * (to - from));
-                let floor = self.largest - self.reach;
-                for s in self.live.iter_mut().filter(|s| s.largest.force_n < floor) {
-                    s.kept = None;
-                }
-            }
-            self.settled = self.settled.max(settled.force_n);
-            let rise = (first.force_n - force) / length;
-            stiffness = if rise > 0.0 { rise.min(self.stiffness) } else { self.stiffness };
-            force = settled.force_n;
-            let kept = snapshot.map(|s| Box::new((before, s)));
-            self.live.push(Step { level, from, to, points, largest, settled, kept });
-            if !progress(SlideProgress { level, point: settled, largest_force_n: self.largest, work: path.work }) {
-                return Err(Error::Interrupted { what: "sliding onset".into() });
-            }
-            if last {
-                return Ok(false);
-            } else if until.is_none() && path.sliding(&settled) {
-                return Ok(true);
-            } else if until.is_none() && path.ceiling() <= self.settled {
-                return Ok(false);
-            }
-        }
-        let reached = format!("no total sliding after {MAX_STEPS} displacement steps (δ = {:.3e} m)", path.state.delta);
-        Err(Error::invalid(
-            "sliding onset",
-            match path.law.weakening {
-                Weakening::Linear(dc) if dc > path.state.delta => {
-                    format!("{reached}: the slip-weakening distance {dc:.3e} m is longer; give a shorter one")
-                }
-                _ => reached,
-            },
-        ))
+/// Probes of one search after which it is an error.
+const MAX_PROBES: usize = 20_000;
+
+impl Search<'_> {
+    fn largest(&self) -> f64 {
+        self.peak.as_ref().map_or(0.0, |s| s.point.force_n)
     }
 
-    /// The live step with the largest force (the first of equals).
-    fn peak(&self) -> usize {
-        let mut best = 0;
-        for (i, s) in self.live.iter().enumerate() {
-            if s.largest.force_n > self.live[best].largest.force_n {
-                best = i;
-            }
-        }
-        best
+    /// Whether a stretch bounded by `bound` [N] may hold a force above the largest found, or
+    /// above `limit` [N] (the sliding force), beyond the tolerance.
+    fn open(&self, bound: f64, limit: f64) -> bool {
+        bound > self.largest().max(limit) * (1.0 + self.tolerance)
     }
+
+    /// Halve the stretches that may hold F_S, the most promising first, until none may.
+    fn run(&mut self, path: &mut Path, mut stretches: Vec<Stretch>, limit: f64) -> Result<()> {
+        for _ in 0..MAX_PROBES {
+            stretches.retain(|s| self.open(s.bound, limit));
+            let Some(i) = (0..stretches.len()).max_by(|&i, &j| stretches[i].bound.total_cmp(&stretches[j].bound))
+            else {
+                return Ok(());
+            };
+            let Stretch { start, to, bound } = stretches.swap_remove(i);
+            let from = start.point.displacement_m;
+            let mid = 0.5 * (from + to);
+            if !(mid > from && mid < to) {
+                continue;
+            }
+            // A settled force below this leaves the upper half nothing to hold.
+            let abandon = self.largest().max(limit) * (1.0 + self.tolerance) - self.stiffness * (to - mid);
+            path.go_back(&start.state);
+            let (first, settled) = path.step(mid, abandon)?;
+            let lower = first.min(start.point.force_n + self.stiffness * (mid - from));
+            if let Some(point) = settled {
+                self.curve.push(point);
+                if point.force_n > self.largest() {
+                    self.peak = Some(path.snapshot(&start.state.slipped, point));
+                }
+                let report = SlideProgress {
+                    stage: SlideStage::Search,
+                    point,
+                    largest_force_n: self.largest(),
+                    work: path.work,
+                };
+                if !(self.progress)(report) {
+                    return Err(Error::Interrupted { what: "sliding onset".into() });
+                }
+                let upper = bound.min(point.force_n + self.stiffness * (to - mid));
+                stretches.push(Stretch { start: Probe { point, state: path.state.clone() }, to, bound: upper });
+            }
+            stretches.push(Stretch { start, to: mid, bound: lower });
+        }
+        Err(Error::invalid("sliding onset", format!("the search for the peak did not end after {MAX_PROBES} probes")))
+    }
+}
+
+/// The march from δ = 0 in steps of `h` [m] on settled states, to total sliding or until no
+/// later state can exceed the largest settled force. For a law whose coefficients only fall a
+/// step is longer while the force is far below `floor` [N], which F_S is never below: (floor
+/// − F)/k, the first with k = `stiffness` k_t, the next ones with the rise per unit δ of the
+/// last step's first solve, as the path softens (at 1500², 100 mN 1.3 k_t/k after the first
+/// step, 14 after the sixth). Returns the stretches of its steps that may still hold F_S (a
+/// bound above the largest settled force, for the search, which solves them to the
+/// tolerance), the settled points, and whether the path reached total sliding.
+fn march(
+    path: &mut Path,
+    h: f64,
+    floor: f64,
+    stiffness: f64,
+    tolerance: f64,
+    progress: &mut dyn FnMut(SlideProgress) -> bool,
+) -> Result<(Vec<Stretch>, Vec<SlidePoint>, bool)> {
+    let leap = path.law.only_falls();
+    let mut previous = Probe { point: path.point(0.0), state: path.state.clone() };
+    let (mut curve, mut stretches) = (Vec::new(), Vec::new());
+    let (mut rising, mut largest) = (stiffness, 0.0_f64);
+    for _ in 0..MAX_STEPS {
+        let (from, force) = (previous.point.displacement_m, previous.point.force_n);
+        let length = if leap { h.max((floor - force) / rising) } else { h };
+        let (first, settled) = path.step(from + length, f64::NEG_INFINITY)?;
+        let point = settled.expect("a step that is never abandoned settles");
+        let rise = (first - force) / length;
+        rising = if rise > 0.0 { rise.min(stiffness) } else { stiffness };
+        curve.push(point);
+        largest = largest.max(point.force_n);
+        // A measured law's bounds may rise in a cascade: its stretches keep no bound.
+        let bound = if path.law.only_falls() { first.min(force + stiffness * length) } else { f64::INFINITY };
+        let here = Probe { point, state: path.state.clone() };
+        stretches.push(Stretch { start: std::mem::replace(&mut previous, here), to: point.displacement_m, bound });
+        // The march's forces are solved to a looser tolerance than the search's: a stretch is
+        // dropped only once it is clear of the largest by more than either could move it.
+        stretches.retain(|s| s.bound > largest * (1.0 - COARSEST - tolerance));
+        let report = SlideProgress { stage: SlideStage::March, point, largest_force_n: largest, work: path.work };
+        if !progress(report) {
+            return Err(Error::Interrupted { what: "sliding onset".into() });
+        }
+        let sliding = path.sliding(&point);
+        if sliding || path.ceiling() <= largest {
+            return Ok((stretches, curve, sliding));
+        }
+    }
+    let reached = format!("no total sliding after {MAX_STEPS} displacement steps (δ = {:.3e} m)", path.state.delta);
+    Err(Error::invalid(
+        "sliding onset",
+        match path.law.weakening {
+            Weakening::Linear(dc) if dc > path.state.delta => {
+                format!("{reached}: the slip-weakening distance {dc:.3e} m is longer; give a shorter one")
+            }
+            _ => reached,
+        },
+    ))
 }
 
 /// An error naming `option` unless each of `scales` (what, value with its unit) lies in
@@ -816,25 +771,26 @@ fn check_coefficient(law: &SlipLaw, coefficient: f64, peak_displacement: f64) ->
     })
 }
 
-/// The sliding onset of the contact set of `solver` under `law`: displacement-controlled path
-/// to total sliding (or until no later state can exceed the largest force seen). A coarse
-/// step overestimates the force before its cascade (its points held bounds that finer steps
-/// would have seen fall earlier), so the step with the largest force is repeated from its
-/// start in steps four times finer, in its place, until the largest force lies in a step of
-/// the finest length, 1/(64·4⁶) of μ_s N / k_t: F_S is the largest
-/// force on the curve, or the sliding force when the path reaches total sliding and no step
-/// (even before its refinement) comes up to it. `progress` hears of every step and answers
-/// `()`, or a [`ControlFlow`](std::ops::ControlFlow) whose `Break` stops the path there with
-/// [`Error::Interrupted`] (a step at 1500², 100 mN takes seconds, the path a quarter of an
-/// hour). An error,
-/// instead of a result, when the law's tractions, forces or steps leave what the solves
-/// represent, or when F_S / N leaves [mu_d, mu_s] (a measured μ(slip) whose tail falls below
-/// its mean mu_d).
+/// The sliding onset of the contact set of `solver` under `law`. F_S is the largest force of
+/// the settled curve F(δ), the force once every cascade has settled, along a rigid displacement
+/// δ that increases quasi-statically: the march from δ = 0 in coarse steps brackets the largest
+/// settled force, and a line search in δ (golden sections, each probe one increment with its
+/// cascade from the settled state just below it) narrows the bracket until its forces agree
+/// within `peak_tolerance` of F_S; a fall past the largest force that is steeper than k_t is a
+/// snap, and the search bisects for the last stable state before it. F_S is the sliding force
+/// instead when the path reaches total sliding and no step before comes up to it.
+/// `progress` hears of every settled state and answers `()`, or a
+/// [`ControlFlow`](std::ops::ControlFlow) whose `Break` stops the path there with
+/// [`Error::Interrupted`]. An error, instead of a result, when the law's tractions, forces or
+/// steps leave what the solves represent, or when F_S / N leaves [mu_d, mu_s] (a measured
+/// μ(slip) whose tail falls below its mean mu_d).
 pub fn elastic_onset<R: Proceed>(
     solver: &mut TangentialSolver,
     law: &SlipLaw,
+    peak_tolerance: f64,
     mut progress: impl FnMut(SlideProgress) -> R,
 ) -> Result<ElasticOnset> {
+    check_peak_tolerance(peak_tolerance)?;
     let mut progress = |p: SlideProgress| progress(p).proceed();
     let area = solver.pixel_area();
     let normal_force = solver.normal_force();
@@ -843,58 +799,39 @@ pub fn elastic_onset<R: Proceed>(
     let mut path = Path::new(solver, law);
     let k = path.stuck_stiffness()?;
     let h0 = law.mu_s * normal_force / k / STEPS as f64;
-    let finest = h0 / (REFINE as f64).powi(REFINEMENTS as i32);
+    let floor = law.lowest() * normal_force;
     check_scales(
-        "--mu-s",
+        "--peak-tolerance",
         &[
-            ("the finest displacement step, mu_s N / k_t / 262144,", finest, "m"),
+            ("the shortest bracket of the search, peak_tolerance · mu_d N / k_t,", peak_tolerance * floor / k, "m"),
             ("the longest path", MAX_STEPS as f64 * h0, "m"),
         ],
     )?;
-    // A step's force gain is at most k h (fixed bounds only soften it), and its refinement
-    // reaches at least the force at its start: a step k h₀ below the largest force cannot hold
-    // F_S. Twice that, for a measured law's rising bounds. (A longer step's force stays below
-    // the floor, which F_S is not below.)
-    let floor = law.lowest() * normal_force;
-    let band = 2.0 * k * h0;
-    let mut steps = Steps { live: Vec::new(), stiffness: k, floor, largest: 0.0, settled: 0.0, band, reach: band };
-    let origin = path.state.clone();
+    let tolerance = path.solver.tolerance();
+    path.tolerance = (COARSE_TOLERANCE * tolerance).min(COARSEST).max(tolerance);
+    path.cascade_tolerance = (CASCADE_TOLERANCE * tolerance).min(COARSEST).max(path.tolerance);
+    let (stretches, mut curve, sliding) = march(&mut path, h0, floor, k, peak_tolerance, &mut progress)?;
     // Past total sliding the tractions turn towards x: F tends to the sliding force Σ μ p a,
     // reached as δ → ∞.
-    let limit = steps.run(&mut path, 0, &origin, h0, None, &mut progress)?.then(|| path.sliding_limit());
-    let peak = loop {
-        let i = steps.peak();
-        let step = &steps.live[i];
-        // Refining only lowers a step's largest force: none comes up to the sliding force.
-        if let Some(limit) = limit.as_ref().filter(|l| l.point.force_n > step.largest.force_n) {
-            break limit.clone();
-        }
-        if step.length() <= finest * (1.0 + 1e-9) {
-            break step.kept()?.1.clone();
-        }
-        let step = steps.live.swap_remove(i);
-        let start = step.kept()?.0.clone();
-        let h = step.length();
-        // The step alone, back onto the coarse path at its end: the step after it keeps its
-        // own largest force, and is refined in turn should that lead. (With the step after it
-        // refined too, 10–20 % more applications for the same drops in 3 of 4 cases measured.)
-        // Past the path's end, two steps' length.
-        let end = if steps.live.iter().any(|s| (s.from - step.to).abs() <= 1e-9 * h) {
-            RunEnd { at: step.to, coarse: Some(step.settled) }
-        } else {
-            RunEnd { at: step.from + 2.0 * h, coarse: None }
-        };
-        steps.run(&mut path, step.level + 1, &start, h / REFINE as f64, Some(end), &mut progress)?;
+    let limit = sliding.then(|| path.sliding_limit());
+    path.tolerance = tolerance;
+    path.cascade_tolerance = (CASCADE_TOLERANCE * tolerance).min(COARSEST).max(tolerance);
+    let mut search =
+        Search { stiffness: k, tolerance: peak_tolerance, peak: None, curve: Vec::new(), progress: &mut progress };
+    search.run(&mut path, stretches, limit.as_ref().map_or(0.0, |l| l.point.force_n))?;
+    let found = search.peak.take();
+    curve.append(&mut search.curve);
+    let peak = match (found, limit) {
+        (Some(found), Some(limit)) if limit.point.force_n > found.point.force_n => limit,
+        (None, Some(limit)) => limit,
+        (Some(found), _) => found,
+        (None, None) => return Err(Error::invalid("sliding onset", "the search found no settled state")),
     };
-    let mut live = steps.live;
-    live.sort_by(|a, b| a.from.total_cmp(&b.from));
-    let mut curve = vec![SlidePoint {
-        displacement_m: 0.0,
-        force_n: 0.0,
-        stick_points: path.solver.points().len(),
-        slip_points: 0,
-    }];
-    curve.extend(live.iter().flat_map(|s| s.points.iter().copied()));
+    curve.sort_by(|a, b| a.displacement_m.total_cmp(&b.displacement_m));
+    curve.insert(
+        0,
+        SlidePoint { displacement_m: 0.0, force_n: 0.0, stick_points: path.solver.points().len(), slip_points: 0 },
+    );
     let elements = peak
         .classes
         .iter()
@@ -914,8 +851,19 @@ pub fn elastic_onset<R: Proceed>(
         slipped,
         peak,
         curve,
+        stuck_stiffness: k,
         work: path.work,
     })
+}
+
+/// An error unless `peak_tolerance` (the fraction of F_S the search for it leaves) lies in
+/// (0, 0.1).
+pub fn check_peak_tolerance(peak_tolerance: f64) -> Result<()> {
+    if peak_tolerance > 0.0 && peak_tolerance < 0.1 {
+        Ok(())
+    } else {
+        Err(Error::invalid("--peak-tolerance", format!("must lie in (0, 0.1), got {peak_tolerance}")))
+    }
 }
 
 /// A partial-slip state under Coulomb friction (coefficient `mu`): the tangential force ramped
@@ -946,14 +894,13 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
             "m",
         )],
     )?;
-    let mut none = |_: &Path, _: SlidePoint| {};
     // Step until the force passes `force`, then bisect that last step from the state before it.
     let mut before = path.state.clone();
     let (mut lo, mut hi) = ((0.0, 0.0), (0.0, 0.0));
     for k in 1..=MAX_RAMP_STEPS {
         before = path.state.clone();
         lo = hi;
-        let point = path.step(h * k as f64, true, &mut none)?.1.expect("a step with its cascade settles");
+        let point = path.step(h * k as f64, f64::NEG_INFINITY)?.1.expect("a step that is never abandoned settles");
         hi = (point.displacement_m, point.force_n);
         if hi.1 >= force {
             break;
@@ -998,12 +945,11 @@ pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<
     }
     force_at(&mut path, &before, best.0)?;
     let point = path.point(best.0);
-    Ok((path.snapshot(point), path.work))
+    Ok((path.snapshot(&path.state.slipped, point), path.work))
 }
 
 /// The force after one increment from `start` to `delta`.
 fn force_at(path: &mut Path, start: &State, delta: f64) -> Result<f64> {
     path.go_back(start);
-    let mut none = |_: &Path, _: SlidePoint| {};
-    Ok(path.step(delta, true, &mut none)?.1.expect("a step with its cascade settles").force_n)
+    Ok(path.step(delta, f64::NEG_INFINITY)?.1.expect("a step that is never abandoned settles").force_n)
 }

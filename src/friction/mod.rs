@@ -7,19 +7,22 @@
 //! and a [`FrictionLaw`] this module computes the [`Onset`] of sliding (static friction,
 //! friction drop, critical / pre-sliding / subcritical elements, their maps) and the
 //! friction–displacement [`Curve`]. [`elastic_onset`] replaces equal sharing by the elastic
-//! interaction of the contact points through the half-space (the tangential solve).
+//! interaction of the contact points through the half-space (the tangential solve);
+//! [`spring_slider_onset`] keeps equal sharing but gives it the same slip weakening.
 
 mod curve;
 mod elastic;
 mod law;
 mod onset;
+mod spring_slider;
 mod stiffness;
 
 pub use curve::{displacement, write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
-    elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideWork, SlipLaw, Snapshot,
-    Weakening, SLIDE_LEVELS,
+    check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideStage,
+    SlideWork, SlipLaw, Snapshot, Weakening, PEAK_TOLERANCE,
 };
 pub use law::{law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
+pub use spring_slider::{spring_slider_onset, WeakeningOnset};
 pub use stiffness::{element_stiffness, stuck_stiffness};

@@ -71,7 +71,9 @@ mod tests {
     /// once, at the model's δ_peak = n s*/K_t with k_t = K_t/n.
     #[test]
     fn four_equal_elements_peak_at_the_models_delta_peak() {
-        use crate::friction::{displacement, elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
+        use crate::friction::{
+            displacement, elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening, PEAK_TOLERANCE,
+        };
         let si = Material { youngs: 130e9, poisson: 0.26 };
         let (n, l) = (80, 8e-6);
         let mut pressure = vec![0.0; n * n];
@@ -94,7 +96,7 @@ mod tests {
         assert!((delta_peak / (4.0 * 0.6 * 1e-5 / k) - 1.0).abs() < 1e-12);
 
         let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Instant };
-        let elastic = elastic_onset(&mut solver, &law, |_| {}).unwrap();
+        let elastic = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
         for p in elastic.curve.iter().filter(|p| p.slip_points == 0 && p.displacement_m > 0.0) {
             assert!((p.force_n / p.displacement_m / k - 1.0).abs() < 1e-5, "stuck slope {p:?}, K_t {k} N/m");
         }

@@ -75,7 +75,9 @@ use crate::contact::{
     self, ContactSolver, Convergence, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use crate::error::{Error, Result};
-use crate::friction::{elastic_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening};
+use crate::friction::{
+    elastic_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset, SlideStage, SlipLaw, Weakening, PEAK_TOLERANCE,
+};
 use crate::limits::Limits;
 use crate::output::{self, Access, Ledger, Lock};
 use crate::plausible::{self, Spelling};
@@ -180,9 +182,9 @@ pub enum Progress<'a> {
         /// Wall-clock time of the onset \[s].
         seconds: f64,
     },
-    /// An elastic-sharing onset under way took a displacement step (one may take minutes: a
-    /// log shows it is alive): its refinement `level` (0 on the path from δ = 0, up to
-    /// [`crate::friction::SLIDE_LEVELS`]), its `steps` and tangential `solves` so far, the
+    /// An elastic-sharing onset under way settled a state (one may take minutes: a log shows it
+    /// is alive): its `stage` (the march from δ = 0 or the search for the peak), its `steps`
+    /// and tangential `solves` so far, the
     /// largest force so far over mu_d N, and its `seconds`. A `Break` stops the onset there
     /// and the run with [`Error::Interrupted`]; the onset is not recorded (the onsets finished
     /// are).
@@ -193,8 +195,8 @@ pub enum Progress<'a> {
         load_n: f64,
         /// Friction law name.
         law: &'a str,
-        /// Refinement level of the step (0: the path from δ = 0).
-        level: usize,
+        /// The march from δ = 0 or the search for the peak.
+        stage: SlideStage,
         /// Displacement steps so far.
         steps: usize,
         /// Tangential solves so far.
@@ -1314,12 +1316,12 @@ impl Study {
         // mu_s to mu_d over the model's slip-weakening distance (or the law's measured curve).
         let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() };
         let normal = solver.normal_force();
-        let onset = elastic_onset(&mut solver, &slip, |p| {
+        let onset = elastic_onset(&mut solver, &slip, PEAK_TOLERANCE, |p| {
             let answer = (work.progress)(Progress::Sliding {
                 topography: &chain.label,
                 load_n: load,
                 law: &law_label,
-                level: p.level,
+                stage: p.stage,
                 steps: p.work.steps,
                 solves: p.work.solves,
                 largest_drop: p.largest_force_n / (law.mu_d * normal),
