@@ -14,6 +14,7 @@ mod al3d;
 mod bcr;
 mod binary;
 mod container;
+mod datx;
 mod dektak;
 mod frt;
 mod gsf;
@@ -22,9 +23,12 @@ mod gwyddion_txt;
 mod gzip;
 mod hdf5;
 mod hfm;
+mod hgt;
 mod ibw;
+mod jpk;
 mod mat;
 mod matrix;
+mod mdt;
 mod metropro;
 mod mi;
 mod mitutoyo;
@@ -32,6 +36,7 @@ mod mnt;
 mod nanoscope;
 mod netcdf;
 mod nid;
+mod nmm;
 pub mod npy;
 mod npz;
 mod opd;
@@ -42,6 +47,7 @@ mod ps;
 mod sdf;
 mod sur;
 mod text;
+mod tiff;
 mod tmd;
 mod wsxm;
 mod x3p;
@@ -132,6 +138,12 @@ pub trait ProfileFormat: Sync {
     fn extensions(&self) -> &'static [&'static str];
     /// Whether a file's leading bytes identify this format.
     fn sniff(&self, head: &[u8]) -> bool;
+    /// Whether the whole file identifies this format when its head does not (a zip whose
+    /// members tell it); tried after every format's [`ProfileFormat::sniff`].
+    fn sniff_all(&self, bytes: &[u8]) -> bool {
+        let _ = bytes;
+        false
+    }
     /// Decode the profile. Errors are reasons; the registry adds the path.
     fn read(&self, bytes: &[u8]) -> std::result::Result<ProfileData, String>;
     /// Decode the profile within `limits`: only a compressed format needs them while it
@@ -170,6 +182,13 @@ impl Reader {
             Reader::Profile(f) => f.sniff(head),
         }
     }
+
+    fn sniff_all(self, bytes: &[u8]) -> bool {
+        match self {
+            Reader::Map(_) => false,
+            Reader::Profile(f) => f.sniff_all(bytes),
+        }
+    }
 }
 
 /// Every format, in the order magic bytes are tried (most specific first).
@@ -182,6 +201,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&x3p::X3p),
     Reader::Map(&npz::Npz),
     Reader::Map(&netcdf::NetCdf),
+    Reader::Map(&datx::Datx),
     Reader::Map(&hdf5::Hdf5),
     Reader::Map(&mat::Mat),
     Reader::Map(&ibw::Ibw),
@@ -190,6 +210,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&al3d::Al3d),
     Reader::Map(&opd::Opd),
     Reader::Map(&mnt::Mnt),
+    Reader::Map(&mdt::Mdt),
     Reader::Profile(&opdx::Opdx),
     // Sensofar files have no magic number: known by their extension only.
     Reader::Map(&plu::Plu),
@@ -197,9 +218,13 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&tmd::Tmd),
     Reader::Map(&wsxm::Wsxm),
     Reader::Map(&bcr::Bcr),
+    Reader::Map(&jpk::Jpk),
     Reader::Map(&ps::Ps),
-    // Zip formats told by their extension only.
+    // Bare heights, told by their extension only.
+    Reader::Map(&hgt::Hgt),
+    // Zip formats told by their extension or their members.
     Reader::Profile(&mitutoyo::Mitutoyo),
+    Reader::Profile(&nmm::Nmm),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
@@ -245,15 +270,24 @@ pub fn format_names() -> Vec<&'static str> {
 /// `--format` forced it.
 fn detect(path: &Path, name: &str, bytes: &[u8], forced: Option<&str>) -> Result<(Reader, bool)> {
     if let Some(name) = forced {
-        return FORMATS.iter().copied().find(|f| f.name() == name).map(|f| (f, true)).ok_or_else(|| {
-            Error::invalid("--format", format!("unknown format '{name}' (known: {})", format_names().join(", ")))
-        });
+        return FORMATS
+            .iter()
+            .copied()
+            .find(|f| f.name() == name)
+            .map(|f| (f, true))
+            .ok_or_else(|| Error::invalid("--format", format!("unknown format '{name}' ({FORMATS_POINTER})")));
     }
     let head = &bytes[..bytes.len().min(4096)];
+    let ext = Path::new(name).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if let Some(reason) = near_miss(head, &ext) {
+        return Err(Error::file(path, reason));
+    }
     if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff(head)) {
         return Ok((f, false));
     }
-    let ext = Path::new(name).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff_all(bytes)) {
+        return Ok((f, false));
+    }
     if let Some(f) = FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())) {
         return Ok((f, false));
     }
@@ -267,7 +301,26 @@ fn detect(path: &Path, name: &str, bytes: &[u8], forced: Option<&str>) -> Result
             ),
         ));
     }
-    Err(Error::file(path, format!("not a topography file asperity can read (formats: {})", format_names().join(", "))))
+    Err(Error::file(path, format!("not a topography file asperity can read ({FORMATS_POINTER})")))
+}
+
+/// Where a refusal sends the user for the formats asperity reads.
+const FORMATS_POINTER: &str = "'asperity topo formats' lists the formats it reads";
+
+/// Why a file of a format asperity knows of but does not read is refused, told from its head
+/// or its extension (lower case).
+fn near_miss(head: &[u8], ext: &str) -> Option<String> {
+    if head.starts_with(b"GWYO") {
+        return Some("a Gwyddion 1 file (magic GWYO), not read: re-save it in Gwyddion 2 (.gwy)".into());
+    }
+    if ext == "nms" {
+        return Some(
+            "a Nanofocus .nms file, not read: it states its point spacing without a unit (SurfaceTopography \
+             assumes mm), and asperity does not guess units; export it as .sur or .x3p"
+                .into(),
+        );
+    }
+    None
 }
 
 /// Read the file at `path` and decode all its channels (within the default [`Limits`]);
@@ -528,6 +581,9 @@ fn map(
 ) -> Result<(Topography, Vec<String>)> {
     let names = channels.iter().map(|c| c.name.clone()).collect();
     let index = choose_channel(&channels, opts.channel.as_deref()).map_err(|r| Error::file(path, r))?;
+    if opts.channel.is_none() {
+        no_heights(&channels[index], &channels).map_err(|r| Error::file(path, r))?;
+    }
     let mut ch = channels.swap_remove(index);
 
     let physical_size = match (ch.physical_size, opts.physical_size) {
@@ -608,6 +664,31 @@ fn stated_side(l: f64, steps: usize) -> std::result::Result<(), String> {
 fn same_size(a: (f64, f64), b: (f64, f64)) -> bool {
     let close = |x: f64, y: f64| (x - y).abs() <= 1e-6 * x.abs().max(y.abs());
     close(a.0, b.0) && close(a.1, b.1)
+}
+
+/// Refuse `default`, the channel chosen when none is named, when it states a unit that is not a
+/// length (then none of `channels` holds heights): a current in nA is never heights. The reason
+/// lists every channel with its unit.
+fn no_heights(default: &Channel, channels: &[Channel]) -> std::result::Result<(), String> {
+    match default.unit.as_deref() {
+        Some(u) if !default.is_height && units::metres_per(u).is_none() => {
+            let list = channels
+                .iter()
+                .map(|c| {
+                    format!(
+                        "{} ({})",
+                        quantity::quoted(&c.name),
+                        quantity::printable(c.unit.as_deref().unwrap_or("no unit"))
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(", ");
+            Err(format!(
+                "no channel holds heights (a length unit): {list}; --channel NAME reads one as stored, not as a topography in metres"
+            ))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Index of the channel named (or numbered) by `wanted`, or else of the default channel.
