@@ -7,6 +7,7 @@ use ndarray::Array2;
 use serde::Serialize;
 
 use asperity::error::escaped;
+use asperity::topography::detrend::Detrend;
 use asperity::topography::io;
 use asperity::topography::profile::Profile;
 use asperity::topography::stats::{
@@ -87,6 +88,10 @@ struct InfoArgs {
     /// Needs heights and positions in metres, a size, no missing point, a uniform profile
     #[arg(long)]
     psd_fit: bool,
+    /// Level a map before its statistics, as topo convert --detrend does (line:1 is an AFM
+    /// scan's usual first step, before a vendor's roughness); a line profile is not levelled
+    #[arg(long, default_value = "none", value_parser = topo_tools::parse_detrend)]
+    detrend: Detrend,
 }
 
 /// What `--psd-fit` adds to `topo info --json`: the fit, or only the reason there is none.
@@ -291,10 +296,14 @@ fn info(args: InfoArgs) -> Result<()> {
         return container_info(args, members);
     }
     let (topo, channels) = io::read_any(&args.read.file, &args.read.options())?;
-    let topo = match topo {
+    let mut topo = match topo {
         AnyTopography::Map(topo) => topo,
+        AnyTopography::Profile(p) if args.detrend != Detrend::None => {
+            return Err(p.error("--detrend levels a 2-D map, not a line profile"));
+        }
         AnyTopography::Profile(p) => return profile_info(args, &p, channels),
     };
+    args.detrend.apply(&mut topo)?;
     let stats = Stats::of(&topo.heights);
     let info = Info {
         file: args.read.file,
