@@ -177,3 +177,26 @@ fn near_misses_are_refused_with_their_reason_and_a_pointer_to_the_format_list() 
     let e = refused(&write(dir.path(), "notes.bin", &[0xAB; 64]), &opts);
     assert!(e.contains("'asperity topo formats' lists the formats it reads") && !e.contains("x3p"), "{e}");
 }
+
+#[test]
+fn topo_formats_lists_every_format_with_its_extensions_and_instrument() {
+    let run = |extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["topo", "formats"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let json: serde_json::Value = serde_json::from_str(&run(&["--json"])).unwrap();
+    let names: Vec<&str> = json.as_array().unwrap().iter().map(|f| f["name"].as_str().unwrap()).collect();
+    assert_eq!(names, asperity::topography::io::format_names());
+    let datx = json.as_array().unwrap().iter().find(|f| f["name"] == "datx").unwrap();
+    assert_eq!(datx["extensions"], serde_json::json!(["datx"]));
+    assert_eq!(datx["kind"], "map");
+    let text = run(&[]);
+    let line = text.lines().find(|l| l.starts_with(".jpk .jpk-qi-image")).unwrap_or_else(|| panic!("{text}"));
+    assert!(line.contains(" jpk ") && line.contains("JPK Instruments"), "{line}");
+    assert!(text.lines().any(|l| l.starts_with("(by content)") && l.contains(" nmm ")), "{text}");
+}

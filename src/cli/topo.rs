@@ -43,6 +43,46 @@ enum TopoCommand {
     /// Print the isotropic power spectral density as CSV q_rad_per_m,psd_m4 (of a uniform line
     /// profile its 1-D spectrum, q_rad_per_m,psd_m3)
     Psd(topo_tools::PsdArgs),
+    /// List the file formats asperity reads: extensions, --format name, map or line profile,
+    /// instrument, what is read (docs/formats.md says more)
+    Formats(FormatsArgs),
+}
+
+// Doc comments here are clap's --help text, printed as written (not Markdown).
+#[derive(Args)]
+struct FormatsArgs {
+    /// Print JSON: a list of {name, extensions, kind, instrument, reads}
+    #[arg(long)]
+    json: bool,
+}
+
+/// The registry's formats, as a table or JSON.
+fn formats(args: FormatsArgs) -> Result<()> {
+    let formats = io::formats();
+    if args.json {
+        return super::print_json(&formats);
+    }
+    let ending = |f: &io::FormatInfo| match f.extensions {
+        [] => "(by content)".to_string(),
+        // NanoScope's numbered endings .000 … .009 shown as a range.
+        e if e.len() > 4 => format!(".{} .{} .{} … .{}", e[0], e[1], e[2], e[e.len() - 1]),
+        e => e.iter().map(|e| format!(".{e}")).collect::<Vec<_>>().join(" "),
+    };
+    let width = formats.iter().map(|f| ending(f).chars().count()).max().unwrap_or(0);
+    let name_width = formats.iter().map(|f| f.name.len()).max().unwrap_or(0);
+    let mut text = String::new();
+    for f in &formats {
+        text.push_str(&format!(
+            "{:width$}  {:name_width$}  {:7}  {}: {}\n",
+            ending(f),
+            f.name,
+            f.kind,
+            f.instrument,
+            f.reads
+        ));
+    }
+    text.push_str("gzip (.gz) and zip containers (archive.zip#member) are read in front of every format\n");
+    super::print(&text)
 }
 
 pub fn run(args: TopoArgs) -> Result<()> {
@@ -51,6 +91,7 @@ pub fn run(args: TopoArgs) -> Result<()> {
         TopoCommand::Convert(args) => topo_tools::convert(args),
         TopoCommand::Generate(args) => topo_tools::generate(args),
         TopoCommand::Psd(args) => topo_tools::power_spectrum(args),
+        TopoCommand::Formats(args) => formats(args),
     }
 }
 

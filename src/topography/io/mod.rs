@@ -265,6 +265,95 @@ pub fn format_names() -> Vec<&'static str> {
     FORMATS.iter().map(|f| f.name()).collect()
 }
 
+/// One format of the registry as `asperity topo formats` lists it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FormatInfo {
+    /// The name `--format` takes.
+    pub name: &'static str,
+    /// File name endings it is known by (lower case, no dot); empty when only its content tells it.
+    pub extensions: &'static [&'static str],
+    /// `"map"` or `"profile"`.
+    pub kind: &'static str,
+    /// The instrument or software that writes it.
+    pub instrument: &'static str,
+    /// What is read from it.
+    pub reads: &'static str,
+}
+
+/// The instrument and what is read, for each format's name (`topo formats`; `docs/formats.md`
+/// says more).
+const ABOUT: &[(&str, &str, &str)] = &[
+    ("npy", "NumPy array", "the 2-D array (ny, nx); size and unit from the options"),
+    ("gwy", "Gwyddion native", "every data field, its size and units"),
+    ("nanoscope", "Bruker / Veeco NanoScope", "every channel through its Z scale chain; default Height"),
+    ("nid", "Nanosurf", "the topography channels (length units)"),
+    ("mi", "Agilent / Molecular Imaging PicoView", "every buffer, scaled to its range"),
+    ("x3p", "ISO 25178-71 / ISO 5436-2", "the height layer; invalid points missing"),
+    ("npz", "NumPy archive", "each 2-D array a channel; size and unit from the options"),
+    ("netcdf", "NetCDF classic (SurfaceTopography, contact.engineering)", "heights, length, unit; mask missing"),
+    (
+        "datx",
+        "Zygo Mx (MetroPro, Mx)",
+        "/Data/Surface in metres (fringes × wavelength × scale factor), lateral resolution; no-data missing",
+    ),
+    ("hdf5", "HDF5", "each 2-D dataset at the root; size and unit from the options"),
+    ("mat", "MATLAB level 5", "each 2-D real variable; size and unit from the options"),
+    ("ibw", "Igor binary wave (Asylum Research)", "every layer; its unit when stated"),
+    ("metropro", "Zygo MetroPro", "the phase map as heights, lateral resolution; invalid phase missing"),
+    ("sur", "Digital Surf / MountainsMap", "the first object in its units; special points missing"),
+    ("al3d", "Alicona InfiniteFocus", "the depth image, pixel size; invalid pixels missing"),
+    ("opd", "Bruker / Wyko Vision", "the height array × wavelength, pixel size"),
+    ("mnt", "Digital Surf Mountains document", "every measured surface in a length unit; mask missing"),
+    (
+        "mdt",
+        "NT-MDT (Nova, Solver, Ntegra)",
+        "the 2-D images of MDA frames in their units; a frame not in a length unit is never heights",
+    ),
+    ("opdx", "Bruker Dektak OPDx (Vision64)", "the height profile"),
+    ("plu", "Sensofar", "topography layers in µm; 1000001 missing"),
+    ("frt", "FRT MicroProf", "the topography block; stored 1 missing"),
+    ("tmd", "TrueMap (TrueGage)", "one channel in mm"),
+    ("wsxm", "WSxM (Nanotec)", "one image, size and Z amplitude"),
+    ("bcr", "BCR-STM / BCRF (SPIP)", "one channel, its units; void values missing"),
+    (
+        "jpk",
+        "JPK Instruments (.jpk scans, QI images)",
+        "each channel in its default slot (calibrated height); invalid pixels missing",
+    ),
+    ("ps", "Park Systems (XEI)", "the measurement tags (not the preview image)"),
+    ("hgt", "SRTM elevation tile (NASA)", "heights in metres; voids missing; no physical size (1° is about 111 km)"),
+    ("mitutoyo", "Mitutoyo SurfTest Excel export", "positions and heights, their units"),
+    ("nmm", "Nanomeasuring Machine (SIOS), zip of .dat and .dsc", "the height -Lz+Az along x (Lx) in metres"),
+    ("gsf", "Gwyddion Simple Field", "the field, its size and units"),
+    ("sdf", "ISO 25178-71 Surface Data File", "the field and its scales; BAD missing"),
+    ("gwyddion-txt", "Gwyddion ASCII export with its header", "each channel, its size and units"),
+    ("dektak", "Bruker Dektak CSV export", "the profile in its columns' units"),
+    ("hfm", "HFM line profile", "the profile, its units; invalid points missing"),
+    ("xyz", "x y z points on a regular grid", "the grid; no units (from the options)"),
+    ("profile", "two-column line profile (stylus exports, CSV)", "the profile, units from the column names"),
+    (
+        "matrix",
+        "plain-text matrix, with or without a header",
+        "one row of heights per line; a header's grid, size and units",
+    ),
+];
+
+/// Every format of the registry, in the order detection tries them.
+pub fn formats() -> Vec<FormatInfo> {
+    FORMATS
+        .iter()
+        .map(|f| {
+            let (_, instrument, reads) =
+                ABOUT.iter().find(|(name, ..)| *name == f.name()).copied().unwrap_or((f.name(), "", ""));
+            let kind = match f {
+                Reader::Map(_) => "map",
+                Reader::Profile(_) => "profile",
+            };
+            FormatInfo { name: f.name(), extensions: f.extensions(), kind, instrument, reads }
+        })
+        .collect()
+}
+
 /// The format of the file at `path` with contents `bytes`, told from its leading bytes, else
 /// from the ending of `name` (the file's or the member's name, less `.gz`); and whether
 /// `--format` forced it.
@@ -720,5 +809,22 @@ fn choose_channel(channels: &[Channel], wanted: Option<&str>) -> std::result::Re
             .position(|c| c.name == w)
             .or_else(|| w.parse::<usize>().ok().filter(|&i| i < channels.len()))
             .ok_or_else(|| format!("no channel '{w}' (channels: {})", names())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_format_is_described_once() {
+        let formats = formats();
+        assert_eq!(formats.len(), ABOUT.len());
+        for f in &formats {
+            assert!(!f.instrument.is_empty() && !f.reads.is_empty(), "{} is not described", f.name);
+        }
+        let hgt = formats.iter().find(|f| f.name == "hgt").unwrap();
+        assert_eq!((hgt.extensions, hgt.kind), (&["hgt"][..], "map"));
+        assert_eq!(formats.iter().find(|f| f.name == "nmm").unwrap().kind, "profile");
     }
 }
