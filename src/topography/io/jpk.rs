@@ -125,7 +125,7 @@ fn slot_tag(i: usize, field: usize) -> u16 {
 
 /// A count a tag states as a number: a positive integer.
 fn count(v: f64, what: &str) -> Result<usize, String> {
-    if v.fract() == 0.0 && v >= 1.0 && v < 1e9 {
+    if v.fract() == 0.0 && (1.0..1e9).contains(&v) {
         Ok(v as usize)
     } else {
         Err(format!("the JPK file states {v} {what}"))
