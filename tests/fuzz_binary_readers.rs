@@ -423,3 +423,18 @@ fn mnt_survives_mutation() {
     let fields = vec![0x1C, 0x2C, 0x30, 0x3C, 0x40, 0x44, 0x48, 0x4C, 12544 + 116, 12544 + 120, 12544 + 124];
     fuzz("mnt-1.mnt", "mnt", Header::Binary(12544 + 128, fields, |_| {}));
 }
+
+#[test]
+fn jpk_survives_mutation() {
+    // The first directory (at 8, 38 tags): its count, and each tag's count and value or offset
+    // (the grid's lengths and points among them).
+    let fields = [4, 8].into_iter().chain((0..38).flat_map(|i| [10 + 12 * i + 4, 10 + 12 * i + 8])).collect();
+    fuzz("data-image.jpk-qi-image", "jpk", Header::Binary(470, fields, |_| {}));
+}
+
+#[test]
+fn datx_survives_mutation() {
+    // The HDF5 superblock (its sizes and the root group's addresses) and the object headers after it.
+    let fields = vec![8, 12, 16, 24, 32, 40, 48, 56, 64, 72, 80, 88];
+    fuzz("zygo_test.datx", "datx", Header::Binary(4096, fields, |_| {}));
+}

@@ -210,3 +210,39 @@ fn summary_states_units() {
     assert!(text.contains("10.00 µm × 10.00 µm (pixel 39.06 nm × 39.06 nm)"), "{text}");
     assert!(text.contains("rms          35.22 nm"), "{text}");
 }
+
+#[test]
+fn line_levelling_gives_the_statistics_of_the_surface_without_its_lines_offsets_and_tilts() {
+    let dir = tempfile::tempdir().unwrap();
+    let (nx, ny) = (64, 48);
+    let surface = ndarray::Array2::from_shape_fn((ny, nx), |(j, i)| {
+        1e-9 * ((0.37 * i as f64).sin() * (0.21 * j as f64).cos() + 0.4 * (0.11 * (i + 2 * j) as f64).sin())
+    });
+    // Each scan line with an offset and a tilt of its own, a hundred times the roughness.
+    let scanned = ndarray::Array2::from_shape_fn((ny, nx), |(j, i)| {
+        let (a, b) = ((j as f64 * 1.7).sin() * 1e-7, (j as f64 * 0.9).cos() * 2e-9);
+        surface[[j, i]] + a + b * i as f64
+    });
+    let write = |name: &str, a: &ndarray::Array2<f64>| {
+        let path = dir.path().join(name);
+        ndarray_npy::write_npy(&path, a).unwrap();
+        path
+    };
+    let (flat, lines) = (write("flat.npy", &surface), write("lines.npy", &scanned));
+    let rms = |file: &Path, detrend: &str| {
+        let out = topo_info(file, &["--size", "1e-6", "--detrend", detrend]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<Value>(&out.stdout).unwrap()["rms_m"].as_f64().unwrap()
+    };
+    for mode in ["line:1", "line:1,plane", "line:2"] {
+        let (got, want) = (rms(&lines, mode), rms(&flat, mode));
+        assert!((got - want).abs() <= 1e-12 * want, "{mode}: {got:e} vs {want:e}");
+    }
+    // Without it the offsets dominate; a plane alone leaves them.
+    assert!(rms(&lines, "none") > 50.0 * rms(&flat, "line:1"));
+    assert!(rms(&lines, "plane") > 50.0 * rms(&flat, "line:1"));
+    // A line profile is not levelled: refused in one line.
+    let out = topo_info(&common::sample("xy-1.txt"), &["--detrend", "line:1"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.lines().count() == 1 && stderr.contains("levels a 2-D map"), "{stderr}");
+}

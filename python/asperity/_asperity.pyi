@@ -52,7 +52,8 @@ class Topography:
     @property
     def missing_points(self) -> int: ...
     def detrend(self, kind: str = "plane") -> Topography:
-        """Levelled (least squares): "none", "mean", "plane", "poly:N" (N ≤ 8) or "sphere"."""
+        """Levelled (least squares): "none", "mean", "plane", "poly:N" (N ≤ 8) or "sphere"; or line
+        by line, "line:N" (N ≤ 3) or "line:median", optionally then the whole map ("line:1,plane")."""
     def crop(
         self,
         x: Optional[Tuple[float, float]] = None,

@@ -420,7 +420,9 @@ impl Topography {
 
     /// Levelled (least squares): "none", "mean", "plane" (the default, as a study levels a
     /// file), "poly:N" (a polynomial of total degree N ≤ 8) or "sphere" (the best-fitting
-    /// sphere subtracted: a ball's curvature).
+    /// sphere subtracted: a ball's curvature); or line by line, "line:N" (each scan line's
+    /// polynomial of degree N ≤ 3 along x subtracted) or "line:median", optionally followed by
+    /// a whole-map mode ("line:1,plane").
     #[pyo3(signature = (kind = "plane"))]
     fn detrend(&self, py: Python<'_>, kind: &str) -> PyResult<Topography> {
         let detrend: Detrend = kind.parse().map_err(|e: String| invalid("kind", e))?;

@@ -7,6 +7,7 @@ use ndarray::Array2;
 use serde::Serialize;
 
 use asperity::error::escaped;
+use asperity::topography::detrend::Detrend;
 use asperity::topography::io;
 use asperity::topography::profile::Profile;
 use asperity::topography::stats::{
@@ -42,6 +43,46 @@ enum TopoCommand {
     /// Print the isotropic power spectral density as CSV q_rad_per_m,psd_m4 (of a uniform line
     /// profile its 1-D spectrum, q_rad_per_m,psd_m3)
     Psd(topo_tools::PsdArgs),
+    /// List the file formats asperity reads: extensions, --format name, map or line profile,
+    /// instrument, what is read (docs/formats.md says more)
+    Formats(FormatsArgs),
+}
+
+// Doc comments here are clap's --help text, printed as written (not Markdown).
+#[derive(Args)]
+struct FormatsArgs {
+    /// Print JSON: a list of {name, extensions, kind, instrument, reads}
+    #[arg(long)]
+    json: bool,
+}
+
+/// The registry's formats, as a table or JSON.
+fn formats(args: FormatsArgs) -> Result<()> {
+    let formats = io::formats();
+    if args.json {
+        return super::print_json(&formats);
+    }
+    let ending = |f: &io::FormatInfo| match f.extensions {
+        [] => "(by content)".to_string(),
+        // NanoScope's numbered endings .000 … .009 shown as a range.
+        e if e.len() > 4 => format!(".{} .{} .{} … .{}", e[0], e[1], e[2], e[e.len() - 1]),
+        e => e.iter().map(|e| format!(".{e}")).collect::<Vec<_>>().join(" "),
+    };
+    let width = formats.iter().map(|f| ending(f).chars().count()).max().unwrap_or(0);
+    let name_width = formats.iter().map(|f| f.name.len()).max().unwrap_or(0);
+    let mut text = String::new();
+    for f in &formats {
+        text.push_str(&format!(
+            "{:width$}  {:name_width$}  {:7}  {}: {}\n",
+            ending(f),
+            f.name,
+            f.kind,
+            f.instrument,
+            f.reads
+        ));
+    }
+    text.push_str("gzip (.gz) and zip containers (archive.zip#member) are read in front of every format\n");
+    super::print(&text)
 }
 
 pub fn run(args: TopoArgs) -> Result<()> {
@@ -50,6 +91,7 @@ pub fn run(args: TopoArgs) -> Result<()> {
         TopoCommand::Convert(args) => topo_tools::convert(args),
         TopoCommand::Generate(args) => topo_tools::generate(args),
         TopoCommand::Psd(args) => topo_tools::power_spectrum(args),
+        TopoCommand::Formats(args) => formats(args),
     }
 }
 
@@ -87,6 +129,10 @@ struct InfoArgs {
     /// Needs heights and positions in metres, a size, no missing point, a uniform profile
     #[arg(long)]
     psd_fit: bool,
+    /// Level a map before its statistics, as topo convert --detrend does (line:1 is an AFM
+    /// scan's usual first step, before a vendor's roughness); a line profile is not levelled
+    #[arg(long, default_value = "none", value_parser = topo_tools::parse_detrend)]
+    detrend: Detrend,
 }
 
 /// What `--psd-fit` adds to `topo info --json`: the fit, or only the reason there is none.
@@ -291,10 +337,14 @@ fn info(args: InfoArgs) -> Result<()> {
         return container_info(args, members);
     }
     let (topo, channels) = io::read_any(&args.read.file, &args.read.options())?;
-    let topo = match topo {
+    let mut topo = match topo {
         AnyTopography::Map(topo) => topo,
+        AnyTopography::Profile(p) if args.detrend != Detrend::None => {
+            return Err(p.error("--detrend levels a 2-D map, not a line profile"));
+        }
         AnyTopography::Profile(p) => return profile_info(args, &p, channels),
     };
+    args.detrend.apply(&mut topo)?;
     let stats = Stats::of(&topo.heights);
     let info = Info {
         file: args.read.file,

@@ -37,7 +37,9 @@ pub struct PrepareArgs {
     #[arg(long)]
     pub refuse_missing: bool,
     /// Levelling: none, mean, plane, poly:N (total degree N ≤ 8, least squares) or sphere (fits
-    /// and subtracts a sphere, reporting its radius [m])
+    /// and subtracts a sphere, reporting its radius [m]); or each scan line on its own, line:N (its
+    /// polynomial of degree N ≤ 3 along x subtracted) or line:median (shifted by its median),
+    /// then optionally the whole map: line:1,plane
     #[arg(long, default_value = "none", value_parser = parse_detrend)]
     pub detrend: Detrend,
 }
@@ -386,7 +388,7 @@ fn parse_grid(s: &str) -> std::result::Result<(usize, usize), String> {
     }
 }
 
-fn parse_detrend(s: &str) -> std::result::Result<Detrend, String> {
+pub(super) fn parse_detrend(s: &str) -> std::result::Result<Detrend, String> {
     s.parse()
 }
 

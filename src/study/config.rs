@@ -156,7 +156,8 @@ pub struct SurfaceSpec {
     /// Fill missing points harmonically rather than refuse them.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub fill_missing: bool,
-    /// Levelling: `none`, `mean`, `plane`, `poly:N` or `sphere` (files: default `plane`).
+    /// Levelling: `none`, `mean`, `plane`, `poly:N` or `sphere`, or line by line `line:N` or
+    /// `line:median`, optionally then the whole map (`line:1,plane`) (files: default `plane`).
     #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "detrend")]
     pub detrend: Option<String>,
     /// Pixel size to resample to \[m].
@@ -1502,6 +1503,7 @@ fn one_line(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::topography::detrend::{LineFit, WholeMap};
     use crate::topography::synth::SelfAffine;
 
     fn err(text: &str) -> String {
@@ -1585,6 +1587,8 @@ mod tests {
         assert!(e.starts_with("study.toml:4:1: topography[0].crop: give either"), "{e}");
         let e = err("[[topography]]\nname = \"a\"\nfile = \"a.npy\"\ndetrend = \"cubic\"\n");
         assert!(e.starts_with("study.toml:4:11: topography[0].detrend: 'cubic' is not none"), "{e}");
+        let e = err("[[topography]]\nname = \"a\"\nfile = \"a.npy\"\ndetrend = \"line:4,plane\"\n");
+        assert!(e.starts_with("study.toml:4:11: topography[0].detrend: 'line:4,plane' is not none"), "{e}");
         let e = err("[[topography]]\nname = \"a\"\nsynthetic = { size_m = [1e-5, 1e-5], grid = [8, 8], roughness = { hurst = 2, rms_height_m = 1e-9 } }\n");
         assert!(e.starts_with("study.toml:3:1: topography[0].synthetic: roughness.hurst: must lie in (0, 1]"), "{e}");
         let e = err("[output]\nfigures = [\"friction-drops\"]\n");
@@ -1681,6 +1685,9 @@ mod tests {
         assert_eq!(t.size, Some(Size(Length(10e-6), Length(8e-6))));
         assert_eq!(t.wafer.as_ref().unwrap().size, Some(Size(Length(1e-5), Length(1e-5))));
         assert_eq!(t.detrend(), Detrend::Polynomial(1));
+        let lines = "[[topography]]\nname = \"m\"\nfile = \"m.npy\"\nsize = 1e-5\ndetrend = \"line:1,plane\"\n";
+        let levelled = StudyConfig::parse(lines, "s.toml").unwrap();
+        assert_eq!(levelled.topographies[0].detrend(), Detrend::Lines(LineFit::Polynomial(1), WholeMap::Polynomial(1)));
         assert_eq!(c.laws[0].name(), "afm.csv");
         assert_eq!(c.laws[0].curve.as_deref(), Some(Path::new("/data/afm.csv")));
         // Sections left out are the default study's.

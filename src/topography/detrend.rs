@@ -1,4 +1,5 @@
-//! Levelling: least-squares polynomial detrending and the sphere fit of a ball's apex.
+//! Levelling: least-squares polynomial detrending, the sphere fit of a ball's apex, and the
+//! levelling of each scan line on its own (AFM lines carry offsets and tilts of their own).
 //!
 //! Fits run over the defined points only (missing points are skipped and stay missing).
 //! Sums are taken in fixed blocks of rows and added in order, so results do not depend on
@@ -15,6 +16,9 @@ use crate::error::{Error, Result};
 /// Highest polynomial degree [`Detrend::Polynomial`] accepts.
 pub const MAX_DEGREE: usize = 8;
 
+/// Highest degree of the polynomial fitted to each scan line ([`LineFit::Polynomial`]).
+pub const MAX_LINE_DEGREE: usize = 3;
+
 /// How to level a topography.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Detrend {
@@ -26,20 +30,75 @@ pub enum Detrend {
     /// Subtract the least-squares sphere ([`fit_sphere`]): a ball's curvature, leaving its
     /// roughness.
     Sphere,
+    /// Level each scan line (a row, along the fast axis x) on its own, then the whole map.
+    Lines(LineFit, WholeMap),
+}
+
+/// How each scan line is levelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LineFit {
+    /// Subtract the line's least-squares polynomial of this degree in x (≤ [`MAX_LINE_DEGREE`]).
+    Polynomial(usize),
+    /// Shift the line by its median (Gwyddion's median alignment of rows).
+    Median,
+}
+
+/// The whole-map step after line levelling: one of [`Detrend`]'s own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WholeMap {
+    /// None: the lines levelled only.
+    None,
+    /// [`Detrend::Polynomial`].
+    Polynomial(usize),
+    /// [`Detrend::Sphere`].
+    Sphere,
+}
+
+impl From<WholeMap> for Detrend {
+    fn from(w: WholeMap) -> Detrend {
+        match w {
+            WholeMap::None => Detrend::None,
+            WholeMap::Polynomial(n) => Detrend::Polynomial(n),
+            WholeMap::Sphere => Detrend::Sphere,
+        }
+    }
 }
 
 impl FromStr for Detrend {
     type Err = String;
 
-    /// `none`, `mean`, `plane`, `poly:N` or `sphere`.
+    /// `none`, `mean`, `plane`, `poly:N` or `sphere`; or `line:N` (N ≤ 3) or `line:median`,
+    /// alone or followed by a whole-map step: `line:1,plane`.
     fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let bad = || {
+            format!(
+                "'{s}' is not none, mean, plane, poly:N (N ≤ {MAX_DEGREE}), sphere, line:N (N ≤ {MAX_LINE_DEGREE}) or \
+                 line:median, nor line:… followed by a whole-map step (line:1,plane)"
+            )
+        };
+        if let Some(rest) = s.strip_prefix("line:") {
+            let (line, whole) = rest.split_once(',').unwrap_or((rest, "none"));
+            let fit = match line {
+                "median" => LineFit::Median,
+                n => match n.parse::<usize>() {
+                    Ok(n) if n <= MAX_LINE_DEGREE => LineFit::Polynomial(n),
+                    _ => return Err(bad()),
+                },
+            };
+            let whole = match whole.parse::<Detrend>().map_err(|_| bad())? {
+                Detrend::None => WholeMap::None,
+                Detrend::Polynomial(n) => WholeMap::Polynomial(n),
+                Detrend::Sphere => WholeMap::Sphere,
+                Detrend::Lines(..) => return Err(bad()),
+            };
+            return Ok(Detrend::Lines(fit, whole));
+        }
         match s {
             "none" => Ok(Detrend::None),
             "mean" => Ok(Detrend::Polynomial(0)),
             "plane" => Ok(Detrend::Polynomial(1)),
             "sphere" => Ok(Detrend::Sphere),
             _ => {
-                let bad = || format!("'{s}' is not none, mean, plane, poly:N (N ≤ {MAX_DEGREE}) or sphere");
                 let n: usize = s.strip_prefix("poly:").ok_or_else(bad)?.parse().map_err(|_| bad())?;
                 if n > MAX_DEGREE {
                     return Err(bad());
@@ -64,8 +123,73 @@ impl Detrend {
                 }
                 Ok(Some(fit))
             }
+            Detrend::Lines(fit, whole) => {
+                level_lines(topo, fit)?;
+                Detrend::from(whole).apply(topo)
+            }
         }
     }
+}
+
+/// Level each row of `topo` (a scan line along x) by `fit`, over its defined points; a line with
+/// too few of them for the fit is refused (never filled or left as it was).
+pub fn level_lines(topo: &mut Topography, fit: LineFit) -> Result<()> {
+    let nx = topo.nx();
+    let (degree, needed) = match fit {
+        LineFit::Polynomial(n) if n > MAX_LINE_DEGREE => {
+            return Err(Error::invalid("--detrend", format!("line degree {n} is above the maximum {MAX_LINE_DEGREE}")))
+        }
+        LineFit::Polynomial(n) => (n, n + 1),
+        LineFit::Median => (0, 1),
+    };
+    let px = legendre_table(nx, degree);
+    let short = topo.heights.outer_iter().enumerate().find_map(|(j, line)| {
+        let defined = line.iter().filter(|h| !h.is_nan()).count();
+        (defined < needed).then_some((j, defined))
+    });
+    if let Some((j, defined)) = short {
+        let what = match fit {
+            LineFit::Polynomial(n) => format!("a polynomial of degree {n} along x ({needed} points)"),
+            LineFit::Median => "its median".to_string(),
+        };
+        return Err(topo.error(format!(
+            "scan line {j} (row {j} of {}) has {defined} defined points, too few to fit {what}: level it with a \
+             whole-map mode, or crop it away",
+            topo.ny()
+        )));
+    }
+    let singular = topo.heights.axis_iter_mut(Axis(0)).into_par_iter().enumerate().try_for_each(|(j, mut line)| {
+        let shift: Vec<f64> = match fit {
+            LineFit::Median => {
+                let mut v: Vec<f64> = line.iter().copied().filter(|h| !h.is_nan()).collect();
+                v.sort_by(f64::total_cmp);
+                let m = v.len() / 2;
+                let median = if v.len() % 2 == 1 { v[m] } else { 0.5 * (v[m - 1] + v[m]) };
+                vec![median; nx]
+            }
+            LineFit::Polynomial(_) => {
+                let p = degree + 1;
+                let mut ne = NormalEquations { gram: vec![0.0; p * p], rhs: vec![0.0; p], ssr: 0.0, count: 0 };
+                for (i, &z) in line.iter().enumerate().filter(|(_, z)| !z.is_nan()) {
+                    for k in 0..p {
+                        ne.rhs[k] += px[k][i] * z;
+                        for m in 0..p {
+                            ne.gram[k * p + m] += px[k][i] * px[m][i];
+                        }
+                    }
+                }
+                let coef = ne.solve().ok_or(j)?;
+                (0..nx).map(|i| (0..p).map(|k| coef[k] * px[k][i]).sum()).collect()
+            }
+        };
+        line.iter_mut().zip(&shift).for_each(|(h, s)| *h -= s);
+        Ok::<(), usize>(())
+    });
+    singular.map_err(|j| {
+        topo.error(format!(
+            "scan line {j}: its defined points are too close together to fit a polynomial of degree {degree} along x"
+        ))
+    })
 }
 
 /// Subtract from `topo` its least-squares polynomial of total degree `degree` in (x, y).
@@ -397,6 +521,114 @@ mod tests {
         assert!(diff < 1e-13 * 1e-7, "difference {diff}");
         // And the cubic removed from the roughness alone changes it: the test can fail.
         assert!(max_abs(&(&flat.heights - &rough.heights)) > 1e-11);
+    }
+
+    #[test]
+    fn parses_line_levelling_alone_and_before_a_whole_map_step() {
+        assert_eq!("line:1".parse(), Ok(Detrend::Lines(LineFit::Polynomial(1), WholeMap::None)));
+        assert_eq!("line:median".parse(), Ok(Detrend::Lines(LineFit::Median, WholeMap::None)));
+        assert_eq!("line:0,plane".parse(), Ok(Detrend::Lines(LineFit::Polynomial(0), WholeMap::Polynomial(1))));
+        assert_eq!("line:3,sphere".parse(), Ok(Detrend::Lines(LineFit::Polynomial(3), WholeMap::Sphere)));
+        for bad in ["line:4", "line:", "line:1,line:0", "line:1,", "line:median,poly:9", "line:-1"] {
+            let e = bad.parse::<Detrend>().unwrap_err();
+            assert!(e.contains(&format!("'{bad}'")) && e.contains("line:N (N ≤ 3)"), "{e}");
+        }
+    }
+
+    /// Random per-line terms: for row j, Σ c_jk x^k (x in pixels) with c_jk drawn from a fixed
+    /// sequence, `scale` [m] the size of the offsets.
+    fn line_terms(ny: usize, degree: usize, scale: f64) -> Vec<Vec<f64>> {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        (0..ny).map(|_| (0..=degree).map(|k| scale * next() / 40f64.powi(k as i32)).collect()).collect()
+    }
+
+    #[test]
+    fn line_levelling_removes_random_per_line_polynomials_exactly() {
+        let (size, grid) = ((12e-6, 9e-6), (60, 45));
+        for degree in 0..=MAX_LINE_DEGREE {
+            let terms = line_terms(grid.1, degree, 1e-7);
+            let rough = map(size, grid, bumps);
+            let mut scanned = rough.clone();
+            for ((j, i), h) in scanned.heights.indexed_iter_mut() {
+                *h += terms[j].iter().enumerate().map(|(k, c)| c * (i as f64).powi(k as i32)).sum::<f64>();
+            }
+            // Missing points, left out of each line's fit, stay missing.
+            let mut flat = rough.clone();
+            for t in [&mut scanned, &mut flat] {
+                for at in [[3, 7], [3, 8], [40, 0]] {
+                    t.heights[at] = f64::NAN;
+                }
+            }
+            let mode = Detrend::Lines(LineFit::Polynomial(degree), WholeMap::None);
+            mode.apply(&mut scanned).unwrap();
+            mode.apply(&mut flat).unwrap();
+            assert!(scanned.heights[[3, 7]].is_nan() && scanned.heights[[40, 0]].is_nan());
+            let diff = max_abs(&(&scanned.heights - &flat.heights));
+            assert!(diff < 1e-12 * max_abs(&rough.heights), "degree {degree}: difference {diff:e}");
+            // Each line of the result has no component of degree ≤ N left: its mean is zero.
+            let row = flat.heights.row(10);
+            assert!(row.sum().abs() < 1e-12 * max_abs(&rough.heights), "{}", row.sum());
+            // And the levelling changed the roughness itself (its per-line terms): the test can fail.
+            assert!(max_abs(&(&flat.heights - &rough.heights)) > 1e-11, "degree {degree}");
+        }
+    }
+
+    #[test]
+    fn median_alignment_shifts_each_line_by_its_median() {
+        let terms = line_terms(45, 0, 1e-7);
+        let rough = map((12e-6, 9e-6), (60, 45), bumps);
+        let mut shifted = rough.clone();
+        for ((j, _), h) in shifted.heights.indexed_iter_mut() {
+            *h += terms[j][0];
+        }
+        let mode: Detrend = "line:median".parse().unwrap();
+        mode.apply(&mut shifted).unwrap();
+        let mut flat = rough.clone();
+        mode.apply(&mut flat).unwrap();
+        assert!(max_abs(&(&shifted.heights - &flat.heights)) < 1e-12 * max_abs(&rough.heights));
+        // Every line's median is now 0: half its points above, half below.
+        let line: Vec<f64> = flat.heights.row(5).to_vec();
+        assert_eq!(line.iter().filter(|&&h| h > 0.0).count(), line.iter().filter(|&&h| h < 0.0).count());
+    }
+
+    #[test]
+    fn line_levelling_then_a_plane_removes_the_tilt_along_y() {
+        // Line levelling of degree 0 leaves no tilt along x; the plane then has none along y
+        // either, since each line's mean is zero: the result equals line levelling alone.
+        let tilted = map((12e-6, 9e-6), (60, 45), |x, y| bumps(x, y) + 0.01 * x + 0.02 * y);
+        let mut a = tilted.clone();
+        let mut b = tilted.clone();
+        "line:1,plane".parse::<Detrend>().unwrap().apply(&mut a).unwrap();
+        "line:1".parse::<Detrend>().unwrap().apply(&mut b).unwrap();
+        assert!(max_abs(&(&a.heights - &b.heights)) < 1e-20);
+        // A plane alone keeps each line's own offsets of the roughness: not the same map.
+        let mut c = tilted.clone();
+        Detrend::Polynomial(1).apply(&mut c).unwrap();
+        assert!(max_abs(&(&a.heights - &c.heights)) > 1e-11);
+    }
+
+    #[test]
+    fn a_line_with_too_few_points_is_refused_not_filled() {
+        let mut t = map((1e-6, 1e-6), (8, 4), |x, y| x + y);
+        for i in 1..8 {
+            t.heights[[2, i]] = f64::NAN;
+        }
+        let e = Detrend::Lines(LineFit::Polynomial(1), WholeMap::None).apply(&mut t.clone()).unwrap_err().to_string();
+        assert!(e.contains("scan line 2 (row 2 of 4) has 1 defined points") && e.contains("degree 1"), "{e}");
+        // The median needs one point: that line is shifted to 0.
+        Detrend::Lines(LineFit::Median, WholeMap::None).apply(&mut t).unwrap();
+        assert_eq!(t.heights[[2, 0]], 0.0);
+        for i in 0..8 {
+            t.heights[[1, i]] = f64::NAN;
+        }
+        let e = Detrend::Lines(LineFit::Median, WholeMap::None).apply(&mut t).unwrap_err().to_string();
+        assert!(e.contains("scan line 1 (row 1 of 4) has 0 defined points") && e.contains("its median"), "{e}");
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! SurfaceTopography. Decoded by `hdf5-reader` (pure Rust); every dataset's grid is checked
 //! against the limits before it is read, and no read may allocate past them.
 
-use ndarray::{ArrayD, Ix2};
+use ndarray::{Array2, ArrayD, Ix2};
 
 use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 
@@ -35,20 +35,13 @@ impl Format for Hdf5 {
     }
 
     fn read_within(&self, bytes: &[u8], limits: &Limits) -> Result<Vec<Channel>, String> {
-        // A dataset's values as float64 within the point limit: no read allocates more.
-        let options = OpenOptions::default().with_max_read_bytes(limits.max_points.saturating_mul(8));
-        // The decoder's errors quote the file's bytes (a child's name): kept to one line.
-        let file = Hdf5File::from_bytes_with_options(bytes, options).map_err(|e| one_line(format!("HDF5: {e}")))?;
+        let file = open(bytes, limits)?;
         let mut datasets = file.root_group().and_then(|g| g.datasets()).map_err(|e| one_line(format!("HDF5: {e}")))?;
         // In name order, as h5py (and so SurfaceTopography) lists them.
         datasets.sort_by(|a, b| a.name().cmp(b.name()));
         let mut channels = Vec::new();
         for ds in datasets.iter().filter(|d| d.ndim() == 2) {
-            let (ny, nx) = (ds.shape()[0], ds.shape()[1]);
-            let (nx, ny) = (usize::try_from(nx).unwrap_or(usize::MAX), usize::try_from(ny).unwrap_or(usize::MAX));
-            limits.check_grid(nx, ny)?;
-            in_file(ds, (nx, ny), bytes.len())?;
-            let data = values(ds)?.into_dimensionality::<Ix2>().map_err(|e| format!("HDF5: {e}"))?;
+            let data = map(ds, bytes.len(), limits)?;
             channels.push(Channel {
                 name: ds.name().to_string(),
                 data,
@@ -66,6 +59,24 @@ impl Format for Hdf5 {
     fn is_bare(&self) -> bool {
         true
     }
+}
+
+/// The HDF5 file of `bytes`, no read of which allocates more than a grid within `limits` of
+/// float64 values.
+pub(super) fn open(bytes: &[u8], limits: &Limits) -> Result<Hdf5File, String> {
+    let options = OpenOptions::default().with_max_read_bytes(limits.max_points.saturating_mul(8));
+    // The decoder's errors quote the file's bytes (a child's name): kept to one line.
+    Hdf5File::from_bytes_with_options(bytes, options).map_err(|e| one_line(format!("HDF5: {e}")))
+}
+
+/// The values of the 2-D dataset `ds` of a file of `file_len` bytes as float64, shape (ny, nx),
+/// its grid checked against `limits` and the file before it is read.
+pub(super) fn map(ds: &Dataset, file_len: usize, limits: &Limits) -> Result<Array2<f64>, String> {
+    let (ny, nx) = (ds.shape()[0], ds.shape()[1]);
+    let (nx, ny) = (usize::try_from(nx).unwrap_or(usize::MAX), usize::try_from(ny).unwrap_or(usize::MAX));
+    limits.check_grid(nx, ny)?;
+    in_file(ds, (nx, ny), file_len)?;
+    values(ds)?.into_dimensionality::<Ix2>().map_err(|e| format!("HDF5: {e}"))
 }
 
 /// Refuse a dataset of `nx` × `ny` values whose data cannot all be in the file of `file_len`

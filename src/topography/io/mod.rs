@@ -14,6 +14,7 @@ mod al3d;
 mod bcr;
 mod binary;
 mod container;
+mod datx;
 mod dektak;
 mod frt;
 mod gsf;
@@ -22,9 +23,12 @@ mod gwyddion_txt;
 mod gzip;
 mod hdf5;
 mod hfm;
+mod hgt;
 mod ibw;
+mod jpk;
 mod mat;
 mod matrix;
+mod mdt;
 mod metropro;
 mod mi;
 mod mitutoyo;
@@ -32,6 +36,7 @@ mod mnt;
 mod nanoscope;
 mod netcdf;
 mod nid;
+mod nmm;
 pub mod npy;
 mod npz;
 mod opd;
@@ -42,6 +47,7 @@ mod ps;
 mod sdf;
 mod sur;
 mod text;
+mod tiff;
 mod tmd;
 mod wsxm;
 mod x3p;
@@ -132,6 +138,12 @@ pub trait ProfileFormat: Sync {
     fn extensions(&self) -> &'static [&'static str];
     /// Whether a file's leading bytes identify this format.
     fn sniff(&self, head: &[u8]) -> bool;
+    /// Whether the whole file identifies this format when its head does not (a zip whose
+    /// members tell it); tried after every format's [`ProfileFormat::sniff`].
+    fn sniff_all(&self, bytes: &[u8]) -> bool {
+        let _ = bytes;
+        false
+    }
     /// Decode the profile. Errors are reasons; the registry adds the path.
     fn read(&self, bytes: &[u8]) -> std::result::Result<ProfileData, String>;
     /// Decode the profile within `limits`: only a compressed format needs them while it
@@ -170,6 +182,13 @@ impl Reader {
             Reader::Profile(f) => f.sniff(head),
         }
     }
+
+    fn sniff_all(self, bytes: &[u8]) -> bool {
+        match self {
+            Reader::Map(_) => false,
+            Reader::Profile(f) => f.sniff_all(bytes),
+        }
+    }
 }
 
 /// Every format, in the order magic bytes are tried (most specific first).
@@ -182,6 +201,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&x3p::X3p),
     Reader::Map(&npz::Npz),
     Reader::Map(&netcdf::NetCdf),
+    Reader::Map(&datx::Datx),
     Reader::Map(&hdf5::Hdf5),
     Reader::Map(&mat::Mat),
     Reader::Map(&ibw::Ibw),
@@ -190,6 +210,7 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&al3d::Al3d),
     Reader::Map(&opd::Opd),
     Reader::Map(&mnt::Mnt),
+    Reader::Map(&mdt::Mdt),
     Reader::Profile(&opdx::Opdx),
     // Sensofar files have no magic number: known by their extension only.
     Reader::Map(&plu::Plu),
@@ -197,9 +218,13 @@ static FORMATS: &[Reader] = &[
     Reader::Map(&tmd::Tmd),
     Reader::Map(&wsxm::Wsxm),
     Reader::Map(&bcr::Bcr),
+    Reader::Map(&jpk::Jpk),
     Reader::Map(&ps::Ps),
-    // Zip formats told by their extension only.
+    // Bare heights, told by their extension only.
+    Reader::Map(&hgt::Hgt),
+    // Zip formats told by their extension or their members.
     Reader::Profile(&mitutoyo::Mitutoyo),
+    Reader::Profile(&nmm::Nmm),
     // Text formats after the binary ones; among them, a Gwyddion header or a Dektak export
     // before x y z points (tables of three columns) and profiles (of two) before any other
     // table of numbers.
@@ -240,20 +265,118 @@ pub fn format_names() -> Vec<&'static str> {
     FORMATS.iter().map(|f| f.name()).collect()
 }
 
+/// One format of the registry as `asperity topo formats` lists it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FormatInfo {
+    /// The name `--format` takes.
+    pub name: &'static str,
+    /// File name endings it is known by (lower case, no dot); empty when only its content tells it.
+    pub extensions: &'static [&'static str],
+    /// `"map"` or `"profile"`.
+    pub kind: &'static str,
+    /// The instrument or software that writes it.
+    pub instrument: &'static str,
+    /// What is read from it.
+    pub reads: &'static str,
+}
+
+/// The instrument and what is read, for each format's name (`topo formats`; `docs/formats.md`
+/// says more).
+const ABOUT: &[(&str, &str, &str)] = &[
+    ("npy", "NumPy array", "the 2-D array (ny, nx); size and unit from the options"),
+    ("gwy", "Gwyddion native", "every data field, its size and units"),
+    ("nanoscope", "Bruker / Veeco NanoScope", "every channel through its Z scale chain; default Height"),
+    ("nid", "Nanosurf", "the topography channels (length units)"),
+    ("mi", "Agilent / Molecular Imaging PicoView", "every buffer, scaled to its range"),
+    ("x3p", "ISO 25178-71 / ISO 5436-2", "the height layer; invalid points missing"),
+    ("npz", "NumPy archive", "each 2-D array a channel; size and unit from the options"),
+    ("netcdf", "NetCDF classic (SurfaceTopography, contact.engineering)", "heights, length, unit; mask missing"),
+    (
+        "datx",
+        "Zygo Mx (MetroPro, Mx)",
+        "/Data/Surface in metres (fringes × wavelength × scale factor), lateral resolution; no-data missing",
+    ),
+    ("hdf5", "HDF5", "each 2-D dataset at the root; size and unit from the options"),
+    ("mat", "MATLAB level 5", "each 2-D real variable; size and unit from the options"),
+    ("ibw", "Igor binary wave (Asylum Research)", "every layer; its unit when stated"),
+    ("metropro", "Zygo MetroPro", "the phase map as heights, lateral resolution; invalid phase missing"),
+    ("sur", "Digital Surf / MountainsMap", "the first object in its units; special points missing"),
+    ("al3d", "Alicona InfiniteFocus", "the depth image, pixel size; invalid pixels missing"),
+    ("opd", "Bruker / Wyko Vision", "the height array × wavelength, pixel size"),
+    ("mnt", "Digital Surf Mountains document", "every measured surface in a length unit; mask missing"),
+    (
+        "mdt",
+        "NT-MDT (Nova, Solver, Ntegra)",
+        "the 2-D images of MDA frames in their units; a frame not in a length unit is never heights",
+    ),
+    ("opdx", "Bruker Dektak OPDx (Vision64)", "the height profile"),
+    ("plu", "Sensofar", "topography layers in µm; 1000001 missing"),
+    ("frt", "FRT MicroProf", "the topography block; stored 1 missing"),
+    ("tmd", "TrueMap (TrueGage)", "one channel in mm"),
+    ("wsxm", "WSxM (Nanotec)", "one image, size and Z amplitude"),
+    ("bcr", "BCR-STM / BCRF (SPIP)", "one channel, its units; void values missing"),
+    (
+        "jpk",
+        "JPK Instruments (.jpk scans, QI images)",
+        "each channel in its default slot (calibrated height); invalid pixels missing",
+    ),
+    ("ps", "Park Systems (XEI)", "the measurement tags (not the preview image)"),
+    ("hgt", "SRTM elevation tile (NASA)", "heights in metres; voids missing; no physical size (1° is about 111 km)"),
+    ("mitutoyo", "Mitutoyo SurfTest Excel export", "positions and heights, their units"),
+    ("nmm", "Nanomeasuring Machine (SIOS), zip of .dat and .dsc", "the height -Lz+Az along x (Lx) in metres"),
+    ("gsf", "Gwyddion Simple Field", "the field, its size and units"),
+    ("sdf", "ISO 25178-71 Surface Data File", "the field and its scales; BAD missing"),
+    ("gwyddion-txt", "Gwyddion ASCII export with its header", "each channel, its size and units"),
+    ("dektak", "Bruker Dektak CSV export", "the profile in its columns' units"),
+    ("hfm", "HFM line profile", "the profile, its units; invalid points missing"),
+    ("xyz", "x y z points on a regular grid", "the grid; no units (from the options)"),
+    ("profile", "two-column line profile (stylus exports, CSV)", "the profile, units from the column names"),
+    (
+        "matrix",
+        "plain-text matrix, with or without a header",
+        "one row of heights per line; a header's grid, size and units",
+    ),
+];
+
+/// Every format of the registry, in the order detection tries them.
+pub fn formats() -> Vec<FormatInfo> {
+    FORMATS
+        .iter()
+        .map(|f| {
+            let (_, instrument, reads) =
+                ABOUT.iter().find(|(name, ..)| *name == f.name()).copied().unwrap_or((f.name(), "", ""));
+            let kind = match f {
+                Reader::Map(_) => "map",
+                Reader::Profile(_) => "profile",
+            };
+            FormatInfo { name: f.name(), extensions: f.extensions(), kind, instrument, reads }
+        })
+        .collect()
+}
+
 /// The format of the file at `path` with contents `bytes`, told from its leading bytes, else
 /// from the ending of `name` (the file's or the member's name, less `.gz`); and whether
 /// `--format` forced it.
 fn detect(path: &Path, name: &str, bytes: &[u8], forced: Option<&str>) -> Result<(Reader, bool)> {
     if let Some(name) = forced {
-        return FORMATS.iter().copied().find(|f| f.name() == name).map(|f| (f, true)).ok_or_else(|| {
-            Error::invalid("--format", format!("unknown format '{name}' (known: {})", format_names().join(", ")))
-        });
+        return FORMATS
+            .iter()
+            .copied()
+            .find(|f| f.name() == name)
+            .map(|f| (f, true))
+            .ok_or_else(|| Error::invalid("--format", format!("unknown format '{name}' ({FORMATS_POINTER})")));
     }
     let head = &bytes[..bytes.len().min(4096)];
+    let ext = Path::new(name).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if let Some(reason) = near_miss(head, &ext) {
+        return Err(Error::file(path, reason));
+    }
     if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff(head)) {
         return Ok((f, false));
     }
-    let ext = Path::new(name).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if let Some(f) = FORMATS.iter().copied().find(|f| f.sniff_all(bytes)) {
+        return Ok((f, false));
+    }
     if let Some(f) = FORMATS.iter().copied().find(|f| f.extensions().contains(&ext.as_str())) {
         return Ok((f, false));
     }
@@ -267,7 +390,26 @@ fn detect(path: &Path, name: &str, bytes: &[u8], forced: Option<&str>) -> Result
             ),
         ));
     }
-    Err(Error::file(path, format!("not a topography file asperity can read (formats: {})", format_names().join(", "))))
+    Err(Error::file(path, format!("not a topography file asperity can read ({FORMATS_POINTER})")))
+}
+
+/// Where a refusal sends the user for the formats asperity reads.
+const FORMATS_POINTER: &str = "'asperity topo formats' lists the formats it reads";
+
+/// Why a file of a format asperity knows of but does not read is refused, told from its head
+/// or its extension (lower case).
+fn near_miss(head: &[u8], ext: &str) -> Option<String> {
+    if head.starts_with(b"GWYO") {
+        return Some("a Gwyddion 1 file (magic GWYO), not read: re-save it in Gwyddion 2 (.gwy)".into());
+    }
+    if ext == "nms" {
+        return Some(
+            "a Nanofocus .nms file, not read: it states its point spacing without a unit (SurfaceTopography \
+             assumes mm), and asperity does not guess units; export it as .sur or .x3p"
+                .into(),
+        );
+    }
+    None
 }
 
 /// Read the file at `path` and decode all its channels (within the default [`Limits`]);
@@ -528,6 +670,9 @@ fn map(
 ) -> Result<(Topography, Vec<String>)> {
     let names = channels.iter().map(|c| c.name.clone()).collect();
     let index = choose_channel(&channels, opts.channel.as_deref()).map_err(|r| Error::file(path, r))?;
+    if opts.channel.is_none() {
+        no_heights(&channels[index], &channels).map_err(|r| Error::file(path, r))?;
+    }
     let mut ch = channels.swap_remove(index);
 
     let physical_size = match (ch.physical_size, opts.physical_size) {
@@ -610,6 +755,31 @@ fn same_size(a: (f64, f64), b: (f64, f64)) -> bool {
     close(a.0, b.0) && close(a.1, b.1)
 }
 
+/// Refuse `default`, the channel chosen when none is named, when it states a unit that is not a
+/// length (then none of `channels` holds heights): a current in nA is never heights. The reason
+/// lists every channel with its unit.
+fn no_heights(default: &Channel, channels: &[Channel]) -> std::result::Result<(), String> {
+    match default.unit.as_deref() {
+        Some(u) if !default.is_height && units::metres_per(u).is_none() => {
+            let list = channels
+                .iter()
+                .map(|c| {
+                    format!(
+                        "{} ({})",
+                        quantity::quoted(&c.name),
+                        quantity::printable(c.unit.as_deref().unwrap_or("no unit"))
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(", ");
+            Err(format!(
+                "no channel holds heights (a length unit): {list}; --channel NAME reads one as stored, not as a topography in metres"
+            ))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Index of the channel named (or numbered) by `wanted`, or else of the default channel.
 ///
 /// SurfaceTopography and Gwyddion both default to the first channel in file order (of those in
@@ -639,5 +809,22 @@ fn choose_channel(channels: &[Channel], wanted: Option<&str>) -> std::result::Re
             .position(|c| c.name == w)
             .or_else(|| w.parse::<usize>().ok().filter(|&i| i < channels.len()))
             .ok_or_else(|| format!("no channel '{w}' (channels: {})", names())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_format_is_described_once() {
+        let formats = formats();
+        assert_eq!(formats.len(), ABOUT.len());
+        for f in &formats {
+            assert!(!f.instrument.is_empty() && !f.reads.is_empty(), "{} is not described", f.name);
+        }
+        let hgt = formats.iter().find(|f| f.name == "hgt").unwrap();
+        assert_eq!((hgt.extensions, hgt.kind), (&["hgt"][..], "map"));
+        assert_eq!(formats.iter().find(|f| f.name == "nmm").unwrap().kind, "profile");
     }
 }

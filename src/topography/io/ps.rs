@@ -7,6 +7,7 @@
 //! own image is a preview and is not read. Line profiles (image type 1) are refused.
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
+use super::tiff::{Entry, Tiff};
 use super::{Channel, Format};
 use crate::topography::units::metres_per;
 
@@ -26,12 +27,7 @@ impl Format for Ps {
     /// A TIFF whose first directory, within the head, holds Park Systems' magic tag: other
     /// TIFF-based formats are told apart by their own tags.
     fn sniff(&self, head: &[u8]) -> bool {
-        let endian = match &head[..head.len().min(4)] {
-            b"II*\0" => Endian::Little,
-            b"MM\0*" => Endian::Big,
-            _ => return false,
-        };
-        directory(head, endian).is_ok_and(|entries| entries.iter().any(|e| e.tag == 50432))
+        Tiff::parse(head, true).is_ok_and(|t| t.directories[0].find(50432).is_some())
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Vec<Channel>, String> {
@@ -39,46 +35,13 @@ impl Format for Ps {
     }
 }
 
-/// One tag of a TIFF directory: its type, count and the position of its value field.
-struct Entry {
-    tag: u16,
-    count: usize,
-    field: usize,
-}
-
-/// The tags of the first directory (a file of several images is no Park Systems file).
-fn directory(bytes: &[u8], endian: Endian) -> Result<Vec<Entry>, String> {
-    let mut c = Cursor::new(bytes, endian);
-    c.skip(4, "the TIFF header")?;
-    let ifd = c.u32("the TIFF header")? as usize;
-    let n = Cursor::new(binary::extent(bytes, ifd, 2, "the TIFF directory")?, endian).i16("the TIFF directory")? as u16;
-    let len = usize::from(n) * 12;
-    let raw = binary::extent(bytes, ifd + 2, len + 4, "the TIFF directory")?;
-    let mut d = Cursor::new(raw, endian);
-    let mut entries = Vec::with_capacity(usize::from(n));
-    for i in 0..usize::from(n) {
-        let tag = d.i16("a TIFF tag")? as u16;
-        d.skip(2, "a TIFF tag")?;
-        let count = d.u32("a TIFF tag")? as usize;
-        d.skip(4, "a TIFF tag")?;
-        entries.push(Entry { tag, count, field: ifd + 2 + 12 * i + 8 });
-    }
-    if d.u32("the TIFF directory")? != 0 {
+fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
+    let t = Tiff::parse(bytes, false)?;
+    if t.directories.len() > 1 {
         return Err("a TIFF of several images, not a Park Systems file".into());
     }
-    Ok(entries)
-}
-
-fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
-    let endian = if bytes.starts_with(b"MM") { Endian::Big } else { Endian::Little };
-    let entries = directory(bytes, endian)?;
-    let find = |tag: u16| entries.iter().find(|e| e.tag == tag);
-    let word = |e: &Entry| Cursor::new(&bytes[e.field..e.field + 4], endian).u32("a TIFF tag");
-    // The value of a tag of more than 4 bytes lies at the offset its field gives.
-    let block = |e: &Entry, what: &str| {
-        let at = if e.count <= 4 { e.field } else { word(e)? as usize };
-        binary::extent(bytes, at, e.count, what)
-    };
+    let find = |tag: u16| t.directories[0].find(tag);
+    let word = |e: &Entry| t.number(e).map(|v| v as u32);
     match find(50432).map(word).transpose()? {
         Some(MAGIC) => {}
         _ => return Err("a TIFF image without Park Systems' measurement tags (50432), not a topography".into()),
@@ -87,7 +50,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
     if version != 0x0100_0001 && version != 0x0100_0002 {
         return Err(format!("Park Systems TIFF version {version:#x} is not supported (1 or 2)"));
     }
-    let header = block(find(50435).ok_or("the Park Systems TIFF has no header tag (50435)")?, "the header")?;
+    let header = t.raw(find(50435).ok_or("the Park Systems TIFF has no header tag (50435)")?)?;
     let mut h = Cursor::new(header, Endian::Little);
     let image_type = h.u32("the header")?;
     if image_type == 1 {
@@ -126,7 +89,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Channel>, String> {
         return Err(format!("the data gain {gain}, scale {scale} and offset {offset} are not finite and non-zero"));
     }
     let data = find(50434).ok_or("the Park Systems TIFF has no data tag (50434)")?;
-    let raw = block(data, "the data")?;
+    let raw = t.raw(data)?;
     if binary::grid_points(nx, ny)?.checked_mul(sample.size()) != Some(raw.len()) {
         return Err(format!("the header declares {nx} x {ny} points but the data tag holds {} bytes", raw.len()));
     }
