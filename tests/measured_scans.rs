@@ -146,8 +146,9 @@ fn an_unknown_height_unit_is_never_solved_as_metres() {
     std::fs::write(&phase, format!("h=16 w=16\npixel size=1e-007 m\ndata unit=rad\n{}", rows.join("\n"))).unwrap();
     let o = asperity(&["contact", phase.to_str().unwrap(), "--load", "1e-6", "--out", out.to_str().unwrap()]);
     let err = stderr(&o);
-    assert!(!o.status.success() && err.contains("in rad, not a length"), "{err}");
-    let info = asperity(&["topo", "info", phase.to_str().unwrap(), "--json"]);
+    assert!(!o.status.success() && err.contains("no channel holds heights (a length unit): 'default' (rad)"), "{err}");
+    // Named, the channel is read as stored, its unit kept and marked as no length.
+    let info = asperity(&["topo", "info", phase.to_str().unwrap(), "--channel", "default", "--json"]);
     let info: Value = serde_json::from_slice(&info.stdout).unwrap();
     assert_eq!((info["height_unit"].as_str(), info["height_unit_known"].as_bool()), (Some("rad"), Some(false)));
     assert!(info.get("rms_m").is_none() && info["rms"].is_number(), "{info}");
