@@ -344,8 +344,12 @@ fn the_default_study_lists_every_detrend() {
     use asperity::topography::detrend::Detrend;
     let line = DEFAULT_STUDY.lines().find(|l| l.contains("detrend      =")).expect("the detrend key is explained");
     let listed: Vec<&str> = line.split('"').skip(3).step_by(2).collect();
-    assert_eq!(listed, ["none", "mean", "plane", "poly:N", "sphere", "plane"], "{line}");
-    for value in &listed[..5] {
+    assert_eq!(
+        listed,
+        ["none", "mean", "plane", "poly:N", "sphere", "line:N", "line:median", "line:1,plane", "plane"],
+        "{line}"
+    );
+    for value in &listed[..8] {
         let value = value.replace('N', "2");
         assert!(value.parse::<Detrend>().is_ok(), "{value}");
     }

@@ -167,6 +167,14 @@ def test_topography_preparation_and_psd():
     tilted = ap.Topography(t.heights + 1e-3 * np.arange(128)[None, :] * t.pixel_size[0], t.physical_size)
     levelled = tilted.detrend("plane")
     assert abs(levelled.heights.mean()) < 1e-15
+    # Line levelling: an offset and a tilt of each scan line (along x) of its own are removed
+    # with the line's own fit, leaving the surface levelled the same way.
+    rng = np.random.default_rng(3)
+    x = np.arange(128)[None, :] * t.pixel_size[0]
+    lines = rng.normal(0, 1e-8, (128, 1)) + rng.normal(0, 1e-3, (128, 1)) * x
+    drifted = ap.Topography(t.heights + lines, t.physical_size)
+    assert np.allclose(drifted.detrend("line:1").heights, t.detrend("line:1").heights, rtol=0, atol=1e-18)
+    assert np.abs(drifted.detrend("line:1,plane").heights.mean(axis=1)).max() < 1e-17
     half = t.crop(x=(0, 15e-6), y=(0, 15e-6)).resample(pixel_size=0.5e-6)
     assert half.physical_size[0] == pytest.approx(half.shape[1] * 0.5e-6, rel=0.1)
     q, c = ap.psd(ap.generate(size=10e-6, grid=256, hurst=0.8, rms=1e-9, seed=2))

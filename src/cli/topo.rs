@@ -130,7 +130,7 @@ struct InfoArgs {
     #[arg(long)]
     psd_fit: bool,
     /// Level a map before its statistics, as topo convert --detrend does (line:1 is an AFM
-    /// scan's usual first step, before a vendor's roughness); a line profile is not levelled
+    /// scan's usual first step, before a vendor's roughness); a line profile is refused
     #[arg(long, default_value = "none", value_parser = topo_tools::parse_detrend)]
     detrend: Detrend,
 }
