@@ -334,8 +334,9 @@ def slide(
     tolerance: float = 1e-6,
     max_iter: int = 20000,
 ) -> Slide:
-    """The onset of sliding with elastic sharing; slip_distance [m]; a curve followed past its
-    peak as μ(slip), its displacements in curve_unit [m]."""
+    """The onset of sliding with elastic sharing; slip_distance [m] (default 2e-9, 0: the
+    instant drop); a curve followed past its peak as μ(slip), its displacements in curve_unit
+    [m]."""
 @overload
 def slide(
     solution: ContactSolution,

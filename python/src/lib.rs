@@ -23,7 +23,7 @@ use asperity::contact::{
 };
 use asperity::friction::{
     elastic_onset, ramp_force, slip_curve_file, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading,
-    Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening, PEAK_TOLERANCE,
+    Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::{self as core_limits, Limits};
 use asperity::plausible::{self, Spelling, Verdict};
@@ -1485,7 +1485,8 @@ impl PartialSlip {
 /// slide``: the body is displaced rigidly along x and the shear tractions of the contact
 /// points of ``solution`` (a ContactSolution, elastic or plastic) follow from the elastic
 /// half-space of its bodies and boundary, with a local law that has memory: mu_s until a point
-/// first slips, then mu_d (at once, or linearly over an accumulated slip ``slip_distance`` [m]).
+/// first slips, then falling linearly to mu_d over an accumulated slip ``slip_distance`` [m]
+/// (default 2e-9, the study's; 0: at once, the instant drop).
 /// The normal pressure stays fixed (normal and tangential problems uncoupled).
 ///
 /// The law: ``mu_s`` and ``mu_d`` (dimensionless, with ``law`` as its name), a preset ``law``,
@@ -1540,17 +1541,23 @@ fn slide(
     };
     let weakening = match (curve_weakening, slip_distance) {
         (Some(curve), _) => curve,
-        (None, Some(dc)) if !(dc > 0.0 && dc.is_finite()) => {
-            return Err(invalid("slip_distance", format!("must be positive and finite, got {dc:e} m")))
-        }
         (None, Some(_)) if tangential_force.is_some() => {
             return Err(invalid("slip_distance", "not used with tangential_force (a Coulomb ramp at mu_s)"))
+        }
+        (None, Some(dc)) if dc == 0.0 => Weakening::Instant,
+        (None, Some(dc)) if !(dc > 0.0 && dc.is_finite()) => {
+            return Err(invalid(
+                "slip_distance",
+                format!("must be positive and finite, or 0 for the instant drop, got {dc:e} m"),
+            ))
         }
         (None, Some(dc)) => {
             judge(py, "slip_distance", dc, plausible::slip_distance(dc, Spelling::Python))?;
             Weakening::Linear(dc)
         }
-        (None, None) => Weakening::Instant,
+        // A Coulomb ramp at mu_s has no weakening.
+        (None, None) if tangential_force.is_some() => Weakening::Instant,
+        (None, None) => Weakening::Linear(DEFAULT_SLIP_DISTANCE_M),
     };
     let options = TangentialOptions { tolerance, max_iterations: max_iter };
     options.check().map_err(error)?;

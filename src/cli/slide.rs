@@ -13,7 +13,8 @@ use asperity::contact::{
 };
 use asperity::friction::{
     check_peak_tolerance, elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset,
-    ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw, Snapshot, Weakening, PEAK_TOLERANCE,
+    ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw, Snapshot, Weakening,
+    DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -29,7 +30,8 @@ use super::{MaterialArgs, ReadArgs};
 ///
 /// The body is displaced rigidly along x, quasi-statically, and the shear tractions on the
 /// contact points follow from the elastic half-space (Cerruti) with a local law that has memory
-/// (mu_s until a point first slips, then mu_d, or a slip-weakening distance). The normal
+/// (mu_s until a point first slips, then falling to mu_d over a slip-weakening distance, 2 nm
+/// unless --slip-distance says otherwise; 0 is the instant drop). The normal
 /// pressure is that of the normal solve (or of the contact directory given) and stays
 /// fixed; normal and tangential problems are uncoupled (exact for identical bodies,
 /// Goodman's approximation otherwise). F_S is the largest force once every cascade of slips has
@@ -75,7 +77,8 @@ pub struct SlideArgs {
     #[arg(long, requires = "curve", value_delimiter = ',', value_name = "START,END", allow_hyphen_values = true)]
     window: Option<Vec<f64>>,
     /// Slip-weakening distance d_c [m, or with a unit: 1nm]: μ falls linearly from mu_s to
-    /// mu_d over an accumulated slip d_c (default: at once on the first slip).
+    /// mu_d over an accumulated slip d_c; 0 is the instant drop, at once on the first slip
+    /// [default: 2nm, the study's, at which the drop converges in the pixel].
     #[arg(long, value_name = "DC", allow_hyphen_values = true, value_parser = super::length)]
     slip_distance: Option<f64>,
     /// Ramp the tangential force to Q [N, or with a unit: 0.2mN] under Coulomb friction at
@@ -387,14 +390,20 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
             }
             Weakening::Curve(slip_curve_file(path, unit)?)
         }
+        (None, Some(dc)) if dc == 0.0 => Weakening::Instant,
         (None, Some(dc)) => {
             if !(dc > 0.0 && dc.is_finite()) {
-                return Err(Error::invalid("--slip-distance", format!("must be positive and finite, got {dc:e} m")));
+                return Err(Error::invalid(
+                    "--slip-distance",
+                    format!("must be positive and finite, or 0 for the instant drop, got {dc:e} m"),
+                ));
             }
             super::judge("--slip-distance", plausible::slip_distance(dc, Spelling::CommandLine))?;
             Weakening::Linear(dc)
         }
-        (None, None) => Weakening::Instant,
+        // A Coulomb ramp at mu_s has no weakening.
+        (None, None) if args.tangential_force.is_some() => Weakening::Instant,
+        (None, None) => Weakening::Linear(DEFAULT_SLIP_DISTANCE_M),
     };
     Ok(SlipLaw { mu_s: base.mu_s, mu_d: base.mu_d, weakening })
 }

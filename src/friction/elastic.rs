@@ -29,6 +29,14 @@ use crate::error::{Error, Result};
 /// longer first steps aside). The march only brackets the largest settled force, which the
 /// search then locates.
 const STEPS: usize = 64;
+/// The slip-weakening distance d_c \[m] of elastic sharing when none is given (`slide`, the
+/// study, Python): μ falls linearly from mu_s to mu_d over 2 nm of slip. With the instant drop
+/// the onset under elastic sharing has no length of its own and its drop falls with the pixel;
+/// with d_c = 2 nm the nucleation length G d_c / ((mu_s − mu_d) p) is resolved on the default
+/// study's pixel and the drop converges (`tools/sharing-convergence.sh`; its figure in
+/// docs/results.md). A d_c of 0 is the instant drop.
+pub const DEFAULT_SLIP_DISTANCE_M: f64 = 2e-9;
+
 /// The default fraction of F_S within which the forces of the search's bracket agree when it
 /// ends ([`elastic_onset`]'s `peak_tolerance`).
 pub const PEAK_TOLERANCE: f64 = 1e-4;

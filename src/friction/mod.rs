@@ -20,7 +20,7 @@ mod stiffness;
 pub use curve::{displacement, write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
     check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideStage,
-    SlideWork, SlipLaw, Snapshot, Weakening, PEAK_TOLERANCE,
+    SlideWork, SlipLaw, Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 pub use law::{law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};

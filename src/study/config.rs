@@ -79,12 +79,7 @@ pub const QUICK_GRID: (usize, usize) = (256, 256);
 /// The number of loads of `asperity run --quick`.
 pub const QUICK_LOADS: usize = 7;
 
-/// The slip-weakening distance d_c \[m] of elastic sharing when the study gives none: μ falls
-/// linearly from mu_s to mu_d over 2 nm of slip. With the instant drop the onset under elastic
-/// sharing has no length of its own and its drop falls with the pixel; with d_c = 2 nm the
-/// nucleation length G d_c / ((mu_s − mu_d) p) is resolved on the default study's pixel and the
-/// drop converges (`tools/sharing-convergence.sh`; its figure in docs/results.md).
-pub const DEFAULT_SLIP_DISTANCE_M: f64 = 2e-9;
+pub use crate::friction::DEFAULT_SLIP_DISTANCE_M;
 
 /// The most loads a study takes: each is a contact solve of every topography.
 pub const MAX_LOADS: usize = 1000;
