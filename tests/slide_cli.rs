@@ -66,10 +66,11 @@ fn writes_the_onset_its_curve_and_maps() {
     let mut lines = curve.lines();
     assert_eq!(lines.next(), Some("displacement_m,force_n,stick_points,slip_points"));
     let peak = lines.map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap()).fold(0.0, f64::max);
-    // The curve keeps each step's states before and after its cascade; F_S may be an
-    // intermediate round of a cascade, so the curve's peak is at most F_S and close to it.
+    // The curve holds the settled states: the search's, solved to the tolerance, whose largest
+    // is F_S, and the march's, solved to 100 times it (at most 1e-4), which may lie above F_S by
+    // about that fraction (here 5.2e-5).
     let fs_n = j["static_force_n"].as_f64().unwrap();
-    assert!(peak <= fs_n * (1.0 + 1e-12) && peak > 0.99 * fs_n, "{peak} vs {fs_n}");
+    assert!(peak <= fs_n * (1.0 + 1e-4) && peak >= fs_n, "{peak} vs {fs_n}");
 }
 
 #[test]

@@ -14,7 +14,7 @@
 # prints each one's wall and CPU seconds (GNU time when /usr/bin/time exists, else bash's
 # `times`) and their ratio; then one `asperity slide` of the stand-in ball (1500², the
 # default study's ball-1 roughness without its wafer, periodic) at 100 mN, mu_s 0.6, mu_d 0.4,
-# with its solver's work from slide.json. The temporary folder is removed at the end.
+# d_c 2 nm (slide's default), with its solver's work from slide.json. The temporary folder is removed at the end.
 set -euo pipefail
 
 binary=target/release/asperity

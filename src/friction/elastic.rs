@@ -295,8 +295,9 @@ pub struct ElasticOnset {
     /// Slipped points at the peak (weakened towards mu_d): count and shares.
     pub slipped: ClassShare,
     /// The settled force F(δ), in increasing δ: the march from δ = 0 and the probes of the
-    /// search near the peak (each settled from the settled state just below it). Its largest
-    /// force is F_S unless that is the sliding limit.
+    /// search near the peak (each settled from the settled state just below it). F_S is the
+    /// largest of the search's, solved to the tolerance (or the sliding limit); the march's,
+    /// solved to 100 times it (at most 1e-4), may lie above F_S by about that fraction.
     pub curve: Vec<SlidePoint>,
     /// The fully stuck tangential stiffness K_t of the contact \[N/m].
     pub stuck_stiffness: f64,
