@@ -227,6 +227,9 @@ class Slide:
     slipped: ClassShare
     equal_sharing_static_coefficient: float
     equal_sharing_friction_drop: float
+    equal_sharing_same_law_static_coefficient: Optional[float]
+    """Equal sharing with the same slip weakening; None for a measured curve."""
+    equal_sharing_same_law_friction_drop: Optional[float]
     shear_x: npt.NDArray[np.float64]
     """Shear along x at the peak [Pa], (ny, nx)."""
     shear_y: npt.NDArray[np.float64]

@@ -22,8 +22,9 @@ use asperity::contact::{
     TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
-    elastic_onset, ramp_force, slip_curve_file, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading,
-    Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
+    elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset, ClassShare as CoreShare, Curve,
+    ElementLoads, FrictionLaw, Loading, Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening,
+    DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::{self as core_limits, Limits};
 use asperity::plausible::{self, Spelling, Verdict};
@@ -1382,6 +1383,14 @@ struct Slide {
     /// The friction drop of equal load sharing on the same pressure.
     #[pyo3(get)]
     equal_sharing_friction_drop: f64,
+    /// The static coefficient of equal load sharing with the same slip weakening (each element
+    /// a spring–slider of the contact's stuck stiffness K_t / n), as ``asperity slide``'s
+    /// ``equal_sharing_same_law``; None for a measured curve.
+    #[pyo3(get)]
+    equal_sharing_same_law_static_coefficient: Option<f64>,
+    /// Its friction drop; None for a measured curve.
+    #[pyo3(get)]
+    equal_sharing_same_law_friction_drop: Option<f64>,
     /// Shear traction along x [Pa] at the peak, float64 (ny, nx).
     #[pyo3(get)]
     shear_x: Py<PyArray2<f64>>,
@@ -1544,7 +1553,7 @@ fn slide(
         (None, Some(_)) if tangential_force.is_some() => {
             return Err(invalid("slip_distance", "not used with tangential_force (a Coulomb ramp at mu_s)"))
         }
-        (None, Some(dc)) if dc == 0.0 => Weakening::Instant,
+        (None, Some(0.0)) => Weakening::Instant,
         (None, Some(dc)) if !(dc > 0.0 && dc.is_finite()) => {
             return Err(invalid(
                 "slip_distance",
@@ -1621,12 +1630,21 @@ fn slide(
             let map = Array2::from_shape_vec(shape, pressure.clone()).expect("the pressure's shape");
             let loads = ElementLoads::from_pressure(&map, solver.pixel_area())?;
             let equal = CoreOnset::new(&loads, &FrictionLaw::new(law.mu_s, law.mu_d)?);
-            Ok((solver, onset, equal))
+            let same_law = match law.weakening {
+                Weakening::Curve(_) => None,
+                _ => Some(spring_slider_onset(&loads, &law, element_stiffness(onset.stuck_stiffness, loads.len()))?),
+            };
+            Ok((solver, onset, (equal, same_law)))
         })
         .map_err(|e| match e {
             asperity::Error::Interrupted { .. } => signals.error(e),
             e => error_naming(e, &names),
         })?;
+    let (equal, same_law) = equal;
+    let slip_distance = match law.weakening {
+        Weakening::Linear(dc) => Some(dc),
+        _ => None,
+    };
     let (sx, sy, classes) = shear_maps(&solver, &onset.peak);
     let result = Slide {
         load,
@@ -1644,6 +1662,8 @@ fn slide(
         slipped: onset.slipped.into(),
         equal_sharing_static_coefficient: equal.static_coefficient(),
         equal_sharing_friction_drop: equal.friction_drop(),
+        equal_sharing_same_law_static_coefficient: same_law.map(|e| e.static_coefficient()),
+        equal_sharing_same_law_friction_drop: same_law.map(|e| e.friction_drop()),
         shear_x: sx.into_pyarray(py).unbind(),
         shear_y: sy.into_pyarray(py).unbind(),
         classes: classes.into_pyarray(py).unbind(),

@@ -548,7 +548,13 @@ def test_slide_matches_the_command_line(tmp_path):
     assert np.array_equal(np.load(tmp_path / "s" / "classes.npy"), sl.classes)
     curve = np.loadtxt(tmp_path / "s" / "curve.csv", delimiter=",", skiprows=1)
     assert np.array_equal(curve[:, 1], sl.curve["force"])
-    assert sl.curve["force"].max() == pytest.approx(sl.static_force, rel=1e-15)
+    # The march's states, solved to its looser tolerance, may lie above F_S by about 1e-4 of it.
+    assert sl.static_force <= sl.curve["force"].max() <= sl.static_force * (1 + 1e-4)
+    # One default for one physics: the study's d_c, and equal sharing with the same weakening.
+    assert sl.slip_distance == 2e-9 == record["law"]["slip_distance_m"]
+    same = record["equal_sharing_same_law"]
+    assert sl.equal_sharing_same_law_friction_drop == same["friction_drop"]
+    assert sl.equal_sharing_same_law_static_coefficient == same["static_coefficient"]
     # The partial-slip state at an imposed force, as --tangential-force.
     q = 0.5 * 0.6 * s.load
     run_cli("slide", tmp_path / "c", "--mu-s", 0.6, "--mu-d", 0.4, "--tangential-force", repr(q), "--out", tmp_path / "q")

@@ -390,7 +390,7 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
             }
             Weakening::Curve(slip_curve_file(path, unit)?)
         }
-        (None, Some(dc)) if dc == 0.0 => Weakening::Instant,
+        (None, Some(0.0)) => Weakening::Instant,
         (None, Some(dc)) => {
             if !(dc > 0.0 && dc.is_finite()) {
                 return Err(Error::invalid(
