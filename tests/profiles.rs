@@ -40,7 +40,12 @@ fn what_needs_a_map_refuses_a_profile_by_name() {
             vec!["slide", &path, "--load", "1mN", "--mu-s", "0.5", "--mu-d", "0.3", "--out", "s"],
         ] {
             let e = refusal(&args, d);
-            assert!(e.contains(file) && e.contains("a line profile") && e.contains("contact needs a 2-D map"), "{e}");
+            assert!(
+                e.contains(file)
+                    && e.contains("a line profile")
+                    && e.contains("contact, slide and a study need a 2-D map"),
+                "{e}"
+            );
         }
         std::fs::write(
             d.join("study.toml"),

@@ -149,6 +149,7 @@ fn input<'a>(
         hold_time_loads: &[1e-4, 1e-3, 1e-2],
         log_density: false,
         hardness_pa: None,
+        slip_distance_m: 0.0,
         grid: None,
         maps,
         experiments,
@@ -285,6 +286,11 @@ fn every_figure_movie_and_the_report() {
         assert!(svg.contains(label), "sharing legend: {label}");
     }
     assert!(html.contains("<th>hold 100 s, elastic sharing</th>"), "the elastic drop in the results table");
+    // The caption states the weakening elastic sharing used (here the instant drop).
+    assert!(
+        html.contains("(dashed; the same pressure maps, the body displaced rigidly along x, μ_s until an element first slips, then μ_d at once)"),
+        "the sharing figure's weakening"
+    );
     assert!(html.contains("illustrative placeholder") && html.contains("hold 10 s"));
     for load in ["100 µN", "1 mN", "3 mN", "10 mN", "100 mN"] {
         assert!(html.contains(&format!("<tr><td>{load}</td>")), "results row at {load}");
@@ -353,6 +359,7 @@ fn nothing_to_draw_is_no_failure() {
         hold_time_loads: &[],
         log_density: false,
         hardness_pa: None,
+        slip_distance_m: 2e-9,
         grid: None,
         maps: &[],
         experiments: &[],

@@ -9,6 +9,7 @@ use super::shared::{by_load, spread, FigureInput, LOAD_COLOURS};
 use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::plausible::MAX_FRICTION_COEFFICIENT;
+use crate::quantity::{show, LENGTH};
 use crate::shs::ShsPoint;
 use crate::study::{law_name, ResolutionRow, Row, COARSENING};
 
@@ -272,10 +273,19 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
     let (y0, y1) = fit(&levels);
     let mut panel = drop_vs_load((x0, x1), (y0, y1), "Friction drop vs normal load: equal and elastic sharing");
     panel.series = series;
+    let weakening = if input.slip_distance_m > 0.0 {
+        format!(
+            "μ_s until an element first slips, then falling to μ_d over a slip of d_c = {} (a law from a measured \
+             curve follows its own)",
+            show(input.slip_distance_m, &LENGTH)
+        )
+    } else {
+        "μ_s until an element first slips, then μ_d at once".to_string()
+    };
     let caption = format!(
         "The friction drop F_S/(μ_d N) against the normal load with the tangential force shared equally among the \
-         stuck elements (the paper's model; solid) and through the elastic half-space (dashed; the same pressure \
-         maps, the body displaced rigidly along x, μ_s until an element first slips, then μ_d): per law, the band \
+         stuck elements (the paper's model, μ_d from an element's first slip; solid) and through the elastic \
+         half-space (dashed; the same pressure maps, the body displaced rigidly along x, {weakening}): per law, the band \
          spans the values over the topographies (paler for elastic sharing) and the line joins their mean (circles \
          equal, squares elastic); dotted: the single-element value μ_s/μ_d, drawn below the lowest load carried by \
          more than one element. Elastic sharing lowers the mean excess drop − 1 by more than {}% at every load {}.",

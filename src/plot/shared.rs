@@ -31,6 +31,9 @@ pub struct FigureInput<'a> {
     pub log_density: bool,
     /// The hardness \[Pa] marked on p(σ), when the study sets one.
     pub hardness_pa: Option<f64>,
+    /// Elastic sharing's slip-weakening distance d_c \[m] (0: the instant drop); a law given by
+    /// a measured curve follows its own.
+    pub slip_distance_m: f64,
     /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
     pub grid: Option<(usize, usize)>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`](crate::study::FIGURE_LOADS_N).
@@ -60,6 +63,7 @@ impl<'a> FigureInput<'a> {
             hold_time_loads: &records.hold_time_loads,
             log_density: records.log_density,
             hardness_pa: records.hardness_pa,
+            slip_distance_m: records.slip_distance_m,
             grid: records.grid,
             maps: &records.maps,
             experiments,

@@ -26,7 +26,7 @@
 //! max = "100 mN"
 //! count = 13
 //!
-//! [[law]]                         # name + mu_s + mu_d | preset | curve (+ window)
+//! [[law]]                         # mu_s + mu_d (+ name) | preset | curve (+ window)
 //! preset = "hold 100 s"
 //!
 //! [model]                         # sharing of the tangential force: "equal" (the paper's),
@@ -1041,13 +1041,17 @@ impl CropSpec {
 }
 
 impl LawSpec {
-    /// The law's name: its `name`, else its preset's, else its curve file's as written.
+    /// The law's name: its `name`, else its preset's, else its curve file's as written, else
+    /// its coefficients ("mu_s 0.6, mu_d 0.4").
     pub fn name(&self) -> String {
         match (&self.name, &self.preset, &self.curve) {
             (Some(n), ..) => n.clone(),
             (None, Some(p), _) => p.clone(),
             (None, None, Some(c)) => c.display().to_string(),
-            (None, None, None) => String::new(),
+            (None, None, None) => match (self.mu_s, self.mu_d) {
+                (Some(mu_s), Some(mu_d)) => format!("mu_s {mu_s}, mu_d {mu_d}"),
+                _ => String::new(),
+            },
         }
     }
 
@@ -1094,9 +1098,6 @@ impl LawSpec {
         }
         match (self.mu_s, self.mu_d, &self.preset, &self.curve) {
             (Some(mu_s), Some(mu_d), None, None) => {
-                if self.name.is_none() {
-                    return Err("a law given by mu_s and mu_d needs a `name`".into());
-                }
                 if self.window.is_some() {
                     return Err("`window` applies to a `curve` only".into());
                 }
@@ -1572,6 +1573,9 @@ mod tests {
         assert!(e.starts_with("study.toml:2:1: loads.min: 0.001 N is not below max"), "{e}");
         let e = err("[[law]]\npreset = \"hold 1 s\"\n");
         assert!(e.starts_with("study.toml:1:1: law[0]: unknown law \"hold 1 s\""), "{e}");
+        // Without a name, a law is named by its coefficients.
+        let c = StudyConfig::parse("[[law]]\nmu_s = 0.6\nmu_d = 0.4\n", "study.toml").unwrap();
+        assert_eq!(c.laws[0].names(), ["mu_s 0.6, mu_d 0.4"]);
         let e = err("[[law]]\nname = \"x\"\nmu_s = 0.3\nmu_d = 0.4\n");
         assert!(e.starts_with("study.toml:1:1: law[0]: the static friction coefficient 0.3 is below"), "{e}");
         let e = err("[[topography]]\nname = \"a\"\nsynthetic = { size_m = [\"3 mN\", 1e-5], grid = [8, 8], cap = { radius_m = 1 } }\n");

@@ -558,6 +558,9 @@ pub struct Records {
     pub log_density: bool,
     /// The hardness \[Pa] marked on p(σ), when the study sets one.
     pub hardness_pa: Option<f64>,
+    /// Elastic sharing's slip-weakening distance d_c \[m] (0: the instant drop); a law given by
+    /// a measured curve follows its own.
+    pub slip_distance_m: f64,
     /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
     pub grid: Option<(usize, usize)>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].

@@ -713,6 +713,7 @@ impl Study {
             hold_time_loads,
             log_density: self.config.output.log_density,
             hardness_pa: self.config.hardness(),
+            slip_distance_m: self.config.model.slip_distance.0,
             grid: self.config.contact.grid,
             maps,
             figures: self.config.output.figures.clone(),

@@ -551,7 +551,7 @@ pub fn read_listing(path: &Path, opts: &ReadOptions) -> Result<(Topography, Vec<
             Err(Error::file(
                 path,
                 format!(
-                    "a line profile ({} points along x), not a 2-D map: contact needs a 2-D map of heights \
+                    "a line profile ({} points along x), not a 2-D map: contact, slide and a study need a 2-D map of heights \
                      (topo info, topo psd and topo convert read profiles)",
                     data.heights.len()
                 ),
