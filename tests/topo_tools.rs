@@ -62,7 +62,10 @@ fn generate_writes_the_library_surface_bit_for_bit() {
     let o = args("42", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stdout(&o).contains("96 × 80 points (nx × ny), physical size 2e-5 × 1.5e-5 m (--size 2e-5,1.5e-5)"),
+        stdout(&o).contains(
+            "96 × 80 points (nx × ny), physical size 2e-5 × 1.5e-5 m, which a .npy does not hold: read it back with \
+             --size 2e-5,1.5e-5"
+        ),
         "{}",
         stdout(&o)
     );
@@ -179,7 +182,14 @@ fn convert_refuses_or_fills_missing_points_and_detrends() {
     args.extend(["--fill-missing", "--detrend", "plane"]);
     let o = asperity(&args);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("physical size 4e-6 × 3e-6 m (--size 4e-6,3e-6)"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains(
+            "physical size 4e-6 × 3e-6 m, which a .npy does not hold: read it back with --size 4e-6,3e-6, or write \
+             .gsf, which keeps it"
+        ),
+        "{}",
+        stdout(&o)
+    );
     let h = read_npy(&out, (4e-6, 3e-6));
     assert_eq!(h.dim(), (30, 40));
     // Filled from the plane, then the plane (of order 10 nm) removed.

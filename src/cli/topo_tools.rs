@@ -259,7 +259,16 @@ fn refuse_map_options(p: &Profile, prep: &PrepareArgs, pixel_size: Option<f64>) 
 }
 
 fn describe(out: &Path, topo: &Topography) -> String {
+    let npy = OutFormat::of(out).is_ok_and(|f| matches!(f, OutFormat::Npy));
     let size = match topo.physical_size {
+        // A .npy array holds heights only: say how its size travels.
+        Some((lx, ly)) if npy => {
+            let (lx, ly) = (human(lx), human(ly));
+            format!(
+                "physical size {lx} × {ly} m, which a .npy does not hold: read it back with --size {lx},{ly}, \
+                 or write .gsf, which keeps it"
+            )
+        }
         Some((lx, ly)) => {
             let (lx, ly) = (human(lx), human(ly));
             format!("physical size {lx} × {ly} m (--size {lx},{ly})")
