@@ -259,6 +259,11 @@ fn onset_reads_what_contact_writes() {
         let (n, imposed) = (j["load_n"].as_f64().unwrap(), j["imposed_load_n"].as_f64().unwrap());
         assert!((n / imposed - 1.0).abs() < 1e-9);
     }
+    // Every load at once: one table, headed by the directory, a line a load.
+    let table = asperity(&["onset", "c", "--mu-s", "0.6", "--mu-d", "0.4"], tmp.path());
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.starts_with("c, 2 loads  (mu_s 0.6, mu_d 0.4)\n"), "{text}");
+    assert!(text.contains("\n200 µN ") && text.contains("\n20 mN "), "{text}");
 }
 
 #[test]

@@ -459,7 +459,14 @@ fn read_contact_dir(dir: &Path, load_index: Option<usize>, limits: &Limits) -> R
 fn table(reports: &[Report]) -> String {
     use std::fmt::Write;
     let law = &reports[0].law;
-    let mut s = format!("{}  ({})\n", escaped(&reports[0].input), law_line(law));
+    // The loads of one contact directory: the table is the directory's, not its first map's.
+    let first = Path::new(&reports[0].input);
+    let common = first.parent().filter(|d| reports.iter().all(|r| Path::new(&r.input).parent() == Some(*d)));
+    let input = match common {
+        Some(dir) if reports.len() > 1 => format!("{}, {} loads", dir.display(), reports.len()),
+        _ => reports[0].input.clone(),
+    };
+    let mut s = format!("{}  ({})\n", escaped(&input), law_line(law));
     let _ = writeln!(
         s,
         "{:<12} {:>8} {:>10} {:>9} {:>12} {:>14} {:>14}",
