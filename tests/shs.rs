@@ -376,6 +376,19 @@ fn renamed_columns_and_units() {
     let trace = shs::read_trace(&path, &format).unwrap();
     assert!(trace.displacement().is_some());
     check_cycles(&shs::analyse(&trace, &ShsOptions::default()).unwrap(), &restarts);
+    // The same exported with semicolons or tabs, as spreadsheets in many locales do.
+    let text = std::fs::read_to_string(&path).unwrap();
+    for delimiter in [";", "\t"] {
+        let other = dir.path().join("rheometer-other.csv");
+        let lines: Vec<String> =
+            text.lines().map(|l| if l.starts_with('#') { l.to_string() } else { l.replace(',', delimiter) }).collect();
+        std::fs::write(&other, lines.join("\n")).unwrap();
+        let again = shs::read_trace(&other, &format).unwrap();
+        assert_eq!(
+            (again.time(), again.friction(), again.displacement()),
+            (trace.time(), trace.friction(), trace.displacement())
+        );
+    }
 }
 
 #[test]

@@ -120,12 +120,27 @@ impl Trace {
     }
 }
 
-/// Read a trace from a CSV file with a header row. Lines starting with `#` are comments;
+/// The delimiter of a CSV file's header row (its first line that is not a comment): the most
+/// frequent of comma, semicolon and tab in it, a comma when it has none (spreadsheets in many
+/// locales export semicolons).
+fn delimiter(bytes: &[u8]) -> u8 {
+    let header = bytes.split(|&b| b == b'\n').find(|line| !line.trim_ascii().is_empty() && !line.starts_with(b"#"));
+    let header = header.unwrap_or_default();
+    let count = |d: u8| header.iter().filter(|&&b| b == d).count();
+    [b',', b';', b'\t'].into_iter().max_by_key(|&d| (count(d), d == b',')).unwrap_or(b',')
+}
+
+/// Read a trace from a CSV file with a header row, its values separated by commas, semicolons
+/// or tabs (as its header is). Lines starting with `#` are comments;
 /// columns other than the four named in `format` are ignored. Errors name the file and, for a
 /// bad value, its line and column.
 pub fn read_trace(path: &Path, format: &TraceFormat) -> Result<Trace> {
     let bytes = crate::limits::Limits::default().read_file(path)?;
-    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(&bytes[..]);
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .delimiter(delimiter(&bytes))
+        .from_reader(&bytes[..]);
     let headers = reader.headers().map_err(|e| csv_error(path, e))?.clone();
     if headers.iter().all(str::is_empty) {
         return Err(Error::file(path, "empty file: no header row"));
