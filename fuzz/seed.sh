@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Seed the fuzzing corpora (fuzz/corpus/TARGET/, generated, never committed) from tests/data: each
 # file goes to the target of the format asperity reads it as (`asperity topo info`, as a user's
-# file is told; a bare array with a made-up size), every file to `detect`, every zip to `zip`.
+# file is told; a bare array with a made-up size, a file of no height channel by its first;
+# a gzipped file inflated), every file to `detect`, every zip to `zip`.
 # Files no format reads (corrupted on purpose) seed `detect` only. Needs the release CLI (built
 # here when absent).
 set -euo pipefail
@@ -13,7 +14,8 @@ corpus=fuzz/corpus
 mkdir -p "$corpus/detect" "$corpus/zip"
 
 format_of() {
-  { "$cli" topo info --json "$1" 2>/dev/null || "$cli" topo info --json --size 1um "$1" 2>/dev/null; } |
+  { "$cli" topo info --json "$1" 2>/dev/null || "$cli" topo info --json --size 1um "$1" 2>/dev/null ||
+    "$cli" topo info --json --channel 0 "$1" 2>/dev/null; } |
     sed -n 's/^  "format": "\(.*\)",$/\1/p' || true
 }
 
@@ -25,7 +27,11 @@ for file in tests/data/*; do
   format=$(format_of "$file")
   if [ -n "$format" ]; then
     mkdir -p "$corpus/$format"
-    cp "$file" "$corpus/$format/$name"
+    # A format's target reads the format itself: a gzipped sample seeds it inflated.
+    case $name in
+      *.gz) gunzip -c "$file" >"$corpus/$format/${name%.gz}" ;;
+      *) cp "$file" "$corpus/$format/$name" ;;
+    esac
   fi
 done
 

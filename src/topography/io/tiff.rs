@@ -25,6 +25,7 @@ pub struct Directory {
 pub struct Tiff<'a> {
     bytes: &'a [u8],
     pub endian: Endian,
+    /// The image file directories, in file order: at least one.
     pub directories: Vec<Directory>,
 }
 
@@ -81,6 +82,9 @@ impl<'a> Tiff<'a> {
             if first_only {
                 break;
             }
+        }
+        if directories.is_empty() {
+            return Err("a TIFF without an image (its first directory's offset is 0)".into());
         }
         Ok(Tiff { bytes, endian, directories })
     }
@@ -209,5 +213,10 @@ mod tests {
         looped[next..next + 4].copy_from_slice(&8u32.to_le_bytes());
         let e = Tiff::parse(&looped, false).map(|t| t.directories.len()).unwrap_err();
         assert!(e.contains("more than 4096 TIFF directories"), "{e}");
+        // A header whose first directory is at 0: no image, refused (readers index the first).
+        let mut empty = b"II*\0".to_vec();
+        empty.extend([0u8; 12]);
+        let e = Tiff::parse(&empty, true).map(|t| t.directories.len()).unwrap_err();
+        assert!(e.contains("a TIFF without an image"), "{e}");
     }
 }
