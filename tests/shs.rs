@@ -323,6 +323,29 @@ fn absurd_coefficients_are_refused() {
     }
 }
 
+/// The window can start past the peak: F_D over [0, 1] µm after it is the mean of those over
+/// [0, 0.5] and [0.5, 1] µm, which `window_start` gives (the mean integrates the samples
+/// piecewise linearly, so this holds to rounding).
+#[test]
+fn the_window_can_start_past_the_peak() {
+    let restarts = paper_like();
+    let s = synthetic(&restarts, NOISE, 1);
+    let t = trace(&s, false);
+    let run = |window_start: f64, window: f64| {
+        shs::analyse(&t, &ShsOptions { window, window_start, ..ShsOptions::default() }).unwrap().cycles
+    };
+    let (whole, first, second) = (run(0.0, 1e-6), run(0.0, 0.5e-6), run(0.5e-6, 0.5e-6));
+    assert_eq!(whole.len(), restarts.len());
+    for ((w, a), b) in whole.iter().zip(&first).zip(&second) {
+        let halves = 0.5 * (a.dynamic_force_n + b.dynamic_force_n);
+        assert!((w.dynamic_force_n / halves - 1.0).abs() < 1e-12, "{} {halves}", w.dynamic_force_n);
+        assert_eq!((a.peak_s, a.window_start_s), (b.peak_s, a.peak_s));
+        assert!(b.window_start_s > b.peak_s && b.window_start_s < b.window_end_s && b.window_end_s == w.window_end_s);
+    }
+    let e = shs::analyse(&t, &ShsOptions { window_start: -1e-9, ..ShsOptions::default() }).unwrap_err();
+    assert!(e.to_string().contains("--window-start: -0.000000001 m must be ≥ 0"), "{e}");
+}
+
 #[test]
 fn restart_too_short_for_the_window_is_skipped() {
     let restarts = paper_like();

@@ -84,6 +84,7 @@ def analyse_shs(
     *,
     speed: float = 0.3e-6,
     window: float = 1e-6,
+    window_start: float = 0.0,
     peak_within: float = 2e-6,
     min_duration: float = 1.0,
     hold_fraction: float = 0.2,
@@ -95,13 +96,15 @@ def analyse_shs(
     ``time_s`` [s] (strictly increasing), ``friction_n`` and ``normal_n`` [N], and optionally
     the measured sliding ``displacement_m`` [m]; without it displacement is derived from time
     and ``speed`` [m/s]. F_S is the peak within ``peak_within`` [m] of sliding after the
-    restart, F_D and N the means over ``window`` [m] after the peak. Holds and slides shorter
+    restart, F_D and N the means over ``window`` [m] starting ``window_start`` [m] after the
+    peak (default 0: at the peak). Holds and slides shorter
     than ``min_duration`` [s] are noise; friction below ``hold_fraction`` of the sliding level
     is a hold, above ``slide_fraction`` sliding. Defaults are ``asperity shs``'s.
 
     Returns one dict per restart, in time order: ``hold_s``, ``static_force_n``,
     ``dynamic_force_n``, ``normal_force_n``, ``static_coefficient``, ``dynamic_coefficient``,
-    ``friction_drop``, ``hold_start_s``, ``restart_s``, ``peak_s``, ``window_end_s``. Holds that
+    ``friction_drop``, ``hold_start_s``, ``restart_s``, ``peak_s``, ``window_start_s``,
+    ``window_end_s``. Holds that
     give no measurement are reported as warnings.
     """
     analysis = _json.loads(
@@ -112,6 +115,7 @@ def analyse_shs(
             None if displacement_m is None else _floats(displacement_m, "displacement_m"),
             speed,
             window,
+            window_start,
             peak_within,
             min_duration,
             hold_fraction,

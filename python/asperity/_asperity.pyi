@@ -363,6 +363,7 @@ def _analyse_shs(
     displacement_m: Optional[Sequence[float]],
     speed: float,
     window: float,
+    window_start: float,
     peak_within: float,
     min_duration: float,
     hold_fraction: float,

@@ -1679,8 +1679,8 @@ fn slide(
 /// The slide-hold-slide analysis as JSON ({"cycles", "groups", "skipped"}); see
 /// ``asperity.analyse_shs``.
 #[pyfunction]
-#[pyo3(signature = (time_s, friction_n, normal_n, displacement_m, speed, window, peak_within, min_duration,
-                    hold_fraction, slide_fraction, group_tolerance))]
+#[pyo3(signature = (time_s, friction_n, normal_n, displacement_m, speed, window, window_start, peak_within,
+                    min_duration, hold_fraction, slide_fraction, group_tolerance))]
 #[allow(clippy::too_many_arguments)]
 fn _analyse_shs(
     py: Python<'_>,
@@ -1690,14 +1690,23 @@ fn _analyse_shs(
     displacement_m: Option<Vec<f64>>,
     speed: f64,
     window: f64,
+    window_start: f64,
     peak_within: f64,
     min_duration: f64,
     hold_fraction: f64,
     slide_fraction: f64,
     group_tolerance: f64,
 ) -> PyResult<String> {
-    let options =
-        ShsOptions { speed, window, peak_within, min_duration, hold_fraction, slide_fraction, group_tolerance };
+    let options = ShsOptions {
+        speed,
+        window,
+        window_start,
+        peak_within,
+        min_duration,
+        hold_fraction,
+        slide_fraction,
+        group_tolerance,
+    };
     options.validate().map_err(error)?;
     let analysis = py
         .detach(|| {

@@ -329,6 +329,10 @@ def test_slide_hold_slide_restarts():
     assert cycles[0]["static_force_n"] == pytest.approx(0.5, rel=1e-9)
     assert cycles[1]["friction_drop"] == pytest.approx(0.55 / cycles[1]["dynamic_force_n"], rel=1e-12)
     assert cycles[1]["dynamic_coefficient"] == pytest.approx(0.4, rel=0.02)
+    # A window starting 0.5 µm past the peak leaves out the fall from F_S: F_D is the sliding level.
+    later = ap.analyse_shs(np.array(t), np.array(f), np.ones(len(t)), window_start=0.5e-6)
+    assert later[1]["window_start_s"] > later[1]["peak_s"] == cycles[1]["window_start_s"]
+    assert later[1]["dynamic_force_n"] == pytest.approx(0.4, rel=1e-6)
 
 
 SMALL_STUDY = {

@@ -41,6 +41,10 @@ pub struct Args {
     /// unit: 1um]
     #[arg(long, value_name = "M", default_value = "1e-6", value_parser = super::length)]
     window: f64,
+    /// Sliding displacement from the peak to the start of that window [m, or with a unit:
+    /// 0.5um], to leave out the fall from F_S to steady sliding (0: at the peak)
+    #[arg(long, value_name = "M", default_value = "0", value_parser = super::length)]
+    window_start: f64,
     /// Sliding speed [m/s, or with a unit: 0.3um/s]; used to derive displacement from time
     /// when the trace has none
     #[arg(long, value_name = "M_PER_S", default_value = "3e-7", value_parser = super::speed)]
@@ -113,6 +117,7 @@ pub fn run(args: Args) -> asperity::Result<()> {
     let options = ShsOptions {
         speed: args.speed,
         window: args.window,
+        window_start: args.window_start,
         peak_within: args.peak_within,
         min_duration: args.min_duration,
         hold_fraction: args.hold_fraction,
@@ -149,23 +154,28 @@ pub fn run(args: Args) -> asperity::Result<()> {
     if args.json {
         super::print_json(&analysis)
     } else {
-        super::print(&table(&escaped(&args.trace.display().to_string()), &analysis, options.window))
+        super::print(&table(&escaped(&args.trace.display().to_string()), &analysis, &options))
     }
 }
 
 /// The restarts and groups as aligned text, forces in a prefixed unit that suits them.
-fn table(name: &str, a: &Analysis, window: f64) -> String {
+fn table(name: &str, a: &Analysis, options: &ShsOptions) -> String {
     let biggest = a.cycles.iter().map(|c| c.normal_force_n.max(c.static_force_n)).fold(0.0, f64::max);
     let (k, unit) = plot::prefixed(biggest, "N");
     let found_on = if a.holds_from == "displacement" { "the stage's displacement" } else { "the friction" };
     let mut s = format!(
         "{name}: {} holds found on {found_on}, {} skipped; {} restarts after holds, {} hold-time groups; F_D and \
-         N over {} µm after each peak\n\n",
+         N over {} µm {}\n\n",
         a.holds_found,
         a.skipped.len(),
         a.cycles.len(),
         a.groups.len(),
-        asperity::quantity::human(window * 1e6)
+        asperity::quantity::human(options.window * 1e6),
+        if options.window_start > 0.0 {
+            format!("from {} µm after each peak", asperity::quantity::human(options.window_start * 1e6))
+        } else {
+            "after each peak".to_string()
+        }
     );
     let f = format!("F_S [{unit}]");
     let d = format!("F_D [{unit}]");

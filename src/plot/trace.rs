@@ -59,7 +59,7 @@ pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) ->
             i == 0,
             "hold".into(),
         ));
-        normal.push(Series::span(c.peak_s, c.window_end_s, style::PALETTE[2]).opacity(0.15));
+        normal.push(Series::span(c.window_start_s, c.window_end_s, style::PALETTE[2]).opacity(0.15));
 
         let (r, end) = (index(c.restart_s), index(c.window_end_s));
         let distance = |j: usize| match trace.displacement() {

@@ -278,16 +278,25 @@ fn measure(trace: &Trace, hold: &Hold, options: &ShsOptions) -> std::result::Res
     // The window starts at the peak located between samples (at 20 Hz a sample is 1.5 % of a
     // 1 µm window, and the samples next to the peak are nearly as high as it).
     let start = peak_position(&displacement, f, peak, restart + 1, stroke_end);
-    let window_end = (peak + 1..=stroke_end).find(|&i| displacement(i) - start >= options.window * (1.0 - 1e-9));
+    let (from, to) = (start + options.window_start, start + options.window_start + options.window);
+    let window_end = (peak + 1..=stroke_end).find(|&i| displacement(i) - to >= -options.window * 1e-9);
     let Some(window_end) = window_end else {
         let reach = (peak + 1..=stroke_end).map(|i| displacement(i) - start).fold(0.0, f64::max);
         return Err(format!(
             "restart at {:.2} s: sliding stops {:.3e} m after the peak, before the {:.3e} m window ends",
-            hold.end_s, reach, options.window
+            hold.end_s,
+            reach,
+            options.window_start + options.window
         ));
     };
     let first = peak.saturating_sub(1).max(restart);
-    let mean = |v: &[f64]| window_mean(&displacement, v, first..=window_end, start, start + options.window);
+    // The window's first sample: the peak's when it starts there.
+    let window_start = if options.window_start == 0.0 {
+        peak
+    } else {
+        (peak..=window_end).find(|&i| displacement(i) >= from).unwrap_or(window_end)
+    };
+    let mean = |v: &[f64]| window_mean(&displacement, v, first..=window_end, from, to);
     let (static_force, dynamic_force, normal_force) = (f[peak], mean(f), mean(normal));
     if !(normal_force > 0.0 && dynamic_force > 0.0) {
         return Err(format!(
@@ -307,6 +316,7 @@ fn measure(trace: &Trace, hold: &Hold, options: &ShsOptions) -> std::result::Res
         hold_start_s: hold.start_s,
         restart_s: hold.end_s,
         peak_s: t[peak],
+        window_start_s: t[window_start],
         window_end_s: t[window_end],
     })
 }
@@ -323,7 +333,7 @@ fn check_coefficients(trace: &Trace, c: &Cycle) -> Result<()> {
             c.dynamic_coefficient,
             "F_D",
             c.dynamic_force_n,
-            format!("rows {}–{}", row(c.peak_s), row(c.window_end_s)),
+            format!("rows {}–{}", row(c.window_start_s), row(c.window_end_s)),
         ),
     ];
     for (what, mu, force, value, rows) in checks {

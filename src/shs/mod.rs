@@ -36,6 +36,9 @@ pub struct ShsOptions {
     pub speed: f64,
     /// Sliding displacement after the peak over which F_D and N are averaged \[m].
     pub window: f64,
+    /// Sliding displacement from the peak to the start of that window \[m] (0: at the peak),
+    /// to leave out the fall from F_S to steady sliding.
+    pub window_start: f64,
     /// Sliding displacement after the restart within which the peak F_S is sought \[m].
     pub peak_within: f64,
     /// Shortest hold and shortest slide \[s]: briefer stops, dips or bursts are noise; each hold
@@ -56,6 +59,7 @@ impl Default for ShsOptions {
         ShsOptions {
             speed: 0.3e-6,
             window: 1e-6,
+            window_start: 0.0,
             peak_within: 2e-6,
             min_duration: 1.0,
             hold_fraction: 0.2,
@@ -84,6 +88,9 @@ impl ShsOptions {
                 "--hold-fraction/--slide-fraction",
                 format!("need 0 < {} < {} < 1", self.hold_fraction, self.slide_fraction),
             ));
+        }
+        if !(self.window_start.is_finite() && self.window_start >= 0.0) {
+            return Err(Error::invalid("--window-start", format!("{} m must be ≥ 0", self.window_start)));
         }
         if !(self.group_tolerance.is_finite() && self.group_tolerance >= 0.0) {
             return Err(Error::invalid("--group-tolerance", format!("{} must be ≥ 0", self.group_tolerance)));
@@ -118,6 +125,8 @@ pub struct Cycle {
     pub restart_s: f64,
     /// The sample of the peak F_S \[s].
     pub peak_s: f64,
+    /// The first sample of the dynamic window \[s] (the peak's when it starts there).
+    pub window_start_s: f64,
     /// The last sample of the dynamic window \[s].
     pub window_end_s: f64,
 }
