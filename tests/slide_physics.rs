@@ -351,11 +351,8 @@ fn one_element_follows_the_local_law() {
     assert!((last.force_n - 0.4 * 2e9 * area).abs() < 1e-9 * last.force_n);
 }
 
-#[test]
-fn isolated_elements_share_equally() {
-    // Single-pixel contacts 32 pixels apart: each carries the same shear while stuck, as in
-    // the equal-sharing model.
-    let (n, l, spacing) = (256, 25.6e-6, 32);
+/// Single-pixel contacts `spacing` pixels apart on an `n`² grid, at pressures of 1–3 GPa.
+fn isolated_pixels(n: usize, spacing: usize) -> Array2<f64> {
     let mut p = Array2::<f64>::zeros((n, n));
     let mut k = 0;
     for i in (0..n).step_by(spacing) {
@@ -364,6 +361,15 @@ fn isolated_elements_share_equally() {
             p[[i, j]] = 1e9 * (1.0 + ((k * 7919) % 97) as f64 / 48.0);
         }
     }
+    p
+}
+
+#[test]
+fn isolated_elements_share_equally() {
+    // Single-pixel contacts 32 pixels apart: each carries the same shear while stuck, as in
+    // the equal-sharing model.
+    let (n, l, spacing) = (256, 25.6e-6, 32);
+    let p = isolated_pixels(n, spacing);
     let area = (l / n as f64).powi(2);
     let law = FrictionLaw::new(0.6, 0.4).unwrap();
     let equal = Onset::new(&ElementLoads::from_pressure(&p, area).unwrap(), &law);
@@ -570,14 +576,7 @@ fn static_force_is_the_largest_settled_force_within_the_tolerance() {
 #[test]
 fn isolated_elements_weaken_as_spring_sliders() {
     let (n, l, spacing) = (512, 51.2e-6, 128);
-    let mut p = Array2::<f64>::zeros((n, n));
-    let mut k = 0;
-    for i in (0..n).step_by(spacing) {
-        for j in (0..n).step_by(spacing) {
-            k += 1;
-            p[[i, j]] = 1e9 * (1.0 + ((k * 7919) % 97) as f64 / 48.0);
-        }
-    }
+    let p = isolated_pixels(n, spacing);
     let area = (l / n as f64).powi(2);
     let loads = ElementLoads::from_pressure(&p, area).unwrap();
     let mut solver = periodic_solver(p.as_slice().unwrap(), n, l);

@@ -569,8 +569,7 @@ pub struct SlideProgress {
 }
 
 /// The stage of a path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SlideStage {
     /// Settled states from δ = 0 in coarse steps, to total sliding or until no later state can
     /// exceed the largest settled force.
