@@ -100,7 +100,7 @@ fn study() -> &'static Study {
                     for law in &laws {
                         let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: Weakening::Instant };
                         let onset = elastic_onset(&mut tangential, &slip, PEAK_TOLERANCE, |_| {}).unwrap();
-                        elastic.push(Row::elastic(&name, load, &facts, law, &onset, 0.0));
+                        elastic.push(Row::elastic(&name, load, &facts, law, &slip, &onset, 0.0));
                     }
                 }
                 if seed == 0 && FIGURE_LOADS_N.contains(&load) {
@@ -140,6 +140,7 @@ fn input<'a>(
 ) -> FigureInput<'a> {
     FigureInput {
         rows: &s.rows,
+        weakening_rows: &[],
         elastic_rows: &s.elastic,
         topographies: &s.topographies,
         laws: &s.laws,
@@ -288,7 +289,7 @@ fn every_figure_movie_and_the_report() {
     assert!(html.contains("<th>hold 100 s, elastic sharing</th>"), "the elastic drop in the results table");
     // The caption states the weakening elastic sharing used (here the instant drop).
     assert!(
-        html.contains("(dashed; the same pressure maps, the body displaced rigidly along x, μ_s until an element first slips, then μ_d at once)"),
+        html.contains("(dashed, squares; the same pressure maps, the body displaced rigidly along x, μ_s until an element first slips, then μ_d at once)"),
         "the sharing figure's weakening"
     );
     assert!(html.contains("illustrative placeholder") && html.contains("hold 10 s"));
@@ -350,6 +351,7 @@ fn nothing_to_draw_is_no_failure() {
     let laws: Vec<FrictionLaw> = Vec::new();
     let input = FigureInput {
         rows: &[],
+        weakening_rows: &[],
         elastic_rows: &[],
         topographies: &s.topographies,
         laws: &laws,

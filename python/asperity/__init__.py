@@ -144,10 +144,14 @@ def run_study(
     index.html) and resumes a run of the same study that was stopped; ``fresh`` starts over.
     ``quick`` runs it on 256 × 256 points with 7 loads. ``progress``: True prints one line per
     solve and elastic onset on stderr; a callable receives one dict per event (``{"event":
-    "start", "total", "done", "onsets", "onsets_done"}``: the solves and the elastic onsets,
-    and how many of each an earlier run did; ``{"event": "solved", "topography", "load_n",
-    "iterations", "seconds"}``; and with elastic sharing ``{"event": "slid", "topography",
-    "load_n", "law", "iterations", "seconds"}`` per law before its solve's "solved").
+    "start", "total", "done", "grid_points", "grid_points_done", "onsets", "onsets_done"}``:
+    the solves, their grid points (a measure of their work) and the elastic onsets, and how
+    many of each an earlier run did; ``{"event": "solved", "topography", "load_n",
+    "iterations", "seconds", "grid_points"}``; and with elastic sharing ``{"event": "slid",
+    "topography", "load_n", "law", "iterations", "seconds"}`` per law before its solve's
+    "solved", and while an onset runs, after its first second and at most every second,
+    ``{"event": "sliding", "topography", "load_n", "law", "stage", "steps", "largest_drop",
+    "seconds"}``, ``stage`` "march" or "search").
     Ctrl-C stops the run once the solves under way are recorded (an elastic onset under way
     stops at its next step, unrecorded); running it again resumes.
 
@@ -183,6 +187,13 @@ def _print_progress() -> Callable[[Dict[str, Any]], None]:
             state.update(done=event["done"], total=event["total"])
             onsets = f"; {event['onsets']} elastic onsets, {event['onsets_done']} done before" if event["onsets"] else ""
             print(f"asperity: {event['total']} solves, {event['done']} done before{onsets}", file=sys.stderr)
+        elif event["event"] == "sliding":
+            print(
+                f"asperity: {event['topography']} at {event['load_n']:.3e} N: elastic onset of "
+                f"\"{event['law']}\" under way, {event['stage']}, {event['steps']} steps, largest force "
+                f"{event['largest_drop']:.4f} mu_d N, {event['seconds']:.0f} s",
+                file=sys.stderr,
+            )
         elif event["event"] == "slid":
             print(
                 f"asperity: {event['topography']} at {event['load_n']:.3e} N: elastic onset of "

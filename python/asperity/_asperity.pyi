@@ -214,7 +214,7 @@ class Slide:
     mu_d: float
     law: Optional[str]
     slip_distance: Optional[float]
-    """d_c [m], or None: weakening at once."""
+    """d_c [m]: 0 for the instant drop, None for a measured curve."""
     static_force: float
     """F_S [N]."""
     static_coefficient: float

@@ -23,7 +23,7 @@ use asperity::contact::{
 };
 use asperity::friction::{
     elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset, ClassShare as CoreShare, Curve,
-    ElementLoads, FrictionLaw, Loading, Onset as CoreOnset, SlidePoint, SlipLaw, Snapshot, Weakening,
+    ElementLoads, FrictionLaw, Loading, Onset as CoreOnset, SlidePoint, SlideStage, SlipLaw, Snapshot, Weakening,
     DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::{self as core_limits, Limits};
@@ -1353,7 +1353,7 @@ struct Slide {
     /// Name of the law, if it has one.
     #[pyo3(get)]
     law: Option<String>,
-    /// Slip-weakening distance d_c [m], or None (weakening at once on the first slip).
+    /// Slip-weakening distance d_c [m]: 0 for the instant drop, None for a measured curve.
     #[pyo3(get)]
     slip_distance: Option<f64>,
     /// F_S: the largest tangential force [N].
@@ -1641,10 +1641,7 @@ fn slide(
             e => error_naming(e, &names),
         })?;
     let (equal, same_law) = equal;
-    let slip_distance = match law.weakening {
-        Weakening::Linear(dc) => Some(dc),
-        _ => None,
-    };
+    let slip_distance = law.slip_distance();
     let (sx, sy, classes) = shear_maps(&solver, &onset.peak);
     let result = Slide {
         load,
@@ -1729,10 +1726,42 @@ fn study_from_json(json: &str) -> asperity::Result<StudyConfig> {
 
 /// A study event, owned, for the thread that reports it.
 enum Event {
-    Start { total: usize, done: usize, onsets: usize, onsets_done: usize },
-    Slid { topography: String, load_n: f64, law: String, iterations: usize, seconds: f64 },
-    Solved { topography: String, load_n: f64, iterations: usize, seconds: f64 },
+    Start {
+        total: usize,
+        done: usize,
+        grid_points: u64,
+        grid_points_done: u64,
+        onsets: usize,
+        onsets_done: usize,
+    },
+    Sliding {
+        topography: String,
+        load_n: f64,
+        law: String,
+        stage: &'static str,
+        steps: usize,
+        largest_drop: f64,
+        seconds: f64,
+    },
+    Slid {
+        topography: String,
+        load_n: f64,
+        law: String,
+        iterations: usize,
+        seconds: f64,
+    },
+    Solved {
+        topography: String,
+        load_n: f64,
+        iterations: usize,
+        seconds: f64,
+        grid_points: u64,
+    },
 }
+
+/// An onset under way reports to a callback once it has taken this long, and at most this
+/// often.
+const SLIDING_INTERVAL: Duration = Duration::from_secs(1);
 
 /// Run a study and return its rows as JSON; see ``asperity.run_study``. ``progress``: None,
 /// or a callable taking one dict per event.
@@ -1771,17 +1800,29 @@ fn _run_study(
     // elastic onset at its next step).
     let stop = AtomicBool::new(false);
     let (events, mut received) = mpsc::channel::<Event>();
+    let last_sliding = std::sync::Mutex::new(Instant::now());
     let outcome = std::thread::scope(|scope| -> PyResult<asperity::Result<asperity::study::run::Outcome>> {
         let runner = scope.spawn(|| {
             let events = events;
             study.run(&out, fresh, &|event| {
                 let _ = events.send(match event {
-                    // Every step of an onset: the command line's logs show them, a callback
-                    // gets the onset once done; Ctrl-C stops it at its next step.
-                    Progress::Sliding { .. } if !stop.load(Ordering::Relaxed) => return ControlFlow::Continue(()),
-                    Progress::Sliding { .. } => return ControlFlow::Break(()),
-                    Progress::Start { total, done, onsets, onsets_done } => {
-                        Event::Start { total, done, onsets, onsets_done }
+                    // An onset under way, at most every second; Ctrl-C stops it at its next step.
+                    Progress::Sliding { .. } if stop.load(Ordering::Relaxed) => return ControlFlow::Break(()),
+                    Progress::Sliding { topography, load_n, law, stage, steps, largest_drop, seconds, .. } => {
+                        let mut last = last_sliding.lock().unwrap_or_else(|e| e.into_inner());
+                        if seconds < SLIDING_INTERVAL.as_secs_f64() || last.elapsed() < SLIDING_INTERVAL {
+                            return ControlFlow::Continue(());
+                        }
+                        *last = Instant::now();
+                        let stage = match stage {
+                            SlideStage::March => "march",
+                            SlideStage::Search => "search",
+                        };
+                        let (topography, law) = (topography.to_string(), law.to_string());
+                        Event::Sliding { topography, load_n, law, stage, steps, largest_drop, seconds }
+                    }
+                    Progress::Start { total, done, grid_points, grid_points_done, onsets, onsets_done } => {
+                        Event::Start { total, done, grid_points, grid_points_done, onsets, onsets_done }
                     }
                     Progress::Slid { topography, load_n, law, iterations, seconds } => Event::Slid {
                         topography: topography.to_string(),
@@ -1790,8 +1831,8 @@ fn _run_study(
                         iterations,
                         seconds,
                     },
-                    Progress::Solved { topography, load_n, iterations, seconds } => {
-                        Event::Solved { topography: topography.to_string(), load_n, iterations, seconds }
+                    Progress::Solved { topography, load_n, iterations, seconds, grid_points } => {
+                        Event::Solved { topography: topography.to_string(), load_n, iterations, seconds, grid_points }
                     }
                 });
                 if stop.load(Ordering::Relaxed) {
@@ -1809,12 +1850,24 @@ fn _run_study(
                     if let (Some(callback), None) = (&progress, &raised) {
                         let dict = PyDict::new(py);
                         match event {
-                            Event::Start { total, done, onsets, onsets_done } => {
+                            Event::Start { total, done, grid_points, grid_points_done, onsets, onsets_done } => {
                                 dict.set_item("event", "start")?;
                                 dict.set_item("total", total)?;
                                 dict.set_item("done", done)?;
+                                dict.set_item("grid_points", grid_points)?;
+                                dict.set_item("grid_points_done", grid_points_done)?;
                                 dict.set_item("onsets", onsets)?;
                                 dict.set_item("onsets_done", onsets_done)?;
+                            }
+                            Event::Sliding { topography, load_n, law, stage, steps, largest_drop, seconds } => {
+                                dict.set_item("event", "sliding")?;
+                                dict.set_item("topography", topography)?;
+                                dict.set_item("load_n", load_n)?;
+                                dict.set_item("law", law)?;
+                                dict.set_item("stage", stage)?;
+                                dict.set_item("steps", steps)?;
+                                dict.set_item("largest_drop", largest_drop)?;
+                                dict.set_item("seconds", seconds)?;
                             }
                             Event::Slid { topography, load_n, law, iterations, seconds } => {
                                 dict.set_item("event", "slid")?;
@@ -1824,12 +1877,13 @@ fn _run_study(
                                 dict.set_item("iterations", iterations)?;
                                 dict.set_item("seconds", seconds)?;
                             }
-                            Event::Solved { topography, load_n, iterations, seconds } => {
+                            Event::Solved { topography, load_n, iterations, seconds, grid_points } => {
                                 dict.set_item("event", "solved")?;
                                 dict.set_item("topography", topography)?;
                                 dict.set_item("load_n", load_n)?;
                                 dict.set_item("iterations", iterations)?;
                                 dict.set_item("seconds", seconds)?;
+                                dict.set_item("grid_points", grid_points)?;
                             }
                         }
                         if let Err(e) = callback.call1((dict,)) {

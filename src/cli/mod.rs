@@ -447,16 +447,18 @@ pub const BATCH_PROGRESS: std::time::Duration = std::time::Duration::from_secs(5
 /// when its positions come at an even pace.
 pub fn progress_bar(len: u64, what: &str, eta: bool) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(len);
-    let eta = if eta { ", eta {eta}" } else { "" };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(&format!(
-            "{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed_precise}}{eta}] {{msg}}"
-        ))
-        .expect("valid progress template"),
-    );
+    bar.set_style(bar_style(what, "{pos}/{len}", eta));
     // The elapsed time goes on through a long solve.
     bar.enable_steady_tick(std::time::Duration::from_secs(1));
     bar
+}
+
+/// A progress bar's style: `what`, the bar, `position` (an indicatif template such as
+/// `{pos}/{len}` or `{percent}%`), the elapsed time and, with `eta`, the time left.
+pub fn bar_style(what: &str, position: &str, eta: bool) -> indicatif::ProgressStyle {
+    let eta = if eta { ", eta {eta}" } else { "" };
+    indicatif::ProgressStyle::with_template(&format!("{what} {{bar:30}} {position} [{{elapsed_precise}}{eta}] {{msg}}"))
+        .expect("valid progress template")
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -83,11 +84,16 @@ pub fn run(args: RunArgs) -> Result<()> {
     let study = prepare(args.study.as_deref(), args.quick, &args.limits)?.waiting(args.wait).sharded(args.shard);
     let experiments = asperity::report::experiments(&study)?;
 
-    let bar = super::progress_bar(0, "solving", true);
+    let bar = super::progress_bar(0, "solving", false);
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
     let batch = !std::io::stderr().is_terminal();
     let last_line = Mutex::new(Instant::now());
-    // A batch log's line: "solving: DONE/ALL after T s (WHAT)", at most every few seconds
+    // Without elastic onsets the bar measures the solves' work, their grid points, and tells
+    // the time left from it; an onset's cost grows steeply with its contact points, unknown
+    // until its solve is done, so with onsets it counts solves and onsets and tells none.
+    let by_work = Mutex::new(None::<Pace>);
+    let (solved, solves) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    // A batch log's line: "solving: DONE/ALL … after T s (WHAT)", at most every few seconds
     // unless `always`.
     let batch_line = |what: &str, always: bool| {
         if !batch {
@@ -96,23 +102,40 @@ pub fn run(args: RunArgs) -> Result<()> {
         let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
         if always || last.elapsed() >= super::BATCH_PROGRESS {
             *last = Instant::now();
-            super::message(&format!(
-                "solving: {}/{} after {:.0} s ({what})",
-                bar.position(),
-                bar.length().unwrap_or(0),
-                start.elapsed().as_secs_f64()
-            ));
+            let pace = by_work.lock().unwrap_or_else(|e| e.into_inner());
+            let done = match pace.as_ref() {
+                Some(pace) => format!(
+                    "{}/{} solves{}",
+                    solved.load(Ordering::Relaxed),
+                    solves.load(Ordering::Relaxed),
+                    pace.left(bar.position()).map_or(String::new(), |t| format!(", about {} left", duration(t)))
+                ),
+                None => format!("{}/{} solves and elastic onsets", bar.position(), bar.length().unwrap_or(0)),
+            };
+            super::message(&format!("solving: {done} after {:.0} s ({what})", start.elapsed().as_secs_f64()));
         }
     };
     let outcome = study.run(&args.out, args.fresh, &|event| match event {
-        // The bar counts solves and elastic onsets alike: the onsets take most of the time.
-        Progress::Start { total, done, onsets, onsets_done } => {
-            bar.set_length((total + onsets) as u64);
-            bar.set_position((done + onsets_done) as u64);
+        Progress::Start { total, done, grid_points, grid_points_done, onsets, onsets_done } => {
+            solved.store(done, Ordering::Relaxed);
+            solves.store(total, Ordering::Relaxed);
+            if onsets == 0 {
+                bar.set_style(super::bar_style("solving", "{percent}%", true));
+                bar.set_length(grid_points);
+                bar.set_position(grid_points_done);
+                *by_work.lock().unwrap_or_else(|e| e.into_inner()) =
+                    Some(Pace { start: Instant::now(), from: grid_points_done, total: grid_points });
+            } else {
+                bar.set_length((total + onsets) as u64);
+                bar.set_position((done + onsets_done) as u64);
+            }
             if batch {
                 let onsets = match onsets {
                     0 => String::new(),
-                    n => format!(" and {n} elastic onsets ({onsets_done} done by an earlier run), counted together"),
+                    n => format!(
+                        " and {n} elastic onsets ({onsets_done} done by an earlier run), counted together, \
+                         without an estimate of the time left (an onset's cost grows with its contact points)"
+                    ),
                 };
                 super::message(&format!("solving: {total} solves ({done} done by an earlier run){onsets}"));
             }
@@ -147,10 +170,17 @@ pub fn run(args: RunArgs) -> Result<()> {
             }
         }
         Progress::Sliding { .. } => {}
-        Progress::Solved { topography, load_n, iterations, .. } => {
+        Progress::Solved { topography, load_n, iterations, grid_points, .. } => {
             let topography = escaped(topography);
-            bar.set_message(format!("{topography} at {} ({iterations} iterations)", show(load_n, &FORCE)));
-            bar.inc(1);
+            let count = solved.fetch_add(1, Ordering::Relaxed) + 1;
+            let at = format!("{topography} at {} ({iterations} iterations)", show(load_n, &FORCE));
+            if by_work.lock().unwrap_or_else(|e| e.into_inner()).is_some() {
+                bar.set_message(format!("{count}/{} solves, {at}", solves.load(Ordering::Relaxed)));
+                bar.inc(grid_points);
+            } else {
+                bar.set_message(at);
+                bar.inc(1);
+            }
             let finished = bar.length().is_some_and(|l| bar.position() == l);
             batch_line(&format!("{topography} at {}", show(load_n, &FORCE)), finished);
         }
@@ -217,6 +247,31 @@ pub fn run(args: RunArgs) -> Result<()> {
     super::print(&drop_summary(&outcome.rows))
 }
 
+/// The pace of a run's solves: the grid points solved since `start` from `from` of `total`.
+struct Pace {
+    start: Instant,
+    from: u64,
+    total: u64,
+}
+
+impl Pace {
+    /// The time left \[s] at `position` grid points, at the run's pace so far; none before
+    /// its first solve.
+    fn left(&self, position: u64) -> Option<f64> {
+        let done = position.checked_sub(self.from).filter(|&d| d > 0)?;
+        Some(self.start.elapsed().as_secs_f64() * self.total.saturating_sub(position) as f64 / done as f64)
+    }
+}
+
+/// `seconds` as a log reads it: "40 s", "3 min", "1.5 h".
+fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s < 100.0 => format!("{s:.0} s"),
+        s if s < 6000.0 => format!("{:.0} min", s / 60.0),
+        s => format!("{:.1} h", s / 3600.0),
+    }
+}
+
 /// The loads the run's closing summary shows \[N]: 0.1, 1, 10 and 100 mN, the paper's decades.
 const SUMMARY_LOADS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
@@ -225,17 +280,17 @@ const SUMMARY_LOADS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 /// solved ("–" for a load it did not).
 fn drop_summary(rows: &[asperity::study::Row]) -> String {
     use std::fmt::Write;
-    let mut groups: Vec<(String, &str, bool)> = Vec::new();
+    let mut groups: Vec<(String, String, bool)> = Vec::new();
     for r in rows {
-        let key = (r.law.clone(), r.sharing.name(), r.plastic);
+        let key = (r.law.clone(), r.model(), r.plastic);
         if !groups.contains(&key) {
             groups.push(key);
         }
     }
     let plastic = rows.iter().any(|r| r.plastic);
-    let label = |(law, sharing, p): &(String, &str, bool)| {
+    let label = |(law, model, p): &(String, String, bool)| {
         format!(
-            "{law}, {sharing} sharing{}",
+            "{law}, {model}{}",
             if plastic {
                 if *p {
                     ", plastic"
@@ -258,7 +313,7 @@ fn drop_summary(rows: &[asperity::study::Row]) -> String {
         for load in SUMMARY_LOADS {
             let drops: Vec<f64> = rows
                 .iter()
-                .filter(|r| (r.law.as_str(), r.sharing.name(), r.plastic) == (group.0.as_str(), group.1, group.2))
+                .filter(|r| r.law == group.0 && r.model() == group.1 && r.plastic == group.2)
                 .filter(|r| (r.load_n - load).abs() <= 1e-9 * load)
                 .map(|r| r.friction_drop)
                 .collect();

@@ -409,11 +409,12 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
 }
 
 fn law_report(args: &SlideArgs, law: &SlipLaw) -> LawReport {
-    let (weakening, slip_distance_m) = match law.weakening {
-        Weakening::Instant => ("instant", None),
-        Weakening::Linear(dc) => ("linear", Some(dc)),
-        Weakening::Curve(_) => ("curve", None),
+    let weakening = match law.weakening {
+        Weakening::Instant => "instant",
+        Weakening::Linear(_) => "linear",
+        Weakening::Curve(_) => "curve",
     };
+    let slip_distance_m = law.slip_distance();
     let name = args.law.clone().or_else(|| args.curve.as_ref().map(|p| p.display().to_string()));
     LawReport { name, mu_s: law.mu_s, mu_d: law.mu_d, weakening, slip_distance_m }
 }

@@ -107,6 +107,16 @@ pub struct SlipLaw {
 }
 
 impl SlipLaw {
+    /// The slip-weakening distance d_c \[m]: 0 for the instant drop, none for a measured
+    /// μ(slip) curve.
+    pub fn slip_distance(&self) -> Option<f64> {
+        match self.weakening {
+            Weakening::Instant => Some(0.0),
+            Weakening::Linear(dc) => Some(dc),
+            Weakening::Curve(_) => None,
+        }
+    }
+
     /// The coefficient of a point that has slipped `slip` \[m] in all (path length), `slipped`
     /// whether it has slipped at all.
     pub fn mu(&self, slip: f64, slipped: bool) -> f64 {

@@ -11,7 +11,7 @@
 
 use serde::Serialize;
 
-use super::{ElementLoads, SlipLaw, Weakening};
+use super::{ClassShare, ElementLoads, SlipLaw, Weakening};
 use crate::error::{Error, Result};
 
 /// A stable weakening shorter than this fraction of its δ is taken as a snap.
@@ -28,6 +28,13 @@ pub struct WeakeningOnset {
     pub peak_displacement_m: f64,
     /// The dynamic coefficient mu_d of the law.
     pub mu_d: f64,
+    /// At the peak, the paper's classes (count, shares of N and of F_S): the critical
+    /// elements, reaching mu_s n_i there;
+    pub critical: ClassShare,
+    /// the pre-sliding ones, slipped before it (weakening, or at mu_d n_i);
+    pub pre_sliding: ClassShare,
+    /// the subcritical ones, stuck below mu_s n_i.
+    pub subcritical: ClassShare,
 }
 
 impl WeakeningOnset {
@@ -60,23 +67,16 @@ pub fn spring_slider_onset(loads: &ElementLoads, law: &SlipLaw, stiffness: f64) 
         }
     };
     let k = stiffness;
+    let elements: Vec<Element> = loads.sorted().iter().map(|&n| Element::new(n, law, dc, k)).collect();
     // The total force is A + B δ between breakpoints; each event changes A and B at its δ.
     let mut events: Vec<(f64, f64, f64)> = Vec::with_capacity(2 * loads.len());
-    for &n in loads.sorted() {
-        let onset = law.mu_s * n / k;
-        // The stable weakening's span in δ, d_c (1 − a/k): an element that weakens over less
-        // than [`RESOLVED`] of its δ is taken to snap (the others gain at most that fraction
-        // of F meanwhile), which spares A and B the terms of order k/(k − a) that cancel.
-        let span = dc - (law.mu_s - law.mu_d) * n / k;
-        if span > RESOLVED * (onset + dc) {
-            // Stable: f = mu_s n k/(k − a) − a k/(k − a) δ until it reaches mu_d n at
-            // δ = onset + span, with k − a = k span / d_c.
-            let a = (law.mu_s - law.mu_d) * n / dc;
-            let (intercept, slope) = (law.mu_s * n * dc / span, a * dc / span);
-            events.push((onset, intercept, -k - slope));
-            events.push((onset + span, law.mu_d * n - intercept, slope));
-        } else {
-            events.push((onset, law.mu_d * n, -k));
+    for e in &elements {
+        match e.stable {
+            Some((intercept, slope, end)) => {
+                events.push((e.onset, intercept, -k - slope));
+                events.push((end, law.mu_d * e.n - intercept, slope));
+            }
+            None => events.push((e.onset, law.mu_d * e.n, -k)),
         }
     }
     events.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -103,7 +103,68 @@ pub fn spring_slider_onset(loads: &ElementLoads, law: &SlipLaw, stiffness: f64) 
     // Sums of many terms may put the last bits outside [mu_d N, mu_s N], where F_S never is.
     let normal = loads.total();
     let static_force = best.clamp(law.mu_d * normal, law.mu_s * normal);
-    Ok(WeakeningOnset { normal_force_n: normal, static_force_n: static_force, peak_displacement_m: at, mu_d: law.mu_d })
+    // The classes just before the events at the peak's δ: an element whose onset is there
+    // reaches mu_s n there (its δ is the same float), an earlier one has slipped.
+    let class = |e: &Element| match e.onset.total_cmp(&at) {
+        std::cmp::Ordering::Less => Class::PreSliding,
+        std::cmp::Ordering::Equal => Class::Critical,
+        std::cmp::Ordering::Greater => Class::Subcritical,
+    };
+    let tally = |which| {
+        let each = elements.iter().map(|e| (class(e), e.n, e.force(at, law.mu_d, k)));
+        ClassShare::tally(each, which, (normal, static_force))
+    };
+    Ok(WeakeningOnset {
+        normal_force_n: normal,
+        static_force_n: static_force,
+        peak_displacement_m: at,
+        mu_d: law.mu_d,
+        critical: tally(Class::Critical),
+        pre_sliding: tally(Class::PreSliding),
+        subcritical: tally(Class::Subcritical),
+    })
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Class {
+    Critical,
+    PreSliding,
+    Subcritical,
+}
+
+/// One spring–slider: its normal force n \[N], the δ \[m] at which it reaches mu_s n, and,
+/// when it weakens stably, its force A − B δ on the stable branch and the δ where that
+/// reaches mu_d n.
+struct Element {
+    n: f64,
+    onset: f64,
+    stable: Option<(f64, f64, f64)>,
+}
+
+impl Element {
+    fn new(n: f64, law: &SlipLaw, dc: f64, k: f64) -> Element {
+        let onset = law.mu_s * n / k;
+        // The stable weakening's span in δ, d_c (1 − a/k): an element that weakens over less
+        // than [`RESOLVED`] of its δ is taken to snap (the others gain at most that fraction
+        // of F meanwhile), which spares A and B the terms of order k/(k − a) that cancel.
+        let span = dc - (law.mu_s - law.mu_d) * n / k;
+        let stable = (span > RESOLVED * (onset + dc)).then(|| {
+            // f = mu_s n k/(k − a) − a k/(k − a) δ until it reaches mu_d n at δ = onset +
+            // span, with a = (mu_s − mu_d) n / d_c and k − a = k span / d_c.
+            let a = (law.mu_s - law.mu_d) * n / dc;
+            (law.mu_s * n * dc / span, a * dc / span, onset + span)
+        });
+        Element { n, onset, stable }
+    }
+
+    /// The element's force at δ \[N], just before its events there.
+    fn force(&self, delta: f64, mu_d: f64, k: f64) -> f64 {
+        match self.stable {
+            _ if delta <= self.onset => k * delta,
+            Some((intercept, slope, end)) if delta <= end => intercept - slope * delta,
+            _ => mu_d * self.n,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -168,8 +229,16 @@ mod tests {
         let expected = 1.8e-3 + (0.6e-3 * k - a * k * 180e-9) / (k - a);
         assert!((stable.static_force_n / expected - 1.0).abs() < 1e-13, "{stable:?} {expected}");
         assert!((stable.peak_displacement_m / 180e-9 - 1.0).abs() < 1e-12);
+        // At the peak the stronger one is critical, the weaker one weakening: F_S − 1.8 mN.
+        assert_eq!((stable.critical.count, stable.pre_sliding.count, stable.subcritical.count), (1, 1, 0));
+        assert!((stable.critical.normal_fraction - 0.75).abs() < 1e-15);
+        assert!((stable.critical.friction_fraction - 1.8e-3 / expected).abs() < 1e-12, "{stable:?}");
+        assert!((stable.pre_sliding.friction_fraction - (expected - 1.8e-3) / expected).abs() < 1e-11);
         let snapping = spring_slider_onset(&loads, &linear(1e-9), k).unwrap();
         assert!((snapping.static_force_n / 2.2e-3 - 1.0).abs() < 1e-13, "{snapping:?}");
+        // The weaker one at mu_d n₁ = 0.4 of 2.2 mN.
+        assert_eq!((snapping.critical.count, snapping.pre_sliding.count), (1, 1));
+        assert!((snapping.pre_sliding.friction_fraction - 0.4 / 2.2).abs() < 1e-12, "{snapping:?}");
     }
 
     /// The instant drop is the paper's equal sharing, to the last bits, for any stiffness.
@@ -182,6 +251,16 @@ mod tests {
             let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Instant };
             let onset = spring_slider_onset(&loads, &law, k).unwrap();
             assert!((onset.static_force_n / paper.static_force - 1.0).abs() < 1e-12, "{k}: {onset:?}");
+            let pairs = [
+                (onset.critical, paper.critical),
+                (onset.pre_sliding, paper.pre_sliding),
+                (onset.subcritical, paper.subcritical),
+            ];
+            for (ours, theirs) in pairs {
+                assert_eq!(ours.count, theirs.count, "{k}: {onset:?} {paper:?}");
+                assert!((ours.normal_fraction - theirs.normal_fraction).abs() < 1e-12, "{ours:?} {theirs:?}");
+                assert!((ours.friction_fraction - theirs.friction_fraction).abs() < 1e-12, "{ours:?} {theirs:?}");
+            }
         }
     }
 

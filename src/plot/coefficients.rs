@@ -5,7 +5,7 @@
 //! and against the AFM hold time (aging).
 
 use super::maps::load_label;
-use super::shared::{by_load, spread, FigureInput, LOAD_COLOURS};
+use super::shared::{by_load, signed, spread, FigureInput, LOAD_COLOURS};
 use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::plausible::MAX_FRICTION_COEFFICIENT;
@@ -209,29 +209,34 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
 }
 
 /// Elastic sharing lowers the drop where its excess over 1 (drop − 1) lies this fraction below
-/// equal sharing's: well above the solvers' tolerances, and meaningful as both drops near 1.
+/// equal sharing's under the same weakening: well above the solvers' tolerances, and
+/// meaningful as both drops near 1.
 const LOWERED: f64 = 0.1;
 
-/// Friction drop vs load under equal and elastic sharing: per law a band over the topographies
-/// and their mean for each (equal solid, elastic dashed), and the single-element value
-/// mu_s/mu_d. `None` without elastic-sharing rows.
+/// Friction drop vs load under equal sharing (the paper's), equal sharing with elastic
+/// sharing's slip weakening, and elastic sharing: per law a band over the topographies and
+/// their mean for each (solid, thin solid, dashed), and the single-element value mu_s/mu_d.
+/// `None` without elastic-sharing rows.
 pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, String)> {
     if input.elastic_rows.is_empty() {
         return None;
     }
-    let xs = input.rows.iter().chain(input.elastic_rows).map(|r| r.load_n * 1e3);
+    let xs = input.rows.iter().chain(input.weakening_rows).chain(input.elastic_rows).map(|r| r.load_n * 1e3);
     let (x0, x1) = xs.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
     let (x0, x1) = (x0 / 1.5, x1 * 1.5);
     let mut series = Vec::new();
     let mut levels: Vec<f64> = Vec::new();
-    let mut findings = Vec::new();
+    let (mut findings, mut weakened) = (Vec::new(), Vec::new());
     for (i, law) in input.laws.iter().enumerate() {
         let name = law_name(law);
         let colour = law_colour(i);
         let mut means = Vec::new();
-        let sharings =
-            [(input.rows, "equal", 0.25, Marker::Circle), (input.elastic_rows, "elastic", 0.12, Marker::Square)];
-        for (rows, what, opacity, marker) in sharings {
+        let sharings = [
+            (input.rows, "equal sharing", 0.25, Marker::Circle),
+            (input.weakening_rows, "equal sharing, weakening", 0.0, Marker::Triangle),
+            (input.elastic_rows, "elastic sharing", 0.12, Marker::Square),
+        ];
+        for (s, (rows, what, opacity, marker)) in sharings.into_iter().enumerate() {
             let groups = by_load(rows, &name);
             if groups.is_empty() {
                 means.push(Vec::new());
@@ -245,25 +250,40 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
             let topographies = groups.iter().map(|g| g.1.len()).max().unwrap_or(0);
             let band =
                 if topographies == 1 { "1 topography".to_string() } else { format!("{topographies} topographies") };
-            series.push(Series::band(x.clone(), lower, upper, colour).opacity(opacity));
+            if opacity > 0.0 {
+                series.push(Series::band(x.clone(), lower, upper, colour).opacity(opacity));
+            }
             let mean: Vec<(f64, f64)> = x.iter().copied().zip(stats.iter().map(|s| s.1)).collect();
-            let line = Series::line(mean.clone(), colour).width(3).label(format!("{name}: {what} sharing, {band}"));
-            series.push(if what == "elastic" { line.dashed() } else { line });
+            let line = Series::line(mean.clone(), colour).label(format!("{name}: {what}, {band}"));
+            series.push(match s {
+                0 => line.width(3),
+                1 => line.width(1),
+                _ => line.width(3).dashed(),
+            });
             series.push(Series::scatter(mean.clone(), marker, colour).hollow());
             means.push(groups.iter().map(|g| g.0).zip(stats.iter().map(|s| s.1)).collect::<Vec<_>>());
         }
         let limit = law.drop();
         levels.push(limit);
         series.push(single_element_line(input.rows, &name, limit, (x0, x1), colour));
+        let at =
+            |means: &[(f64, f64)], load: f64| means.iter().find(|(l, _)| (l / load - 1.0).abs() < 1e-9).map(|m| m.1);
+        // The interaction alone: elastic against equal sharing under the same weakening (the
+        // paper's equal sharing where the laws drop at once).
+        let like = if means[1].is_empty() { &means[0] } else { &means[1] };
         // The lowest load from which on the mean elastic drop's excess stays clearly below the
         // mean equal one's, at every load both have.
-        let lowered: Vec<(f64, bool)> = means[1]
+        let lowered: Vec<(f64, bool)> = means[2]
             .iter()
-            .filter_map(|(load, elastic)| {
-                let equal = means[0].iter().find(|(l, _)| (l / load - 1.0).abs() < 1e-9)?.1;
-                Some((*load, elastic - 1.0 < (1.0 - LOWERED) * (equal - 1.0)))
-            })
+            .filter_map(|(load, elastic)| Some((*load, elastic - 1.0 < (1.0 - LOWERED) * (at(like, *load)? - 1.0))))
             .collect();
+        // The weakening alone: equal sharing with it against the paper's.
+        let moves: Vec<f64> = means[1].iter().filter_map(|(load, weak)| Some(weak - at(&means[0], *load)?)).collect();
+        if let (Some(low), Some(high)) =
+            (moves.iter().copied().reduce(f64::min), moves.iter().copied().reduce(f64::max))
+        {
+            weakened.push(format!("for \"{name}\" by {} to {}", signed(low), signed(high)));
+        }
         let from = (0..lowered.len()).find(|&k| lowered[k..].iter().all(|p| p.1));
         findings.push(match from {
             Some(k) => format!("for \"{name}\" from N = {} on", load_label(lowered[k].0)),
@@ -282,13 +302,23 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
     } else {
         "μ_s until an element first slips, then μ_d at once".to_string()
     };
+    let weakening_alone = if weakened.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " The weakening alone (equal sharing, with it against the instant drop) moves the mean drop {}.",
+            weakened.join(", ")
+        )
+    };
     let caption = format!(
         "The friction drop F_S/(μ_d N) against the normal load with the tangential force shared equally among the \
-         stuck elements (the paper's model, μ_d from an element's first slip; solid) and through the elastic \
-         half-space (dashed; the same pressure maps, the body displaced rigidly along x, {weakening}): per law, the band \
-         spans the values over the topographies (paler for elastic sharing) and the line joins their mean (circles \
-         equal, squares elastic); dotted: the single-element value μ_s/μ_d, drawn below the lowest load carried by \
-         more than one element. Elastic sharing lowers the mean excess drop − 1 by more than {}% at every load {}.",
+         stuck elements (the paper's model, μ_d from an element's first slip; thick solid, circles), shared equally \
+         under elastic sharing's slip weakening (each element a spring–slider of the contact's stuck stiffness K_t/n; \
+         thin solid, triangles), and through the elastic half-space (dashed, squares; the same pressure maps, the body \
+         displaced rigidly along x, {weakening}): per law, the band spans the values over the topographies (paler for \
+         elastic sharing) and the line joins their mean; dotted: the single-element value μ_s/μ_d, drawn below the \
+         lowest load carried by more than one element. The interaction alone (elastic against equal sharing under the \
+         same weakening) lowers the mean excess drop − 1 by more than {}% at every load {}.{weakening_alone}",
         tick_label(&(LOWERED * 100.0)),
         findings.join(", ")
     );

@@ -5,10 +5,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::shared::{by_load, spread, stem, Drawn, FigureInput};
+use super::shared::{by_load, signed, spread, stem, Drawn, FigureInput};
 use crate::error::Result;
-use crate::quantity::{show, FORCE};
 use crate::friction::{FrictionLaw, PRESETS};
+use crate::quantity::{show, FORCE, LENGTH};
 use crate::study::{law_name, FigureKind, Row};
 
 /// What each figure is, and which figure of the paper it corresponds to.
@@ -168,12 +168,9 @@ fn results(w: &mut String, input: &FigureInput) {
     type Column<'a> = (String, Vec<(f64, Vec<&'a Row>)>);
     let mut columns: Vec<Column> =
         input.laws.iter().map(|l| (law_name(l), by_load(input.rows, &law_name(l)))).collect();
-    if !input.elastic_rows.is_empty() {
-        let elastic = input
-            .laws
-            .iter()
-            .map(|l| (format!("{}, elastic sharing", law_name(l)), by_load(input.elastic_rows, &law_name(l))));
-        columns.extend(elastic.collect::<Vec<_>>());
+    for (rows, what) in [(input.weakening_rows, "equal sharing with d_c"), (input.elastic_rows, "elastic sharing")] {
+        let more = input.laws.iter().map(|l| (format!("{}, {what}", law_name(l)), by_load(rows, &law_name(l))));
+        columns.extend(more.filter(|c| !c.1.is_empty()).collect::<Vec<_>>());
     }
     let mut loads: Vec<f64> = columns.iter().flat_map(|c| c.1.iter().map(|g| g.0)).collect();
     loads.sort_by(f64::total_cmp);
@@ -219,6 +216,57 @@ fn results(w: &mut String, input: &FigureInput) {
                 None => {
                     let _ = write!(w, "<td>–</td>");
                 }
+            }
+        }
+        let _ = writeln!(w, "</tr>");
+    }
+    let _ = writeln!(w, "</table>");
+    apart(w, input);
+}
+
+/// What the elastic interaction and the slip weakening each do: per law and load, the mean
+/// drop over the topographies under equal sharing with the weakening, less the paper's (the
+/// weakening alone), and under elastic sharing, less equal sharing's with the same weakening
+/// (the interaction alone).
+fn apart(w: &mut String, input: &FigureInput) {
+    if input.weakening_rows.is_empty() || input.elastic_rows.is_empty() {
+        return;
+    }
+    let mean = |rows: &[Row], law: &str, load: f64| {
+        let groups = by_load(rows, law);
+        let rows = &groups.iter().find(|g| (g.0 / load - 1.0).abs() < 1e-9)?.1;
+        Some(spread(rows.iter().map(|r| r.friction_drop)).1)
+    };
+    let laws: Vec<String> =
+        input.laws.iter().map(law_name).filter(|l| !by_load(input.weakening_rows, l).is_empty()).collect();
+    let mut loads: Vec<f64> = input.elastic_rows.iter().map(|r| r.load_n).collect();
+    loads.sort_by(f64::total_cmp);
+    loads.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-9);
+    let _ = writeln!(
+        w,
+        "<p>The slip weakening and the elastic interaction apart: the mean friction drop over the topographies \
+         under equal sharing with the slip weakening d<sub>c</sub> = {} less the paper's equal sharing (the \
+         weakening alone), and under elastic sharing less equal sharing with the same weakening (the interaction \
+         alone).</p>\n<table>\n<tr><th>normal load</th>",
+        show(input.slip_distance_m, &LENGTH)
+    );
+    for law in &laws {
+        let _ = write!(w, "<th>{}: weakening</th><th>{}: interaction</th>", escape(law), escape(law));
+    }
+    let _ = writeln!(w, "</tr>");
+    for load in loads {
+        let _ = write!(w, "<tr><td>{}</td>", show(load, &FORCE));
+        for law in &laws {
+            let weak = mean(input.weakening_rows, law, load);
+            let cells = [
+                weak.zip(mean(input.rows, law, load)).map(|(a, b)| a - b),
+                mean(input.elastic_rows, law, load).zip(weak).map(|(a, b)| a - b),
+            ];
+            for cell in cells {
+                let _ = match cell {
+                    Some(d) => write!(w, "<td>{}</td>", signed(d)),
+                    None => write!(w, "<td>–</td>"),
+                };
             }
         }
         let _ = writeln!(w, "</tr>");

@@ -12,6 +12,9 @@ pub struct FigureInput<'a> {
     /// The result rows under equal sharing (the paper's model), which every figure but the
     /// sharing comparison draws.
     pub rows: &'a [Row],
+    /// The result rows under equal sharing with elastic sharing's slip weakening (empty
+    /// without elastic sharing, or when its laws drop at once).
+    pub weakening_rows: &'a [Row],
     /// The result rows under elastic sharing (empty unless the study asks for them).
     pub elastic_rows: &'a [Row],
     /// Topography names, in the study's order.
@@ -54,6 +57,7 @@ impl<'a> FigureInput<'a> {
     pub fn new(records: &'a Records, experiments: &'a [ShsPoint]) -> FigureInput<'a> {
         FigureInput {
             rows: &records.rows,
+            weakening_rows: &records.weakening_rows,
             elastic_rows: &records.elastic_rows,
             topographies: &records.topographies,
             laws: &records.laws,
@@ -127,6 +131,13 @@ pub(super) fn by_load<'a>(rows: &'a [Row], law: &str) -> Vec<(f64, Vec<&'a Row>)
         }
     }
     groups
+}
+
+/// A change of the friction drop with its sign, to 4 decimals; one that rounds to zero is
+/// +0.0000, whatever its sign.
+pub(super) fn signed(change: f64) -> String {
+    let change = if change.abs() < 5e-5 { 0.0 } else { change };
+    format!("{change:+.4}")
 }
 
 /// (min, mean, max) of `values`.

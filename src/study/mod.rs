@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::{ContactSummary, SolveReport};
 use crate::error::{Error, Result};
-use crate::friction::{ClassShare, ElasticOnset, FrictionLaw, Onset};
+use crate::friction::{ClassShare, ElasticOnset, FrictionLaw, Onset, SlipLaw, WeakeningOnset};
 
 /// How the tangential force is shared among the contact elements at the onset of sliding.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -60,6 +60,11 @@ impl Results {
     }
 }
 
+/// Records of earlier runs hold the paper's equal sharing only: the instant drop.
+fn instant() -> Option<f64> {
+    Some(0.0)
+}
+
 /// One result: one topography × friction law × load, with one sharing of the tangential force.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Row {
@@ -74,6 +79,11 @@ pub struct Row {
     /// How the tangential force is shared among the elements (records of earlier runs: equal).
     #[serde(default)]
     pub sharing: Sharing,
+    /// The slip-weakening distance d_c \[m] of the local law: 0 for the instant drop (the
+    /// paper's equal sharing), d_c for elastic sharing and for equal sharing with the same
+    /// weakening, empty for a law that follows a measured μ(slip) curve.
+    #[serde(default = "instant")]
+    pub slip_distance_m: Option<f64>,
     /// Local static friction coefficient mu_s of the law.
     pub mu_s: f64,
     /// Local dynamic friction coefficient mu_d of the law.
@@ -136,7 +146,38 @@ impl Row {
     pub fn new(topography: &str, load_n: f64, solve: &SolveFacts, onset: &Onset) -> Row {
         let model = (onset.static_coefficient(), onset.dynamic_coefficient(), onset.friction_drop());
         let shares = [&onset.critical, &onset.pre_sliding, &onset.subcritical];
-        Row::of(topography, load_n, solve, &onset.law, Sharing::Equal, model, shares)
+        Row::of(topography, load_n, solve, &onset.law, (Sharing::Equal, Some(0.0)), model, shares)
+    }
+
+    /// The row for equal sharing under the slip weakening `slip` (each element a
+    /// spring–slider of the contact's stuck stiffness), on the same solve.
+    pub fn equal_weakening(
+        topography: &str,
+        load_n: f64,
+        solve: &SolveFacts,
+        law: &FrictionLaw,
+        slip: &SlipLaw,
+        onset: &WeakeningOnset,
+    ) -> Row {
+        let model = (onset.static_coefficient(), onset.mu_d, onset.friction_drop());
+        let shares = [&onset.critical, &onset.pre_sliding, &onset.subcritical];
+        Row::of(topography, load_n, solve, law, (Sharing::Equal, slip.slip_distance()), model, shares)
+    }
+
+    /// Whether the row is the paper's model: equal sharing with the instant drop.
+    pub fn papers(&self) -> bool {
+        self.sharing == Sharing::Equal && self.slip_distance_m == Some(0.0)
+    }
+
+    /// The row's model as a label: its sharing and, unless instant, its weakening ("equal
+    /// sharing", "elastic sharing, d_c 2 nm").
+    pub fn model(&self) -> String {
+        let sharing = self.sharing.name();
+        match self.slip_distance_m {
+            Some(d) if d == 0.0 => format!("{sharing} sharing"),
+            Some(d) => format!("{sharing} sharing, d_c {}", crate::quantity::show(d, &crate::quantity::LENGTH)),
+            None => format!("{sharing} sharing, measured curve"),
+        }
     }
 
     /// The row for the elastic-sharing `onset` under `law`, on the same solve, its path taking
@@ -146,6 +187,7 @@ impl Row {
         load_n: f64,
         solve: &SolveFacts,
         law: &FrictionLaw,
+        slip: &SlipLaw,
         onset: &ElasticOnset,
         seconds: f64,
     ) -> Row {
@@ -154,7 +196,7 @@ impl Row {
         Row {
             slide_iterations: Some(onset.work.iterations),
             slide_seconds: Some(seconds),
-            ..Row::of(topography, load_n, solve, law, Sharing::Elastic, model, shares)
+            ..Row::of(topography, load_n, solve, law, (Sharing::Elastic, slip.slip_distance()), model, shares)
         }
     }
 
@@ -165,7 +207,7 @@ impl Row {
         load_n: f64,
         solve: &SolveFacts,
         law: &FrictionLaw,
-        sharing: Sharing,
+        (sharing, slip_distance_m): (Sharing, Option<f64>),
         (static_coefficient, dynamic_coefficient, friction_drop): (f64, f64, f64),
         [critical, pre_sliding, subcritical]: [&ClassShare; 3],
     ) -> Row {
@@ -175,6 +217,7 @@ impl Row {
             law: law_name(law),
             plastic: solve.plastic,
             sharing,
+            slip_distance_m,
             mu_s: law.mu_s,
             mu_d: law.mu_d,
             contact_points: solve.contact_points,
@@ -540,6 +583,9 @@ pub struct Records {
     /// The result rows under equal sharing (the paper's model), which every figure but the
     /// sharing comparison draws.
     pub rows: Vec<Row>,
+    /// The result rows under equal sharing with elastic sharing's slip weakening (empty
+    /// without elastic sharing, or when its laws drop at once).
+    pub weakening_rows: Vec<Row>,
     /// The result rows under elastic sharing (empty unless the study asks for them).
     pub elastic_rows: Vec<Row>,
     /// Topography names, in the study's order.

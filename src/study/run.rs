@@ -76,7 +76,8 @@ use crate::contact::{
 };
 use crate::error::{Error, Result};
 use crate::friction::{
-    elastic_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset, SlideStage, SlipLaw, Weakening, PEAK_TOLERANCE,
+    elastic_onset, element_stiffness, spring_slider_onset, stuck_stiffness, ElementLoads, FrictionLaw, Onset,
+    SlideStage, SlipLaw, Weakening, PEAK_TOLERANCE,
 };
 use crate::limits::Limits;
 use crate::output::{self, Access, Ledger, Lock};
@@ -156,12 +157,18 @@ struct Claim {
 pub enum Progress<'a> {
     /// Before the first solve: `done` of the `total` solves were finished by an earlier run,
     /// and `onsets_done` of the `onsets` elastic-sharing onsets those solves run (one per law
-    /// and solve of the study's own grid; they take most of such a run's time).
+    /// and solve of the study's own grid; they take most of such a run's time). A solve's
+    /// time grows with its grid: `grid_points` sums the grid points of the share's solves,
+    /// `grid_points_done` those of the solves done, a measure of the solves' work.
     Start {
         /// Solves of the run's share.
         total: usize,
         /// Of those, solves an earlier run finished.
         done: usize,
+        /// Grid points of the share's solves, summed.
+        grid_points: u64,
+        /// Of those, the solves' an earlier run finished.
+        grid_points_done: u64,
         /// Elastic-sharing onsets of the run's share.
         onsets: usize,
         /// Of those, onsets an earlier run recorded.
@@ -216,6 +223,8 @@ pub enum Progress<'a> {
         iterations: usize,
         /// Wall-clock time of the solve \[s].
         seconds: f64,
+        /// Grid points of the solve.
+        grid_points: u64,
     },
 }
 
@@ -303,7 +312,19 @@ struct OnsetJob {
     chain: Arc<Chain>,
     k: usize,
     l: usize,
+    /// The places of its rows in the solve's: the elastic one, and equal sharing's under the
+    /// same slip weakening (a law with a slip-weakening distance).
     slot: usize,
+    weakening_slot: Option<usize>,
+}
+
+/// One row of each solve: its sharing, the index of its law, and its slip-weakening distance
+/// d_c [m] (0: the instant drop; none: the law's measured curve).
+#[derive(Clone, Copy, PartialEq)]
+struct Slot {
+    sharing: Sharing,
+    law: usize,
+    slip_distance: Option<f64>,
 }
 
 impl OnsetJob {
@@ -599,20 +620,24 @@ impl Study {
         let onsets: usize = pieces.iter().map(|p| p.loads.len() * per_solve(p)).sum();
         // The solves, and the onsets, an earlier run recorded: a recorded solve's own and those
         // of a solve it stopped in.
-        let (mut resumed, mut onsets_done) = (0, 0);
+        let (mut resumed, mut onsets_done, mut grid_points, mut grid_points_done) = (0, 0, 0, 0);
         for p in &pieces {
             let (u, plastic) = sweeps[p.sweep];
             let solves = self.solves_dir(dir, u, plastic);
+            let points = self.unit(u).2.heights.len() as u64;
+            grid_points += points * p.loads.len() as u64;
             for k in p.loads.clone() {
                 if solves.join(record_name(k)).is_file() {
                     resumed += 1;
                     onsets_done += per_solve(p);
+                    grid_points_done += points;
                 } else {
                     onsets_done += (0..per_solve(p)).filter(|&l| solves.join(onset_name(k, l)).is_file()).count();
                 }
             }
         }
-        if !progress(Progress::Start { total: share, done: resumed, onsets, onsets_done }).proceed() {
+        let start = Progress::Start { total: share, done: resumed, grid_points, grid_points_done, onsets, onsets_done };
+        if !progress(start).proceed() {
             return Err(self.interrupted());
         }
         let work = Work {
@@ -699,12 +724,13 @@ impl Study {
         // The figures show the first kind of solve listed; the table has them all. Every figure
         // but the sharing comparison draws the equal-sharing rows.
         let first = self.config.contact.plastic.modes()[0];
-        let shown = |sharing: Sharing| -> Vec<Row> {
-            rows.iter().filter(|r| r.plastic == first && r.sharing == sharing).cloned().collect()
+        let shown = |which: &dyn Fn(&Row) -> bool| -> Vec<Row> {
+            rows.iter().filter(|r| r.plastic == first && which(r)).cloned().collect()
         };
         let records = Records {
-            rows: shown(Sharing::Equal),
-            elastic_rows: shown(Sharing::Elastic),
+            rows: shown(&Row::papers),
+            weakening_rows: shown(&|r| r.sharing == Sharing::Equal && !r.papers()),
+            elastic_rows: shown(&|r| r.sharing == Sharing::Elastic),
             topographies: names,
             laws: self.laws.clone(),
             hold_times: self.hold_times.clone(),
@@ -1050,9 +1076,39 @@ impl Study {
         }
     }
 
-    /// Rows of a solve of the study's own grid: one per sharing and law.
+    /// Rows of a solve of the study's own grid ([`Study::layout`]).
     fn rows_per_solve(&self) -> usize {
-        self.config.model.sharing.len() * self.laws.len()
+        self.layout(0).len()
+    }
+
+    /// The rows of each solve of sweep `u`, in order: per sharing listed, one per law; before
+    /// the elastic ones, per law with a slip-weakening distance, equal sharing under the same
+    /// weakening, so that the interaction and the weakening show apart.
+    fn layout(&self, u: usize) -> Vec<Slot> {
+        let laws = 0..self.laws.len();
+        let mut slots = Vec::new();
+        for &sharing in self.sharings(u) {
+            if sharing == Sharing::Elastic {
+                let weakening = laws.clone().filter_map(|l| match self.weakenings[l] {
+                    Weakening::Linear(dc) => Some(Slot { sharing: Sharing::Equal, law: l, slip_distance: Some(dc) }),
+                    _ => None,
+                });
+                slots.extend(weakening);
+            }
+            let slip_distance = |l: usize| match sharing {
+                Sharing::Equal => Some(0.0),
+                Sharing::Elastic => self.slip_law(l).slip_distance(),
+            };
+            slots.extend(laws.clone().map(|l| Slot { sharing, law: l, slip_distance: slip_distance(l) }));
+        }
+        slots
+    }
+
+    /// The local law of elastic sharing for law `l`: mu_s to mu_d over the model's
+    /// slip-weakening distance, or along the law's measured curve.
+    fn slip_law(&self, l: usize) -> SlipLaw {
+        let law = &self.laws[l];
+        SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() }
     }
 
     /// The folder of sweep `u`'s solve records, elastic or plastic.
@@ -1182,24 +1238,39 @@ impl Study {
                 (pressure, cold, facts)
             };
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
-            // One row per sharing and law, sharing-major; the elastic ones as their onsets end.
-            let mut rows = Vec::with_capacity(self.sharings(u).len() * self.laws.len());
+            // The rows of the solve's layout: the paper's at once, the others as the elastic
+            // onsets that give them end (or from an earlier run's record of them).
+            let layout = self.layout(u);
+            let mut rows: Vec<Option<Row>> = vec![None; layout.len()];
             let mut onsets = Vec::new();
-            for sharing in self.sharings(u) {
-                match sharing {
-                    Sharing::Equal => rows.extend(
-                        self.laws.iter().map(|law| Some(Row::new(name, load, &facts, &Onset::new(&elements, law)))),
-                    ),
+            for (slot, row) in layout.iter().enumerate() {
+                match row.sharing {
+                    Sharing::Equal if row.slip_distance == Some(0.0) => {
+                        rows[slot] = Some(Row::new(name, load, &facts, &Onset::new(&elements, &self.laws[row.law])));
+                    }
+                    Sharing::Equal => {}
                     Sharing::Elastic => {
-                        for (l, law) in self.laws.iter().enumerate() {
-                            let path = solves.join(onset_name(k, l));
-                            if path.is_file() {
-                                rows.push(Some(read_onset(&path, name, load, &super::law_name(law))?));
-                                work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
-                            } else {
-                                onsets.push((rows.len(), l));
-                                rows.push(None);
+                        let l = row.law;
+                        let weakening_slot = layout
+                            .iter()
+                            .position(|s| s.sharing == Sharing::Equal && s.law == l && s.slip_distance != Some(0.0));
+                        let path = solves.join(onset_name(k, l));
+                        if path.is_file() {
+                            let mut kept = read_onset(
+                                &path,
+                                name,
+                                load,
+                                &super::law_name(&self.laws[l]),
+                                weakening_slot.is_some(),
+                            )?
+                            .into_iter();
+                            rows[slot] = kept.next();
+                            if let Some(w) = weakening_slot {
+                                rows[w] = kept.next();
                             }
+                            work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
+                        } else {
+                            onsets.push((slot, weakening_slot, l));
                         }
                     }
                 }
@@ -1237,8 +1308,9 @@ impl Study {
             }
             let pending = Pending { load, cold, facts, rows, left: onsets.len() };
             chain.state.lock().expect("no panic holding it").pending.insert(k, pending);
-            for (slot, l) in onsets {
-                let job = OnsetJob { cost: facts.contact_points, chain: Arc::clone(&chain), k, l, slot };
+            for (slot, weakening_slot, l) in onsets {
+                let job =
+                    OnsetJob { cost: facts.contact_points, chain: Arc::clone(&chain), k, l, slot, weakening_slot };
                 self.enqueue(scope, work, job);
             }
             self.flush(&chain, work)?;
@@ -1314,8 +1386,7 @@ impl Study {
             options,
         )
         .map_err(failed)?;
-        // mu_s to mu_d over the model's slip-weakening distance (or the law's measured curve).
-        let slip = SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() };
+        let slip = self.slip_law(l);
         let normal = solver.normal_force();
         let onset = elastic_onset(&mut solver, &slip, PEAK_TOLERANCE, |p| {
             let answer = (work.progress)(Progress::Sliding {
@@ -1344,9 +1415,18 @@ impl Study {
         };
         drop(solver);
         let seconds = start.elapsed().as_secs_f64();
-        let row = Row::elastic(&chain.name, load, &facts, law, &onset, seconds);
-        row.require_finite()?;
-        output::write_json(&chain.solves.join(onset_name(k, l)), &row)?;
+        let mut rows = vec![Row::elastic(&chain.name, load, &facts, law, &slip, &onset, seconds)];
+        if job.weakening_slot.is_some() {
+            // Equal sharing under the same weakening: each element a spring–slider of the
+            // contact's stuck stiffness shared equally.
+            let area = chain.size.0 * chain.size.1 / (chain.shape.0 * chain.shape.1) as f64;
+            let elements = ElementLoads::from_pressure(&pressure, area).map_err(failed)?;
+            let stiffness = element_stiffness(onset.stuck_stiffness, elements.len());
+            let equal = spring_slider_onset(&elements, &slip, stiffness).map_err(failed)?;
+            rows.push(Row::equal_weakening(&chain.name, load, &facts, law, &slip, &equal));
+        }
+        rows.iter().try_for_each(Row::require_finite)?;
+        output::write_json(&chain.solves.join(onset_name(k, l)), &rows)?;
         work.tally.onsets.fetch_add(1, Ordering::Relaxed);
         let answer = (work.progress)(Progress::Slid {
             topography: &chain.label,
@@ -1363,7 +1443,11 @@ impl Study {
         {
             let mut state = chain.state.lock().expect("no panic holding it");
             let pending = state.pending.get_mut(&k).expect("pending until its onsets end");
-            pending.rows[job.slot] = Some(row);
+            let mut rows = rows.into_iter();
+            pending.rows[job.slot] = rows.next();
+            if let Some(w) = job.weakening_slot {
+                pending.rows[w] = rows.next();
+            }
             pending.left -= 1;
         }
         self.flush(chain, work)
@@ -1431,6 +1515,7 @@ impl Study {
             load_n: load,
             iterations: facts.iterations,
             seconds: facts.seconds,
+            grid_points: (chain.shape.0 * chain.shape.1) as u64,
         });
         if !answer.proceed() {
             work.fail(self.interrupted());
@@ -1476,21 +1561,20 @@ impl Study {
                 .map(|k| {
                     let path = solves.join(record_name(k));
                     let record: SolveRecord = read_record(&path)?;
-                    let sharings = self.sharings(u);
-                    let expected = sharings.iter().flat_map(|s| self.laws.iter().map(move |l| (*s, l)));
-                    let matches = record.rows.len() == sharings.len() * self.laws.len()
-                        && record
-                            .rows
-                            .iter()
-                            .zip(expected)
-                            .all(|(r, (s, l))| r.sharing == s && r.law == super::law_name(l));
+                    let layout = self.layout(u);
+                    let matches = record.rows.len() == layout.len()
+                        && record.rows.iter().zip(&layout).all(|(r, s)| {
+                            r.sharing == s.sharing
+                                && r.law == super::law_name(&self.laws[s.law])
+                                && r.slip_distance_m == s.slip_distance
+                        });
                     if record.load_n != self.loads[k] || !matches {
                         return Err(foreign(&path));
                     }
                     Ok(record)
                 })
                 .collect::<Result<Vec<_>>>()?;
-            for l in 0..self.sharings(u).len() * self.laws.len() {
+            for l in 0..self.layout(u).len() {
                 rows.extend(records.iter().map(|r| r.rows[l].clone()));
             }
         }
@@ -1506,11 +1590,8 @@ impl Study {
         let pixel = |t: &Topography| t.physical_size.expect("built with a physical size").0 / t.nx() as f64;
         let own = |name: &str| &self.topographies.iter().find(|(n, _)| n == name).expect("a row's topography").1;
         // The coarser copies are solved under equal sharing only.
-        let mut out: Vec<ResolutionRow> = rows
-            .iter()
-            .filter(|r| r.sharing == Sharing::Equal)
-            .map(|r| ResolutionRow::new(1, pixel(own(&r.topography)), r))
-            .collect();
+        let mut out: Vec<ResolutionRow> =
+            rows.iter().filter(|r| r.papers()).map(|r| ResolutionRow::new(1, pixel(own(&r.topography)), r)).collect();
         for factor in COARSENING {
             for (c, (_, f, topo)) in self.coarse.iter().enumerate() {
                 if *f == factor {
@@ -1678,13 +1759,18 @@ fn read_map(path: &Path) -> Result<Array2<f64>> {
     Ok(pressure)
 }
 
-/// The elastic onset row recorded in `path` for the solve of the rows named `name` at `load`
-/// [N] under the law named `law`.
-fn read_onset(path: &Path, name: &str, load: f64, law: &str) -> Result<Row> {
-    let row: Row = read_record(path)?;
-    let ours = row.sharing == Sharing::Elastic && row.law == law && row.topography == name && row.load_n == load;
+/// The rows an elastic onset recorded in `path` for the solve of the rows named `name` at
+/// `load` [N] under the law named `law`: the elastic one, then, `weakening` when the law has a
+/// slip-weakening distance, equal sharing's under the same weakening.
+fn read_onset(path: &Path, name: &str, load: f64, law: &str, weakening: bool) -> Result<Vec<Row>> {
+    let rows: Vec<Row> = read_record(path)?;
+    let same = |r: &Row| r.law == law && r.topography == name && r.load_n == load;
+    let ours = rows.len() == 1 + usize::from(weakening)
+        && rows.iter().all(same)
+        && rows[0].sharing == Sharing::Elastic
+        && rows[1..].iter().all(|r| r.sharing == Sharing::Equal && r.slip_distance_m == rows[0].slip_distance_m);
     if ours {
-        Ok(row)
+        Ok(rows)
     } else {
         Err(foreign(path))
     }
