@@ -246,7 +246,7 @@ fn print_default_is_the_default_study_and_explains_it() {
         "wafer",
         "youngs",
         "poisson",
-        "counter_youngs",
+        "counterface",
         "boundary",
         "tolerance",
         "max_iterations",

@@ -146,6 +146,7 @@ fn input<'a>(
         laws: &s.laws,
         hold_times: &[Some(100.0), Some(10.0)],
         modulus_ratios: &[130.0 / 127.0, 130.0 / 133.0],
+        counterface: Some(("the same material, E* = 69.7 GPa", 2.0)),
         resolution: &s.resolution,
         hold_time_loads: &[1e-4, 1e-3, 1e-2],
         log_density: false,
@@ -282,6 +283,9 @@ fn every_figure_movie_and_the_report() {
     for label in ["hold 100 s: measured", "hold 10 s: measured", "measured, other hold times"] {
         assert!(svg.contains(label), "friction drop legend: {label}");
     }
+    // The other counterface, by the scaling of linear elasticity.
+    assert!(svg.contains("hold 100 s: model, on the same material, E* = 69.7 GPa"), "counterface legend");
+    assert!(html.contains("(the drop at N is the study&#39;s at 2 N)"), "counterface caption");
     let svg = std::fs::read_to_string(dir.path().join("figures/friction-drop-sharing.svg")).unwrap();
     for label in ["hold 100 s: equal sharing, 2 topographies", "hold 10 s: elastic sharing, 2 topographies"] {
         assert!(svg.contains(label), "sharing legend: {label}");
@@ -357,6 +361,7 @@ fn nothing_to_draw_is_no_failure() {
         laws: &laws,
         hold_times: &[],
         modulus_ratios: &[],
+        counterface: None,
         resolution: &[],
         hold_time_loads: &[],
         log_density: false,

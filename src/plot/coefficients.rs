@@ -139,6 +139,18 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
             Series::band(x.clone(), lower, upper, colour).label(format!("{name}: model, range over {band}{modulus}")),
         );
         series.push(Series::line(mean, colour).label(format!("{name}: model, mean over the topographies")));
+        if let Some((other, ratio)) = input.counterface {
+            // The mean drop against the other counterface, from the same solves.
+            let means: Vec<(f64, f64)> = loads
+                .iter()
+                .filter_map(|&n| {
+                    let values: Vec<f64> = curves.iter().filter_map(|c| interpolate(c, n * ratio)).collect();
+                    (values.len() == curves.len()).then(|| (n * 1e3, spread(values.into_iter()).1))
+                })
+                .collect();
+            levels.extend(means.iter().map(|m| m.1));
+            series.push(Series::line(means, colour).width(1).dashed().label(format!("{name}: model, on {other}")));
+        }
         let limit = law.drop();
         levels.push(limit);
         series.push(single_element_line(input.rows, &name, limit, (x0, x1), colour));
@@ -196,12 +208,20 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
          modulus E* is the drop at N·E*₀/E* for the study's E*₀)"
             .to_string()
     };
+    let counterface = match input.counterface {
+        Some((other, ratio)) => format!(
+            " The thin dashed line is the mean drop on {other} instead of the study's counterface, from the same \
+             solves by the same scaling (the drop at N is the study's at {} N), where the loads allow.",
+            tick_label(&ratio)
+        ),
+        None => String::new(),
+    };
     let caption = format!(
         "The friction drop F_S/(μ_d N) as a function of normal load (the paper's Fig. 2): per friction law, the \
          shaded band spans the values over the {topographies} topograph{}{modulus}, the line is the mean over the \
          topographies, and the dotted line is the single-element value μ_s/μ_d, drawn below the lowest load carried \
-         by more than one element.{experiments} Short ticks along the top mark the loads of the p(σ) figure \
-         ({}), coloured as its curves.",
+         by more than one element.{counterface}{experiments} Short ticks along the top mark the loads of the p(σ) \
+         figure ({}), coloured as its curves.",
         if topographies == 1 { "y" } else { "ies" },
         marked.join(", ")
     );

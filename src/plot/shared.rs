@@ -26,6 +26,8 @@ pub struct FigureInput<'a> {
     /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only):
     /// by linear elasticity drop(N; E*) = drop(N·E*₀/E*; E*₀).
     pub modulus_ratios: &'a [f64],
+    /// The other counterface the friction-drop figure shows: its description and E*₀/E*.
+    pub counterface: Option<(&'a str, f64)>,
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: &'a [ResolutionRow],
     /// Loads \[N] of the hold-time figure.
@@ -63,6 +65,7 @@ impl<'a> FigureInput<'a> {
             laws: &records.laws,
             hold_times: &records.hold_times,
             modulus_ratios: &records.modulus_ratios,
+            counterface: records.counterface.as_ref().map(|(name, ratio)| (name.as_str(), *ratio)),
             resolution: &records.resolution,
             hold_time_loads: &records.hold_time_loads,
             log_density: records.log_density,

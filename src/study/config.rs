@@ -13,8 +13,8 @@
 //! #     pixel_size, cap = { radius_m = "1.5 mm" } (added after levelling)
 //! wafer = { file = "wafer.spm" }  # optional counter-surface: h = h_ball − h_wafer
 //!
-//! [material]                      # youngs [Pa], poisson; counter_youngs, counter_poisson;
-//! youngs = "130 GPa"              # hardness [Pa]
+//! [material]                      # youngs [Pa], poisson; counterface = "rigid" | "same" |
+//! youngs = "130 GPa"              # { youngs, poisson }; hardness [Pa]
 //! poisson = 0.26
 //!
 //! [contact]                       # boundary "periodic" | "free", tolerance, max_iterations, grid;
@@ -185,7 +185,7 @@ pub struct CropSpec {
     pub rows: Option<[usize; 2]>,
 }
 
-/// The elastic body and, optionally, an elastic counter-body (rigid otherwise).
+/// The elastic body and its counter-body.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
@@ -195,13 +195,10 @@ pub struct MaterialSpec {
     /// Poisson's ratio ν.
     #[serde(default = "defaults::poisson")]
     pub poisson: f64,
-    /// Young's modulus E₂ \[Pa] of an elastic counter-body (given with `counter_poisson`);
-    /// none: a rigid counter-body, as in the paper.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub counter_youngs: Option<Stress>,
-    /// Poisson's ratio ν₂ of an elastic counter-body (given with `counter_youngs`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub counter_poisson: Option<f64>,
+    /// The counter-body: rigid (the paper's, by default), of the same material, or an elastic
+    /// body of its own.
+    #[serde(default, skip_serializing_if = "Counterface::is_rigid")]
+    pub counterface: Counterface,
     /// Hardness H \[Pa] of the softer body (silicon ≈ 12 GPa): the load carried at p ≥ H is
     /// reported and warned about; the cap on the pressure of plastic solves. None by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -209,6 +206,72 @@ pub struct MaterialSpec {
     /// Uncertainty ΔE of `youngs` \[Pa]: the friction-drop figure's band also covers E ± ΔE.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub youngs_uncertainty: Option<Stress>,
+}
+
+/// `counterface = "rigid" | "same" | { youngs, poisson }`: what the elastic body presses on.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum Counterface {
+    /// A rigid flat, as in the paper: E* = E / (1 − ν²).
+    #[default]
+    Rigid,
+    /// A body of the same material (silicon on silicon): E* = E / (2 (1 − ν²)).
+    Same,
+    /// An elastic body of Young's modulus `youngs` \[Pa] and Poisson's ratio `poisson`:
+    /// 1/E* = (1 − ν²)/E + (1 − ν₂²)/E₂.
+    Body {
+        /// Young's modulus E₂ \[Pa].
+        youngs: Stress,
+        /// Poisson's ratio ν₂.
+        poisson: f64,
+    },
+}
+
+impl Counterface {
+    fn is_rigid(&self) -> bool {
+        *self == Counterface::Rigid
+    }
+}
+
+/// A counter-body's table: both keys, nothing else.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CounterBody {
+    youngs: Stress,
+    poisson: f64,
+}
+
+impl Serialize for Counterface {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Counterface::Rigid => s.serialize_str("rigid"),
+            Counterface::Same => s.serialize_str("same"),
+            Counterface::Body { youngs, poisson } => CounterBody { youngs, poisson }.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Counterface {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct CounterfaceVisitor;
+        impl<'de> Visitor<'de> for CounterfaceVisitor {
+            type Value = Counterface;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"rigid\", \"same\" or a table { youngs, poisson }")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Counterface, E> {
+                match v {
+                    "rigid" => Ok(Counterface::Rigid),
+                    "same" => Ok(Counterface::Same),
+                    _ => Err(E::invalid_value(de::Unexpected::Str(v), &self)),
+                }
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<Counterface, A::Error> {
+                let body = CounterBody::deserialize(de::value::MapAccessDeserializer::new(map))?;
+                Ok(Counterface::Body { youngs: body.youngs, poisson: body.poisson })
+            }
+        }
+        d.deserialize_any(CounterfaceVisitor)
+    }
 }
 
 /// Contact solver settings.
@@ -631,11 +694,12 @@ impl StudyConfig {
     /// The elastic bodies: the body, and the counter-body when it is elastic.
     pub fn bodies(&self) -> Vec<Material> {
         let m = &self.material;
-        let mut bodies = vec![Material { youngs: m.youngs.0, poisson: m.poisson }];
-        if let (Some(e), Some(nu)) = (m.counter_youngs, m.counter_poisson) {
-            bodies.push(Material { youngs: e.0, poisson: nu });
+        let body = Material { youngs: m.youngs.0, poisson: m.poisson };
+        match m.counterface {
+            Counterface::Rigid => vec![body],
+            Counterface::Same => vec![body, body],
+            Counterface::Body { youngs, poisson } => vec![body, Material { youngs: youngs.0, poisson }],
         }
-        bodies
     }
 
     /// The effective modulus E* \[Pa].
@@ -659,8 +723,8 @@ impl StudyConfig {
         };
         let m = &self.material;
         note("material.youngs".into(), plausible::modulus(m.youngs.0, Spelling::StudyFile));
-        if let Some(e) = m.counter_youngs {
-            note("material.counter_youngs".into(), plausible::modulus(e.0, Spelling::StudyFile));
+        if let Counterface::Body { youngs, .. } = m.counterface {
+            note("material.counterface.youngs".into(), plausible::modulus(youngs.0, Spelling::StudyFile));
         }
         if let Some(h) = m.hardness {
             note("material.hardness".into(), plausible::hardness(h.0, Spelling::StudyFile));
@@ -749,14 +813,20 @@ impl StudyConfig {
         let m = &self.material;
         let material = key("material");
         Material::new(m.youngs.0, m.poisson, "material").map_err(|e| (vec![material.clone()], reason_of(e)))?;
+        let counter_youngs = match m.counterface {
+            Counterface::Body { youngs, .. } => Some(youngs),
+            _ => None,
+        };
         let judged = [
-            ("youngs", Some(m.youngs), plausible::modulus as fn(f64, Spelling) -> plausible::Verdict),
-            ("counter_youngs", m.counter_youngs, plausible::modulus),
-            ("hardness", m.hardness, plausible::hardness),
+            (vec![key("youngs")], Some(m.youngs), plausible::modulus as fn(f64, Spelling) -> plausible::Verdict),
+            (vec![key("counterface"), key("youngs")], counter_youngs, plausible::modulus),
+            (vec![key("hardness")], m.hardness, plausible::hardness),
         ];
-        for (name, value, judge) in judged {
+        for (path, value, judge) in judged {
             if let Some(v) = value {
-                judge(v.0, Spelling::StudyFile).map(drop).or_else(|r| at(&[material.clone(), key(name)], r))?;
+                judge(v.0, Spelling::StudyFile)
+                    .map(drop)
+                    .or_else(|r| at(&[vec![material.clone()], path].concat(), r))?;
             }
         }
         // The E band is drawn through E ± ΔE: both must be moduli.
@@ -772,12 +842,9 @@ impl StudyConfig {
                 );
             }
         }
-        match (m.counter_youngs, m.counter_poisson) {
-            (Some(e), Some(nu)) => {
-                Material::new(e.0, nu, "counter-body").map_err(|e| (vec![material.clone()], reason_of(e)))?;
-            }
-            (None, None) => {}
-            _ => return at(&[material], "give counter_youngs and counter_poisson together".into()),
+        if let Counterface::Body { youngs, poisson } = m.counterface {
+            Material::new(youngs.0, poisson, "counter-body")
+                .map_err(|e| (vec![material.clone(), key("counterface")], reason_of(e)))?;
         }
 
         let c = &self.contact;
@@ -1529,6 +1596,39 @@ mod tests {
         assert_eq!(laws, ["hold 100 s", "hold 10 s"]);
         assert_eq!(c.output.figures, FigureKind::ALL);
         assert!(DEFAULT_STUDY.contains("ILLUSTRATIVE PLACEHOLDERS"));
+    }
+
+    /// The counterface sets E*: the paper's rigid flat by default, the same silicon at half of
+    /// it, another body by 1/E* = (1 − ν²)/E + (1 − ν₂²)/E₂; the study as run keeps it.
+    #[test]
+    fn the_counterface_sets_the_effective_modulus() {
+        let rigid = 130e9 / (1.0 - 0.26f64.powi(2));
+        let modulus =
+            |text: &str| StudyConfig::parse(&format!("[material]\n{text}"), "s.toml").unwrap().effective_modulus();
+        assert!((modulus("") / rigid - 1.0).abs() < 1e-15);
+        assert!((modulus("counterface = \"rigid\"\n") / rigid - 1.0).abs() < 1e-15);
+        assert!((modulus("counterface = \"same\"\n") / (rigid / 2.0) - 1.0).abs() < 1e-15);
+        let steel = 1.0 / (1.0 / rigid + (1.0 - 0.3f64.powi(2)) / 210e9);
+        let text = "counterface = { youngs = \"210 GPa\", poisson = 0.3 }\n";
+        assert!((modulus(text) / steel - 1.0).abs() < 1e-15);
+        let c = StudyConfig::parse(&format!("[material]\n{text}"), "s.toml").unwrap();
+        assert_eq!(c.bodies().len(), 2);
+        let again = StudyConfig::parse(&toml::to_string(&c).unwrap(), "again.toml").unwrap();
+        assert_eq!(again.material.counterface, c.material.counterface);
+        // Refused at the key, with what is allowed.
+        let e = err("[material]\ncounterface = \"glass\"\n");
+        assert!(
+            e.contains("material.counterface") && e.contains("\"rigid\", \"same\" or a table { youngs, poisson }"),
+            "{e}"
+        );
+        let e = err("[material]\ncounterface = { youngs = \"210 GPa\" }\n");
+        assert!(e.contains("material.counterface") && e.contains("missing field `poisson`"), "{e}");
+        let e = err("[material]\ncounterface = { youngs = \"210 GPa\", poisson = 0.3, hardness = 1 }\n");
+        assert!(e.contains("unknown field `hardness`"), "{e}");
+        let e = err("[material]\ncounterface = { youngs = \"210 GPa\", poisson = 0.7 }\n");
+        assert!(e.contains("material.counterface") && e.contains("0.7"), "{e}");
+        let e = err("[material]\ncounterface = { youngs = \"210 Pa\", poisson = 0.3 }\n");
+        assert!(e.contains("material.counterface.youngs"), "{e}");
     }
 
     /// `device` picks where the solves run; a build without the GPU backend refuses "gpu" at

@@ -596,6 +596,10 @@ pub struct Records {
     pub hold_times: Vec<Option<f64>>,
     /// E*₀/E* for the moduli the friction-drop band also covers (empty: the study's only).
     pub modulus_ratios: Vec<f64>,
+    /// The other counterface the friction-drop figure shows (the same material against the
+    /// paper's rigid flat, or the rigid flat against the same material): its description and
+    /// E*₀/E*, by the same scaling; none for another body.
+    pub counterface: Option<(String, f64)>,
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: Vec<ResolutionRow>,
     /// Loads \[N] of the hold-time figure.

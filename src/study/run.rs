@@ -66,7 +66,7 @@ use std::sync::{Arc, Mutex};
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
-use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
+use super::config::{Counterface, Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 use super::shard::{self, Piece, Shard};
 use super::{
     FigureKind, MapSnapshot, Records, ResolutionRow, Row, Sharing, SolveFacts, COARSENING, FIGURE_LOADS_N, NEAR_DECADES,
@@ -82,6 +82,7 @@ use crate::friction::{
 use crate::limits::Limits;
 use crate::output::{self, Access, Ledger, Lock};
 use crate::plausible::{self, Spelling};
+use crate::quantity::{show, PRESSURE};
 use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
 use crate::topography::resample::resample;
@@ -735,6 +736,7 @@ impl Study {
             laws: self.laws.clone(),
             hold_times: self.hold_times.clone(),
             modulus_ratios: self.modulus_ratios(),
+            counterface: self.other_counterface(),
             resolution,
             hold_time_loads,
             log_density: self.config.output.log_density,
@@ -780,6 +782,26 @@ impl Study {
                 (config.material.youngs.0 > 0.0).then(|| e0 / config.effective_modulus())
             })
             .collect()
+    }
+
+    /// The other counterface of the friction-drop figure: the same material when the study's
+    /// is the paper's rigid flat, the rigid flat when it is the same material; its
+    /// description and E*₀/E*.
+    fn other_counterface(&self) -> Option<(String, f64)> {
+        let mut other = self.config.clone();
+        let name = match self.config.material.counterface {
+            Counterface::Rigid => {
+                other.material.counterface = Counterface::Same;
+                "the same material"
+            }
+            Counterface::Same => {
+                other.material.counterface = Counterface::Rigid;
+                "a rigid flat"
+            }
+            Counterface::Body { .. } => return None,
+        };
+        let e = other.effective_modulus();
+        Some((format!("{name}, E* = {}", show(e, &PRESSURE)), self.config.effective_modulus() / e))
     }
 
     /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
