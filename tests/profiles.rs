@@ -122,8 +122,8 @@ fn psd_of_a_uniform_profile_is_surface_topographys() {
         );
     }
     // A non-uniform profile has no spectrum without an interpolation; a unit must be known.
-    let e = refusal(&["topo", "psd", &data("dektak-1.csv")], dir.path());
-    assert!(e.contains("dektak-1.csv") && e.contains("not uniform"), "{e}");
+    let e = refusal(&["topo", "psd", &data("xy-1.txt"), "--height-unit", "um"], dir.path());
+    assert!(e.contains("xy-1.txt") && e.contains("not uniform"), "{e}");
     let e = refusal(&["topo", "psd", &data("xy-4.txt")], dir.path());
     assert!(e.contains("states no length unit"), "{e}");
 }
@@ -142,8 +142,12 @@ fn convert_writes_a_profile_as_two_columns_only() {
         let (ok, _, err) = asperity(&["topo", "convert", &data("dektak-1.csv"), out], d);
         assert!(ok, "{err}");
         let copy = info(out);
-        for key in ["points", "uniform", "length_m", "mean_m", "rms_m", "rms_slope", "min_m", "max_m"] {
-            assert_eq!(copy[key], source[key], "{out}: {key}");
+        assert_eq!((&copy["points"], &copy["uniform"]), (&source["points"], &source["uniform"]), "{out}");
+        // The grid's positions as written, to their last digit: the step read back from them
+        // is the same to rounding.
+        for key in ["length_m", "step_m", "mean_m", "rms_m", "rms_slope", "min_m", "max_m"] {
+            let (a, b) = (copy[key].as_f64().unwrap(), source[key].as_f64().unwrap());
+            assert!((a / b - 1.0).abs() < 1e-12, "{out}: {key} {a:e} vs {b:e}");
         }
     }
     // The file's positions are kept, not moved to start at 0: xy-1.txt's first x is 13.381669 µm.
@@ -154,8 +158,10 @@ fn convert_writes_a_profile_as_two_columns_only() {
     assert!((first[0] - 13.381669e-6).abs() < 1e-18 && (first[1] - 17.854970e-6).abs() < 1e-18, "{first:?}");
     let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "p.npy"], d);
     assert!(e.contains("p.npy") && e.contains("line profile") && e.contains("*.csv or *.txt"), "{e}");
-    let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "q.csv", "--detrend", "plane"], d);
+    let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "q.csv", "--detrend", "sphere"], d);
     assert!(e.starts_with("error: --detrend: ") && e.contains("line profile"), "{e}");
+    let e = refusal(&["topo", "convert", &data("dektak-1.csv"), "q.csv", "--crop", "0:2,0:2"], d);
+    assert!(e.starts_with("error: --crop: ") && e.contains("prepares 2-D maps"), "{e}");
     let e = refusal(&["topo", "convert", &data("matrix-6.txt"), "m.csv"], d);
     assert!(e.contains(".csv and .txt hold line profiles"), "{e}");
     let e = refusal(&["topo", "convert", &data("xy-5.txt"), "m.csv", "--height-unit", "um"], d);
@@ -177,7 +183,130 @@ fn a_profile_stating_only_its_heights_unit_takes_the_positions_unit() {
     assert!((info["mean_m"].as_f64().unwrap() - 2e-9).abs() < 1e-21, "{info}");
     std::fs::write(d.join("b.csv"), "x in um,height in nm\n0,1\n1,2\n2,4\n3,1\n4,2\n5,3\n6,1\n7,2\n").unwrap();
     let e = refusal(&["topo", "info", "b.csv", "--height-unit", "um"], d);
-    assert!(e.starts_with("error: --height-unit: ") && e.contains("states its own units"), "{e}");
+    assert!(e.starts_with("error: --height-unit: ") && e.contains("states the unit of its heights"), "{e}");
+    let e = refusal(&["topo", "info", "b.csv", "--position-unit", "mm"], d);
+    assert!(e.starts_with("error: --position-unit: ") && e.contains("states the unit of its positions"), "{e}");
+}
+
+/// `--position-unit` gives the positions' unit beside `--height-unit`, which gives the heights'
+/// (and the positions' when alone); a map refuses it.
+#[test]
+fn positions_and_heights_take_units_of_their_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("p.txt"), "0 1\n1 3\n2 1\n3 3\n").unwrap();
+    let info = |args: &[&str]| -> Value {
+        let (ok, out, err) = asperity(&[&["topo", "info", "--json", "p.txt"], args].concat(), d);
+        assert!(ok, "{args:?}: {err}");
+        serde_json::from_str(&out).unwrap()
+    };
+    let close = |v: &Value, want: f64| (v.as_f64().unwrap() / want - 1.0).abs() < 1e-12;
+    // Positions in mm, heights in nm: 4 mm long, heights 1 and 3 nm, rms slope 2 nm / 1 mm.
+    let both = info(&["--position-unit", "mm", "--height-unit", "nm"]);
+    assert!(close(&both["length_m"], 4e-3) && close(&both["mean_m"], 2e-9), "{both}");
+    assert!(close(&both["rms_slope"], 2e-6) && both["position_unit"] == "mm", "{both}");
+    // --height-unit alone is the unit of both (SurfaceTopography's one unit of a line scan).
+    let one = info(&["--height-unit", "um"]);
+    assert!(close(&one["length_m"], 4e-6) && close(&one["rms_slope"], 2.0), "{one}");
+    // --position-unit alone leaves the heights as stored, their unit unknown.
+    let x_only = info(&["--position-unit", "mm"]);
+    assert!(close(&x_only["length_m"], 4e-3) && x_only["rms_m"].is_null() && close(&x_only["rms"], 1.0), "{x_only}");
+    let e = refusal(&["topo", "psd", "p.txt", "--position-unit", "mm"], d);
+    assert!(e.contains("no unit for the heights") && e.contains("--height-unit"), "{e}");
+    let e = refusal(&["topo", "info", "p.txt", "--position-unit", "furlong"], d);
+    assert!(e.starts_with("error: --position-unit: 'furlong' is not a length unit"), "{e}");
+    let e = refusal(&["topo", "info", &data("matrix-6.txt"), "--position-unit", "mm"], d);
+    assert!(e.starts_with("error: --position-unit: ") && e.contains("2-D map"), "{e}");
+}
+
+/// The export rounds its positions to 0.1 µm and states 0.156 µm per sample: the positions
+/// agree with a grid of their mean step to their rounding, and the profile is read on it.
+#[test]
+fn a_stated_step_the_positions_agree_with_makes_the_profile_uniform() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (ok, out, err) = asperity(&["topo", "info", "--json", &data("dektak-1.csv")], d);
+    assert!(ok, "{err}");
+    let info: Value = serde_json::from_str(&out).unwrap();
+    // The mean step (1499.8 − 0) / 9599 µm.
+    let step = 1499.8e-6 / 9599.0;
+    assert_eq!(info["uniform"], true);
+    assert!((info["step_m"].as_f64().unwrap() / step - 1.0).abs() < 1e-12, "{info}");
+    assert!((info["length_m"].as_f64().unwrap() / (9600.0 * step) - 1.0).abs() < 1e-12, "{info}");
+    // Its spectrum: the Hann-windowed PSD from q = 2π/(9600 step), one row a wavenumber.
+    let (ok, out, err) = asperity(&["topo", "psd", &data("dektak-1.csv")], d);
+    assert!(ok, "{err}");
+    let rows: Vec<&str> = out.lines().collect();
+    assert_eq!((rows[0], rows.len()), ("q_rad_per_m,psd_m3", 1 + 9600 / 2));
+    let q1: f64 = rows[1].split(',').next().unwrap().parse().unwrap();
+    assert!((q1 / (2.0 * std::f64::consts::PI / (9600.0 * step)) - 1.0).abs() < 1e-12, "{q1}");
+    // The same export with a step its positions do not agree with, or a position moved by a
+    // step: non-uniform, and the spectrum's refusal says why.
+    let text = std::fs::read(common::sample("dektak-1.csv")).unwrap();
+    let text = String::from_utf8_lossy(&text).into_owned();
+    std::fs::write(d.join("other-step.csv"), text.replace("Resolution,0.156 um", "Resolution,0.150 um")).unwrap();
+    let e = refusal(&["topo", "psd", "other-step.csv"], d);
+    assert!(e.contains("not uniform") && e.contains("the header states a step of 0.15,"), "{e}");
+    std::fs::write(d.join("moved.csv"), text.replace("\n1.1,0.00044", "\n1.2,0.00044")).unwrap();
+    let e = refusal(&["topo", "psd", "moved.csv"], d);
+    assert!(e.contains("not uniform") && e.contains("point 8 lies"), "{e}");
+}
+
+/// `--detrend` levels a profile as one scan line: numpy's `polyfit` residuals on dektak-1.csv's
+/// grid, and a tilt removed exactly.
+#[test]
+fn a_profile_is_levelled_by_its_polynomial() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let json = |args: &[&str]| -> Value {
+        let (ok, out, err) = asperity(&[&["topo", "info", "--json"], args].concat(), d);
+        assert!(ok, "{args:?}: {err}");
+        serde_json::from_str(&out).unwrap()
+    };
+    // numpy 2.4.6: h − polyval(polyfit(x, h, N), x) on the grid i · 1499.8/9599 µm, in metres:
+    // its RMS (np.std), and the RMS of its forward differences over the step (N = 1).
+    let dektak = data("dektak-1.csv");
+    for (mode, rms) in [
+        ("line:1", 9.424304890540356e-08),
+        ("plane", 9.424304890540356e-08),
+        ("poly:2", 3.844722287848323e-08),
+        ("line:3", 1.9146848711605317e-08),
+    ] {
+        let got = json(&[&dektak, "--detrend", mode]);
+        let r = got["rms_m"].as_f64().unwrap();
+        assert!((r / rms - 1.0).abs() < 1e-9, "{mode}: {r:e} vs numpy's {rms:e}");
+        assert!(got["mean_m"].as_f64().unwrap().abs() < 1e-12 * rms, "{mode}: {got}");
+    }
+    let slope = json(&[&dektak, "--detrend", "line:1"])["rms_slope"].as_f64().unwrap();
+    assert!((slope / 0.009459698088292527 - 1.0).abs() < 1e-9, "{slope}");
+    // A tilt of 1 µm over 4 µm on a roughness of ±1 nm in the pattern +, −, −, + (orthogonal to
+    // a line on every four points): line:1 leaves the roughness, rms 1 nm, exactly.
+    let rows: String = (0..400)
+        .map(|i| {
+            let x = 0.01 * f64::from(i);
+            let r = [1.0, -1.0, -1.0, 1.0][(i % 4) as usize];
+            format!("{x:.2} {}\n", 0.25 * x + r * 1e-3 + 7.0)
+        })
+        .collect();
+    std::fs::write(d.join("tilted.txt"), rows).unwrap();
+    let tilted = json(&["tilted.txt", "--height-unit", "um"]);
+    assert!(tilted["rms_m"].as_f64().unwrap() > 100e-9, "{tilted}");
+    let level = json(&["tilted.txt", "--height-unit", "um", "--detrend", "line:1"]);
+    let r = level["rms_m"].as_f64().unwrap();
+    assert!((r - 1e-9).abs() < 1e-9 * 1e-9, "rms {r:e} m, not 1 nm");
+    // line:median shifts by the median only: the rms stays, the median becomes 0.
+    let median = json(&["tilted.txt", "--height-unit", "um", "--detrend", "line:median"]);
+    let (m, t) = (median["rms_m"].as_f64().unwrap(), tilted["rms_m"].as_f64().unwrap());
+    assert!((m / t - 1.0).abs() < 1e-12, "{m:e} vs {t:e}");
+    // The levelled profile is what topo convert writes and topo psd transforms.
+    let (ok, _, err) =
+        asperity(&["topo", "convert", "tilted.txt", "l.csv", "--height-unit", "um", "--detrend", "line:1"], d);
+    assert!(ok, "{err}");
+    assert!((json(&["l.csv"])["rms_m"].as_f64().unwrap() - 1e-9).abs() < 1e-9 * 1e-9);
+    let (ok, _, err) = asperity(&["topo", "psd", "tilted.txt", "--height-unit", "um", "--detrend", "poly:2"], d);
+    assert!(ok, "{err}");
+    let e = refusal(&["topo", "info", "tilted.txt", "--height-unit", "um", "--detrend", "sphere"], d);
+    assert!(e.starts_with("error: --detrend: ") && e.contains("a line profile is levelled by"), "{e}");
 }
 
 #[test]

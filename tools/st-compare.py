@@ -12,7 +12,8 @@ container: for each member), read it with SurfaceTopography (`read_topography`; 
   heights' mean, rms, min and max within 1e-9 relative (the mean within 1e-9 of the rms; a
   profile's rms is SurfaceTopography's rms_height_from_profile), after the same unit conversion;
 - same*: the same numbers, with a documented deliberate difference (a bare array's grid read
-  as (ny, nx); another default channel, compared on SurfaceTopography's);
+  as (ny, nx); another default channel, compared on SurfaceTopography's; a profile read on the
+  grid of the step its header states, the same points and heights);
 - refused: asperity refuses in one line (SurfaceTopography's outcome is shown beside it);
 - ST fails: SurfaceTopography cannot read the file (asperity's outcome shown);
 - DIFFERENT: both read it and a number differs (the numbers are printed).
@@ -162,6 +163,13 @@ def classify(binary, path, label, st):
     if st["unit"] is None and not compare(st, a, unitless=True):
         units = {a.get("position_unit"), a.get("height_unit")} - {None}
         return "same*", f"asperity reads the unit(s) {sorted(units)} the file states, ST none; same values as stored"
+    # A step the header states, which the rounded positions agree with (a Dektak export):
+    # asperity reads the profile on that grid, ST on the rounded positions. The same points and
+    # the same heights (min, max); length and statistics differ as the grid and the positions do.
+    if a["kind"] == "profile" and a.get("uniform") and a.get("on_stated_grid"):
+        same = [k for k in ("min", "max") if close(a.get(k + "_m"), st[k] * (st["scale"] or 1.0))]
+        if a["points"] == st["grid"][0] and len(same) == 2:
+            return "same*", f"read on the grid of the step its header states (ST: the rounded positions); {'; '.join(diffs)}"
     # A bare array (npy, npz, h5) is (ny, nx) for asperity, (nx, ny) for SurfaceTopography.
     if a["format"] in ("npy", "npz", "hdf5") and not compare(st, a, transposed=True):
         return "same*", "grid transposed: asperity reads a bare array as (ny, nx)"

@@ -107,6 +107,9 @@ class Profile:
     def statistics(self) -> Dict[str, float]:
         """SurfaceTopography's mean, rms_height [m] (Rq), rms_slope [1] (Rdq), rms_curvature
         [1/m] (Rddq) of a line scan."""
+    def detrend(self, kind: str = "plane") -> Profile:
+        """Levelled (least squares): "mean", "plane" (the straight line), "poly:N" or "line:N"
+        (degree N along x), "line:median" or "none"."""
 
 class ContactSolution:
     """One load of a contact solve."""
@@ -202,7 +205,7 @@ class Onset:
     def stress_ratio(self, fraction: float = 1.0) -> npt.NDArray[np.float64]:
         """Local τ/σ at δ = fraction · δ_peak, NaN out of contact; (ny, nx)."""
     def curve(self, loading: str = "equal_load_sharing", max_points: int = 2000) -> Dict[str, Any]:
-        """{"shear" [N], "force" [N], "coefficient", "stuck", "peak"}."""
+        """As curve.csv: {"element_shear_n" [N], "force_n" [N], "coefficient", "stuck", "peak"}."""
 
 class Slide:
     """The onset of sliding with elastic sharing between the contact points."""
@@ -240,9 +243,9 @@ class Slide:
     solves: int
     iterations: int
     seconds: float
-    @property
     def curve(self) -> Dict[str, npt.NDArray[Any]]:
-        """{"displacement" [m], "force" [N], "coefficient", "stick_points", "slip_points"}."""
+        """As curve.csv: {"displacement_m" [m], "force_n" [N], "coefficient", "stick_points",
+        "slip_points"}."""
 
 class PartialSlip:
     """A partial-slip state at an imposed tangential force."""
@@ -269,6 +272,7 @@ def read_topography(
     *,
     size: Optional[_Lengths] = None,
     height_unit: Optional[str] = None,
+    position_unit: Optional[str] = None,
     format: Optional[str] = None,
     max_points: Optional[int] = None,
 ) -> Union[Topography, Profile]:

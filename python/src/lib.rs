@@ -42,7 +42,7 @@ use asperity::topography::synth::{Amplitude, Cap, CapShape, SelfAffine, Syntheti
 use asperity::topography::{io, AnyTopography, Provenance, Topography as CoreTopography};
 use ndarray::{Array2, ArrayView2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::{PyMemoryError, PyUserWarning, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyTypeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -529,17 +529,19 @@ impl Topography {
 /// file holds a line profile (a stylus scan, a two-column table), as ``asperity topo info``
 /// tells them apart. ``channel``: name or 0-based index (default: the first height channel).
 /// ``size``: the physical size [m], needed for a bare array (.npy), checked against a size the
-/// file states. ``height_unit``: unit of a file that states none (of a profile's positions and
-/// heights). ``max_points``: the largest grid read (default 2^28), the file read only up to
+/// file states. ``height_unit``: unit of a file that states none (of a profile's heights, and
+/// of its positions unless ``position_unit`` gives theirs). ``max_points``: the largest grid read (default 2^28), the file read only up to
 /// 128 bytes a point.
 #[pyfunction]
-#[pyo3(signature = (path, channel = None, *, size = None, height_unit = None, format = None, max_points = None))]
+#[pyo3(signature = (path, channel = None, *, size = None, height_unit = None, position_unit = None, format = None,
+                    max_points = None))]
 fn read_topography(
     py: Python<'_>,
     path: PathBuf,
     channel: Option<&Bound<'_, PyAny>>,
     size: Option<&Bound<'_, PyAny>>,
     height_unit: Option<String>,
+    position_unit: Option<String>,
     format: Option<String>,
     max_points: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
@@ -548,6 +550,7 @@ fn read_topography(
         channel: channel.map(|c| c.str().map(|s| s.to_string())).transpose()?,
         physical_size: size.map(|s| window(s, "size")).transpose()?,
         height_unit,
+        position_unit,
         limits: limits(max_points)?,
     };
     let (any, channels) = py.detach(|| io::read_any(&path, &options)).map_err(error)?;
@@ -646,6 +649,17 @@ impl Profile {
         dict.set_item("rms_slope", slope)?;
         dict.set_item("rms_curvature", curvature)?;
         Ok(dict)
+    }
+
+    /// Levelled (least squares, over the defined points): "mean", "plane" (the straight line,
+    /// the default), "poly:N" or "line:N" (the polynomial of degree N along x), "line:median"
+    /// or "none", as ``asperity topo info --detrend`` levels a profile.
+    #[pyo3(signature = (kind = "plane"))]
+    fn detrend(&self, py: Python<'_>, kind: &str) -> PyResult<Profile> {
+        let detrend: Detrend = kind.parse().map_err(|e: String| invalid("kind", e))?;
+        let mut inner = self.inner.clone();
+        py.detach(|| detrend.apply_to_profile(&mut inner)).map_err(|e| error_naming(e, &[("--detrend", "kind")]))?;
+        Ok(Profile { inner })
     }
 
     fn __repr__(&self) -> String {
@@ -892,7 +906,7 @@ struct Solved {
 #[allow(clippy::too_many_arguments)]
 fn contact(
     py: Python<'_>,
-    topography: &Topography,
+    topography: &Bound<'_, PyAny>,
     loads: &Bound<'_, PyAny>,
     youngs: f64,
     poisson: f64,
@@ -942,7 +956,23 @@ fn contact(
     };
     let options = SolverOptions { convergence: Convergence { tolerance, max_iterations: max_iter }, device };
     options.convergence.check().map_err(error)?;
-    let surface = &topography.inner;
+    let topography = match topography.cast::<Topography>() {
+        Ok(t) => t,
+        Err(_) if topography.cast::<Profile>().is_ok() => {
+            return Err(invalid(
+                "topography",
+                "a line profile, not a 2-D map: contact (and slide, a study) needs a 2-D map of heights; \
+                 psd(), Profile.statistics() and Profile.detrend() take profiles",
+            ))
+        }
+        Err(_) => {
+            let kind = topography.get_type().name()?;
+            return Err(PyTypeError::new_err(format!(
+                "topography: expected a Topography (a 2-D map of heights), not {kind}"
+            )));
+        }
+    };
+    let surface = &topography.get().inner;
     let size = core_contact::contact_size(surface).map_err(error)?;
     if plastic && hardness.is_none() {
         return Err(invalid("plastic", "needs hardness, the cap on the pressure [Pa]"));
@@ -1192,8 +1222,9 @@ impl Onset {
         Ok(map.into_pyarray(py))
     }
 
-    /// The friction–displacement curve, as a dict of arrays: ``shear`` (s = k_t·δ, the shear
-    /// on every stuck element [N]), ``force`` (F [N]), ``coefficient`` (F / N), ``stuck``
+    /// The friction–displacement curve, as curve.csv names its columns: a dict of arrays
+    /// ``element_shear_n`` (s = k_t·δ, the shear on every stuck element [N]), ``force_n`` (F
+    /// [N]), ``coefficient`` (F / N), ``stuck``
     /// (elements stuck), and ``peak`` (the index of F_S). ``loading``: "equal_load_sharing"
     /// (the model) or "rigid_displacement" (no redistribution). At most ``max_points``
     /// vertices, the peak kept exactly. Without a physical size, forces are in units of
@@ -1208,8 +1239,8 @@ impl Onset {
         let column =
             |f: fn(&asperity::friction::CurvePoint) -> f64| -> Vec<f64> { curve.points.iter().map(f).collect() };
         let dict = PyDict::new(py);
-        dict.set_item("shear", column(|p| p.element_shear).into_pyarray(py))?;
-        dict.set_item("force", column(|p| p.force).into_pyarray(py))?;
+        dict.set_item("element_shear_n", column(|p| p.element_shear).into_pyarray(py))?;
+        dict.set_item("force_n", column(|p| p.force).into_pyarray(py))?;
         dict.set_item(
             "coefficient",
             column(|p| p.force).into_iter().map(|f| f / n).collect::<Vec<_>>().into_pyarray(py),
@@ -1418,15 +1449,14 @@ struct Slide {
 
 #[pymethods]
 impl Slide {
-    /// The friction–displacement path, as curve.csv: a dict of arrays ``displacement`` (δ [m],
-    /// increasing; a cascade of slips at one δ adds entries at that δ as the force falls),
-    /// ``force`` (F [N]), ``coefficient`` (F / N), ``stick_points`` and ``slip_points``.
-    #[getter]
+    /// The friction–displacement path, as curve.csv: a dict of arrays ``displacement_m`` (δ
+    /// [m], increasing; a cascade of slips at one δ adds entries at that δ as the force falls),
+    /// ``force_n`` (F [N]), ``coefficient`` (F / N), ``stick_points`` and ``slip_points``.
     fn curve<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let column = |f: fn(&SlidePoint) -> f64| -> Vec<f64> { self.points.iter().map(f).collect() };
         let dict = PyDict::new(py);
-        dict.set_item("displacement", column(|p| p.displacement_m).into_pyarray(py))?;
-        dict.set_item("force", column(|p| p.force_n).into_pyarray(py))?;
+        dict.set_item("displacement_m", column(|p| p.displacement_m).into_pyarray(py))?;
+        dict.set_item("force_n", column(|p| p.force_n).into_pyarray(py))?;
         let n = self.load;
         dict.set_item(
             "coefficient",

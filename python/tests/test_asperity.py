@@ -94,7 +94,7 @@ def test_two_elements_of_the_paper(n1, n2, pre_sliding):
         assert o.stress_ratio()[1, 0] == pytest.approx(mu_s * n1 / n2, rel=1e-15)
     assert o.classes.tolist() == expected
     c = o.curve()
-    assert c["force"][c["peak"]] == pytest.approx(f_s, rel=1e-15)
+    assert c["force_n"][c["peak"]] == pytest.approx(f_s, rel=1e-15)
     assert c["coefficient"][c["peak"]] == pytest.approx(o.static_coefficient, rel=1e-15)
 
 
@@ -555,9 +555,14 @@ def test_slide_matches_the_command_line(tmp_path):
     assert np.array_equal(np.load(tmp_path / "s" / "shear_x.npy"), sl.shear_x)
     assert np.array_equal(np.load(tmp_path / "s" / "classes.npy"), sl.classes)
     curve = np.loadtxt(tmp_path / "s" / "curve.csv", delimiter=",", skiprows=1)
-    assert np.array_equal(curve[:, 1], sl.curve["force"])
+    # curve() as curve.csv, its columns named alike (displacement_m, force_n, …).
+    path = sl.curve()
+    names = (tmp_path / "s" / "curve.csv").read_text().splitlines()[0].split(",")
+    assert names == ["displacement_m", "force_n", "stick_points", "slip_points"]
+    for k, name in enumerate(names):
+        assert np.array_equal(curve[:, k], path[name]), name
     # The march's states, solved to its looser tolerance, may lie above F_S by about 1e-4 of it.
-    assert sl.static_force <= sl.curve["force"].max() <= sl.static_force * (1 + 1e-4)
+    assert sl.static_force <= path["force_n"].max() <= sl.static_force * (1 + 1e-4)
     # One default for one physics: the study's d_c, and equal sharing with the same weakening.
     assert sl.slip_distance == 2e-9 == record["law"]["slip_distance_m"]
     same = record["equal_sharing_same_law"]
@@ -596,7 +601,8 @@ def test_a_scan_solved_with_a_hardness_slides_and_plots(tmp_path):
 
     fig, (a, b) = plt.subplots(1, 2)
     a.imshow(s.pressure / 1e9)
-    b.plot(sl.curve["displacement"] * 1e9, sl.curve["coefficient"])
+    path = sl.curve()
+    b.plot(path["displacement_m"] * 1e9, path["coefficient"])
     fig.savefig(tmp_path / "slide.png")
     plt.close(fig)
     assert (tmp_path / "slide.png").stat().st_size > 0
@@ -680,23 +686,41 @@ def test_slide_follows_a_curve_as_the_command_line(tmp_path):
 
 
 def test_a_line_profile_reads_as_one_with_surface_topographys_statistics():
-    # SurfaceTopography 1.27.1 on dektak-1.csv (tests/data/manifest.json), in µm.
-    p = ap.read_topography(ROOT / "tests" / "data" / "dektak-1.csv")
-    assert isinstance(p, ap.Profile) and p.points == 9600 and p.step is None
-    assert p.length == pytest.approx(1499.8e-6, rel=1e-12)
+    # dektak-1.csv on the grid its header states (tests/data/manifest.json: numpy's values), in µm.
+    dektak = ROOT / "tests" / "data" / "dektak-1.csv"
+    p = ap.read_topography(dektak)
+    assert isinstance(p, ap.Profile) and p.points == 9600
+    assert p.step == pytest.approx(1499.8e-6 / 9599, rel=1e-12)
+    assert p.length == pytest.approx(9600 * 1499.8e-6 / 9599, rel=1e-12)
     s = p.statistics()
-    assert s["mean"] == pytest.approx(8.455622958394454e-6, rel=1e-9)
-    assert s["rms_height"] == pytest.approx(4.763596104697675e-6, rel=1e-9)
-    assert s["rms_slope"] == pytest.approx(0.015447980655979321, rel=1e-9)
-    info = json.loads(run_cli("topo", "info", ROOT / "tests" / "data" / "dektak-1.csv", "--json"))
+    assert s["mean"] == pytest.approx(8.455879258333335e-6, rel=1e-9)
+    assert s["rms_height"] == pytest.approx(4.764232930211046e-6, rel=1e-9)
+    assert s["rms_slope"] == pytest.approx(0.01455489680150049, rel=1e-9)
+    info = json.loads(run_cli("topo", "info", dektak, "--json"))
     assert (s["rms_height"], s["rms_curvature"]) == (info["rms_m"], info["rms_curvature_per_m"])
-    raises(lambda: ap.psd(p), "not uniform")
-    with pytest.raises(TypeError, match="Topography"):
-        ap.contact(p, loads=1e-3)
+    # Levelled as topo info --detrend levels it: numpy's polyfit residual of degree 1.
+    line = p.detrend("line:1")
+    assert line.statistics()["rms_height"] == pytest.approx(9.424304890540356e-08, rel=1e-9)
+    info = json.loads(run_cli("topo", "info", dektak, "--json", "--detrend", "line:1"))
+    assert line.statistics()["rms_height"] == info["rms_m"]
+    assert p.detrend().statistics()["rms_height"] == info["rms_m"]
+    raises(lambda: p.detrend("sphere"), "kind: ", "a line profile is levelled by")
+    # What needs a map says which functions take a profile.
+    raises(lambda: ap.contact(p, loads=1e-3), "topography: a line profile", "psd()")
+    with pytest.raises(TypeError, match="expected a Topography"):
+        ap.contact("scan.gwy", loads=1e-3)
+    raises(lambda: ap.psd(ap.read_topography(ROOT / "tests" / "data" / "xy-1.txt", height_unit="um")), "not uniform")
+    # Heights in nm handed over as metres: the unit is named, not the advice for generate().
+    rough = ap.Topography(np.random.default_rng(0).normal(scale=20.0, size=(32, 32)), (1e-6, 1e-6))
+    raises(lambda: ap.contact(rough, loads=1e-3), "not heights in metres", "give their unit, e.g. nm")
     # Without units: refused in Python's words, then given.
     xy = ROOT / "tests" / "data" / "xy-1.txt"
     raises(lambda: ap.read_topography(xy).statistics(), "height_unit")
     s = ap.read_topography(xy, height_unit="um").statistics()
+    # The positions' unit of their own: in mm, the profile is 1000 times as long.
+    mm = ap.read_topography(xy, height_unit="um", position_unit="mm")
+    assert mm.length == pytest.approx(1000 * ap.read_topography(xy, height_unit="um").length, rel=1e-12)
+    raises(lambda: ap.read_topography(dektak, position_unit="mm"), "position_unit: ", "states the unit of its positions")
     assert s["rms_height"] == pytest.approx(3.0585577255814207e-6, rel=1e-9)
     assert s["rms_slope"] == pytest.approx(0.4382415170673911, rel=1e-9)
 

@@ -223,9 +223,13 @@ pub struct ReadArgs {
     size: Option<(f64, f64)>,
     /// Unit of the heights of a file that states none (m, mm, µm, nm, Å); a bare array
     /// defaults to m. For a line profile, also the unit of its positions when the file states
-    /// none (SurfaceTopography's one length unit of a line scan).
+    /// none and --position-unit is not given (SurfaceTopography's one length unit of a line scan).
     #[arg(long, value_name = "U")]
     height_unit: Option<String>,
+    /// Unit of a line profile's positions when the file states none (m, mm, µm, nm, Å)
+    /// [default: --height-unit's].
+    #[arg(long, value_name = "U")]
+    position_unit: Option<String>,
     /// File format, overriding detection (a short two-column table: profile or matrix).
     #[arg(long, value_name = "F", value_parser = PossibleValuesParser::new(io::format_names()))]
     format: Option<String>,
@@ -241,6 +245,7 @@ impl ReadArgs {
             (self.channel.is_some(), "--channel"),
             (self.size.is_some(), "--size"),
             (self.height_unit.is_some(), "--height-unit"),
+            (self.position_unit.is_some(), "--position-unit"),
             (self.format.is_some(), "--format"),
         ];
         given.into_iter().find(|(g, _)| *g).map(|(_, option)| option)
@@ -252,6 +257,7 @@ impl ReadArgs {
             channel: self.channel.clone(),
             physical_size: self.size,
             height_unit: self.height_unit.clone(),
+            position_unit: self.position_unit.clone(),
             limits: self.limits.limits(),
         }
     }

@@ -10,6 +10,7 @@ use asperity::error::escaped;
 use asperity::topography::detrend::Detrend;
 use asperity::topography::io;
 use asperity::topography::profile::Profile;
+use asperity::topography::resample::{crop, CropWindow};
 use asperity::topography::stats::{
     fit_psd, profile_height, profile_psd, profile_rms_curvature, profile_rms_slope, psd, psd_fit_window,
     slope_curvature, PsdFit, SlopeCurvature, SpectrumOf, Window,
@@ -106,7 +107,8 @@ struct InfoArgs {
     /// missing_points. When the height unit is unknown (or not a length) the statistics are
     /// mean, rms, min, max in the values as stored. A line profile: kind ("profile"), points,
     /// uniform, length_m and step_m [m] (length and step as stored when the positions' unit is
-    /// unknown), position_unit, the heights as for a map, rms_slope [1] and
+    /// unknown), on_stated_grid (the positions put on the grid of the step the header states),
+    /// position_unit, the heights as for a map, rms_slope [1] and
     /// rms_curvature_per_m [1/m] (null unless both units are known), with SurfaceTopography's
     /// definitions for line scans. A map in metres with a size and no missing point adds
     /// SurfaceTopography's rms_gradient [1] (√⟨|∇h|²⟩), rms_slope_from_profile [1] (along x),
@@ -129,8 +131,14 @@ struct InfoArgs {
     /// Needs heights and positions in metres, a size, no missing point, a uniform profile
     #[arg(long)]
     psd_fit: bool,
-    /// Level a map before its statistics, as topo convert --detrend does (line:1 is an AFM
-    /// scan's usual first step, before a vendor's roughness); a line profile is refused
+    /// Crop window X0:X1,Y0:Y1 before the statistics, as topo psd --crop does (pixel indices,
+    /// end excluded, or lengths with a unit from the map's origin); a 2-D map's
+    #[arg(long, value_name = "X0:X1,Y0:Y1", value_parser = topo_tools::parse_crop)]
+    crop: Option<CropWindow>,
+    /// Level before the statistics (after --crop), as topo psd --detrend does: a map's
+    /// line:1 is an AFM scan's usual first step, before a vendor's roughness; a line profile's
+    /// is mean, plane (its straight line), poly:N or line:N (its polynomial of degree N along
+    /// x), line:median
     #[arg(long, default_value = "none", value_parser = topo_tools::parse_detrend)]
     detrend: Detrend,
 }
@@ -298,6 +306,8 @@ struct ProfileInfo {
     channel: String,
     points: usize,
     uniform: bool,
+    /// Whether the positions were put on the grid of the step the file's header states.
+    on_stated_grid: bool,
     position_unit: Option<String>,
     #[serde(flatten)]
     positions_m: Option<ExtentMetres>,
@@ -339,11 +349,15 @@ fn info(args: InfoArgs) -> Result<()> {
     let (topo, channels) = io::read_any(&args.read.file, &args.read.options())?;
     let mut topo = match topo {
         AnyTopography::Map(topo) => topo,
-        AnyTopography::Profile(p) if args.detrend != Detrend::None => {
-            return Err(p.error("--detrend levels a 2-D map, not a line profile"));
+        AnyTopography::Profile(mut p) => {
+            topo_tools::refuse_map_options(&p, args.crop.is_some(), false, false)?;
+            args.detrend.apply_to_profile(&mut p)?;
+            return profile_info(args, &p, channels);
         }
-        AnyTopography::Profile(p) => return profile_info(args, &p, channels),
     };
+    if let Some(window) = &args.crop {
+        topo = crop(&topo, window)?;
+    }
     args.detrend.apply(&mut topo)?;
     let stats = Stats::of(&topo.heights);
     let info = Info {
@@ -452,6 +466,7 @@ fn profile_info(args: InfoArgs, p: &Profile, channels: Vec<String>) -> Result<()
         channel: p.channel.clone(),
         points: p.points(),
         uniform: p.step().is_some(),
+        on_stated_grid: p.stated_grid == Some(Ok(())),
         position_unit: p.position_unit.clone(),
         positions_m: p.position_unit_known.then(|| ExtentMetres { length_m: p.length(), step_m: p.step() }),
         positions_stored: (!p.position_unit_known).then(|| ExtentStored { length: p.length(), step: p.step() }),
@@ -553,7 +568,11 @@ fn summary(info: &Info) -> String {
 fn profile_summary(info: &ProfileInfo) -> String {
     let mut s = format!("file         {} ({})\n", info.file.display(), info.format);
     s += &format!("channel      '{}'\n", info.channel);
-    let uniform = if info.uniform { "uniform positions" } else { "non-uniform positions" };
+    let uniform = match (info.uniform, info.on_stated_grid) {
+        (true, true) => "uniform positions (on the grid of the step the file states)",
+        (true, false) => "uniform positions",
+        (false, _) => "non-uniform positions",
+    };
     s += &format!("profile      {} points along x, {uniform} (a line profile, not a 2-D map)\n", info.points);
     s += &match (&info.positions_m, &info.positions_stored) {
         (Some(ExtentMetres { length_m, step_m: Some(step) }), _) => {
@@ -562,7 +581,7 @@ fn profile_summary(info: &ProfileInfo) -> String {
         (Some(ExtentMetres { length_m, step_m: None }), _) => format!("length       {}\n", metres(length_m)),
         (_, Some(ExtentStored { length, .. })) => format!(
             "length       {length:.4e} as stored: the file states no unit for the positions (give it with \
-             --height-unit U)\n"
+             --position-unit U)\n"
         ),
         _ => String::new(),
     };

@@ -27,7 +27,7 @@ use super::{parse_size, ReadArgs};
 #[derive(Args)]
 pub struct PrepareArgs {
     /// Crop window X0:X1,Y0:Y1, end excluded: pixel indices (0-based), or lengths with a unit
-    /// [m, um, nm…] from the map's origin (e.g. 0um:10um,0um:10um)
+    /// [m, um, nm…] from the map's origin (e.g. 0um:10um,0um:10um); a 2-D map's
     #[arg(long, value_name = "X0:X1,Y0:Y1", value_parser = parse_crop)]
     pub crop: Option<CropWindow>,
     /// Fill missing points harmonically (each the mean of its four neighbours)
@@ -39,7 +39,8 @@ pub struct PrepareArgs {
     /// Levelling: none, mean, plane, poly:N (total degree N ≤ 8, least squares) or sphere (fits
     /// and subtracts a sphere, reporting its radius [m]); or each scan line on its own, line:N (its
     /// polynomial of degree N ≤ 3 along x subtracted) or line:median (shifted by its median),
-    /// then optionally the whole map: line:1,plane
+    /// then optionally the whole map: line:1,plane. A line profile: mean, plane (its straight
+    /// line), poly:N or line:N (its polynomial of degree N along x), line:median
     #[arg(long, default_value = "none", value_parser = parse_detrend)]
     pub detrend: Detrend,
 }
@@ -238,14 +239,9 @@ impl OutFormat {
 }
 
 /// The first option of `prep` (or `--pixel-size`) that prepares 2-D maps only, as an error for
-/// the line profile `p`.
-fn refuse_map_options(p: &Profile, prep: &PrepareArgs, pixel_size: Option<f64>) -> Result<()> {
-    let given = [
-        (prep.crop.is_some(), "--crop"),
-        (prep.fill_missing, "--fill-missing"),
-        (prep.detrend != Detrend::None, "--detrend"),
-        (pixel_size.is_some(), "--pixel-size"),
-    ];
+/// the line profile `p`; `--detrend` levels a profile too.
+pub(super) fn refuse_map_options(p: &Profile, crop: bool, fill_missing: bool, pixel_size: bool) -> Result<()> {
+    let given = [(crop, "--crop"), (fill_missing, "--fill-missing"), (pixel_size, "--pixel-size")];
     match given.into_iter().find(|(g, _)| *g) {
         Some((_, option)) => Err(Error::invalid(
             option,
@@ -284,10 +280,12 @@ pub fn convert(args: ConvertArgs) -> Result<()> {
     check_output_file(&args.out, &[&args.read.file])?;
     let topo = match read_any(&args.read.file, &args.read.options())?.0 {
         AnyTopography::Map(topo) => topo,
-        AnyTopography::Profile(p) => {
-            refuse_map_options(&p, &args.prepare, args.pixel_size)?;
+        AnyTopography::Profile(mut p) => {
+            let prep = &args.prepare;
+            refuse_map_options(&p, prep.crop.is_some(), prep.fill_missing, args.pixel_size.is_some())?;
             p.require_metres()?;
             refuse_missing_points(&p)?;
+            prep.detrend.apply_to_profile(&mut p)?;
             format.write_profile(&args.out, &p)?;
             let uniform = if p.step().is_some() { "uniform" } else { "non-uniform" };
             return super::print(&format!(
@@ -369,9 +367,11 @@ pub fn power_spectrum(args: PsdArgs) -> Result<()> {
             }
             (psd(&topo, window.unwrap_or_else(|| Window::default_for(&topo)))?, "m4")
         }
-        AnyTopography::Profile(p) => {
-            refuse_map_options(&p, &args.prepare, None)?;
+        AnyTopography::Profile(mut p) => {
+            let prep = &args.prepare;
+            refuse_map_options(&p, prep.crop.is_some(), prep.fill_missing, false)?;
             p.require_metres()?;
+            prep.detrend.apply_to_profile(&mut p)?;
             // A measured profile does not repeat across its ends.
             (profile_psd(&p, window.unwrap_or(Window::Hann))?, "m3")
         }
@@ -423,7 +423,7 @@ fn parse_bound(s: &str) -> std::result::Result<Bound, String> {
 }
 
 /// `X0:X1,Y0:Y1`, all four pixel indices or all four lengths with units.
-fn parse_crop(s: &str) -> std::result::Result<CropWindow, String> {
+pub(super) fn parse_crop(s: &str) -> std::result::Result<CropWindow, String> {
     let bad = || format!("{} is not X0:X1,Y0:Y1", quantity::quoted(s));
     let (x, y) = s.split_once(',').ok_or_else(bad)?;
     let range = |r: &str| -> std::result::Result<(Bound, Bound), String> {

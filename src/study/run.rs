@@ -1851,6 +1851,7 @@ fn build_surface(spec: &SurfaceSpec, grid: Option<(usize, usize)>, limits: &Limi
         channel: spec.channel.clone(),
         physical_size: spec.size.map(|s| (s.0 .0, s.1 .0)),
         height_unit: spec.height_unit.clone(),
+        position_unit: None,
         limits: *limits,
     };
     spec.preparation(grid, *limits).apply(io::read(path, &options)?)

@@ -10,6 +10,7 @@ use std::str::FromStr;
 use ndarray::{ArrayView2, Axis};
 use rayon::prelude::*;
 
+use super::profile::Profile;
 use super::Topography;
 use crate::error::{Error, Result};
 
@@ -128,6 +129,80 @@ impl Detrend {
                 Detrend::from(whole).apply(topo)
             }
         }
+    }
+}
+
+impl Detrend {
+    /// Level the line profile `p` in place, over its defined points: `mean`, `plane` and
+    /// `poly:N` subtract its least-squares polynomial of degree N in x (0, 1 and N; a profile's
+    /// plane is its straight line), `line:N` the same (a profile is one scan line),
+    /// `line:median` its median. `sphere` and a whole-map step after `line:` are a map's.
+    pub fn apply_to_profile(self, p: &mut Profile) -> Result<()> {
+        let degree = match self {
+            Detrend::None => return Ok(()),
+            Detrend::Polynomial(n) | Detrend::Lines(LineFit::Polynomial(n), WholeMap::None) => n,
+            Detrend::Lines(LineFit::Median, WholeMap::None) => {
+                let mut v: Vec<f64> = p.heights().iter().copied().filter(|h| !h.is_nan()).collect();
+                v.sort_by(f64::total_cmp);
+                let m = v.len() / 2;
+                let median = match v.len() {
+                    0 => return Err(p.error("no defined point to take the median of")),
+                    n if n % 2 == 1 => v[m],
+                    _ => 0.5 * (v[m - 1] + v[m]),
+                };
+                p.heights_mut().iter_mut().for_each(|h| *h -= median);
+                return Ok(());
+            }
+            Detrend::Sphere | Detrend::Lines(..) => {
+                return Err(Error::invalid(
+                    "--detrend",
+                    format!(
+                        "{}: a line profile is levelled by mean, plane, poly:N (N ≤ {MAX_DEGREE}), line:N or \
+                         line:median; a sphere and a whole-map step are a 2-D map's",
+                        p.provenance.file.as_deref().map_or("the profile".into(), |f| f.display().to_string())
+                    ),
+                ))
+            }
+        };
+        if degree > MAX_DEGREE {
+            return Err(Error::invalid("--detrend", format!("degree {degree} is above the maximum {MAX_DEGREE}")));
+        }
+        // Legendre polynomials in the positions mapped to [−1, 1]: well conditioned on any grid.
+        let end = p.positions()[p.points() - 1];
+        let u: Vec<f64> = p.positions().iter().map(|x| 2.0 * x / end - 1.0).collect();
+        let basis = |u: f64, phi: &mut [f64]| {
+            phi[0] = 1.0;
+            if phi.len() > 1 {
+                phi[1] = u;
+            }
+            for k in 1..phi.len().saturating_sub(1) {
+                phi[k + 1] = ((2 * k + 1) as f64 * u * phi[k] - k as f64 * phi[k - 1]) / (k + 1) as f64;
+            }
+        };
+        let terms = degree + 1;
+        let mut ne = NormalEquations { gram: vec![0.0; terms * terms], rhs: vec![0.0; terms], ssr: 0.0, count: 0 };
+        let mut phi = vec![0.0; terms];
+        for (&u, &z) in u.iter().zip(p.heights()).filter(|(_, z)| !z.is_nan()) {
+            basis(u, &mut phi);
+            for k in 0..terms {
+                ne.rhs[k] += phi[k] * z;
+                for m in 0..terms {
+                    ne.gram[k * terms + m] += phi[k] * phi[m];
+                }
+            }
+            ne.count += 1;
+        }
+        let coef = ne.solve().ok_or_else(|| {
+            p.error(format!(
+                "too few defined points ({}) to fit a polynomial of degree {degree} along the profile",
+                ne.count
+            ))
+        })?;
+        for (&u, h) in u.iter().zip(p.heights_mut()) {
+            basis(u, &mut phi);
+            *h -= phi.iter().zip(&coef).map(|(f, c)| f * c).sum::<f64>();
+        }
+        Ok(())
     }
 }
 

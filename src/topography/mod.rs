@@ -110,11 +110,13 @@ impl Topography {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| (lo.min(h), hi.max(h)));
         let span = hi - lo;
         if span > lx.max(ly) {
-            let remedy = match self.provenance.file {
-                Some(_) => {
+            let remedy = match (&self.provenance.file, self.provenance.format.as_str()) {
+                (Some(_), _) => {
                     "not heights in metres; give their unit with --height-unit U (study: height_unit), e.g. nm or µm"
                 }
-                None => "no rough surface looks like that; lower its rms height or rms slope",
+                (None, "synthetic") => "no rough surface looks like that; lower its rms height or rms slope",
+                // Heights handed over as an array are metres: the unit is the caller's to apply.
+                (None, _) => "not heights in metres; give their unit, e.g. nm: heights in nm × 1e-9 are metres",
             };
             return Err(self.error(format!(
                 "the heights span {span:.3e} m, more than the {lx:.3e} × {ly:.3e} m window is wide: {remedy}"

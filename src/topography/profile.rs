@@ -20,6 +20,15 @@ const UNIFORM: f64 = 1e-6;
 /// are not uniform for being small: printed positions round off far less than a step.
 const UNIFORM_OF_STEP: f64 = 1e-2;
 
+/// A grid step a file's header states, in the unit of its positions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StatedStep {
+    /// The step as printed.
+    pub step: f64,
+    /// Half a unit of its last printed digit: the true step lies within this of `step`.
+    pub rounding: f64,
+}
+
 /// A line profile.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Profile {
@@ -33,6 +42,10 @@ pub struct Profile {
     /// Where the first point lies, in the positions' unit: `positions` start at 0 for the
     /// statistics, and what the profile is written to keeps the file's positions.
     origin: f64,
+    /// What became of a grid step the file's header states ([`Profile::adopt_stated_step`]):
+    /// `None` when it states none, `Ok` when the positions were put on its grid, `Err` with why
+    /// they were not (what refuses a non-uniform profile says it).
+    pub stated_grid: Option<Result<(), String>>,
     /// Whether the positions are known to be metres (the file states their unit, or the user).
     pub position_unit_known: bool,
     /// Whether the heights are known to be metres.
@@ -80,12 +93,46 @@ impl Profile {
             heights,
             step: uniform.then_some(step),
             origin,
+            stated_grid: None,
             position_unit_known: false,
             height_unit_known: false,
             position_unit: None,
             channel: "default".into(),
             provenance: Provenance::default(),
         })
+    }
+
+    /// Put the positions on the grid of the step a file's header states (`stated`, in the
+    /// positions' unit, before any [`Profile::scale`]) when they agree with it to their rounding
+    /// (a stylus export prints 0.156 µm per sample and positions to 0.1 µm). The step is then
+    /// the positions' mean step, (last − first)/(points − 1), which must lie within the stated
+    /// step's rounding of it; each position must lie within one unit of its last printed decimal
+    /// of that grid (half a unit its own rounding, half the mean step's, taken from rounded
+    /// ends); and the positions become the grid. Otherwise the profile is left as it was.
+    /// [`Profile::stated_grid`] records which.
+    pub fn adopt_stated_step(&mut self, stated: StatedStep) {
+        let n = self.points();
+        let step = self.positions[n - 1] / (n - 1) as f64;
+        let reason = if (step - stated.step).abs() > stated.rounding * (1.0 + 1e-9) {
+            Some(format!("the header states a step of {}, the positions one of {step:.6} (in their unit)", stated.step))
+        } else if let Some(quantum) = printed_quantum(self.origin, &self.positions) {
+            let off = self.positions.iter().enumerate().map(|(i, &x)| (i, (x - i as f64 * step).abs()));
+            let (worst, by) = off.fold((0, 0.0), |w, o| if o.1 > w.1 { o } else { w });
+            (by > quantum * (1.0 + 1e-6)).then(|| {
+                format!(
+                    "point {} lies {by:.3e} off the grid of their mean step, more than the positions' rounding \
+                     ({quantum:e}, in their unit)",
+                    worst + 1
+                )
+            })
+        } else {
+            Some("the header states a step, but the positions are not printed to a fixed number of decimals".into())
+        };
+        if reason.is_none() {
+            self.positions.iter_mut().enumerate().for_each(|(i, x)| *x = i as f64 * step);
+            self.step = Some(step);
+        }
+        self.stated_grid = Some(reason.map_or(Ok(()), Err));
     }
 
     /// Number of points (at least 2).
@@ -123,6 +170,11 @@ impl Profile {
             Some(step) => step * self.points() as f64,
             None => self.positions[self.points() - 1],
         }
+    }
+
+    /// Heights to level in place ([`super::detrend`]).
+    pub(super) fn heights_mut(&mut self) -> &mut [f64] {
+        &mut self.heights
     }
 
     /// Multiply the positions by `positions` and the heights by `heights` (a change of unit).
@@ -167,13 +219,28 @@ impl Profile {
             (true, false) => {
                 Err(self.error("the file states no unit for the heights: give it with --height-unit U, e.g. nm or µm"))
             }
-            (false, true) => Err(self.error("the file states no unit for the positions along the profile")),
+            (false, true) => Err(self.error(
+                "the file states no unit for the positions along the profile: give it with --position-unit U, \
+                 e.g. µm or mm",
+            )),
             (false, false) => Err(self.error(
-                "the file states no length unit: give it with --height-unit U (the unit of the positions and \
-                 the heights), e.g. nm or µm",
+                "the file states no length unit: give it with --height-unit U (of the heights, and of the \
+                 positions unless --position-unit U gives theirs), e.g. nm or µm",
             )),
         }
     }
+}
+
+/// The unit of the last decimal the positions (`origin` + `positions`, as the file prints
+/// them) are printed to, 10⁻ᵈ for the fewest decimals d ≤ 12 that hold them all; `None` when none
+/// does.
+fn printed_quantum(origin: f64, positions: &[f64]) -> Option<f64> {
+    (0..=12).map(|d| 10f64.powi(-d)).find(|&q| {
+        positions.iter().all(|&x| {
+            let v = (origin + x) / q;
+            (v - v.round()).abs() <= 1e-6 + 8.0 * f64::EPSILON * v.abs()
+        })
+    })
 }
 
 #[cfg(test)]
@@ -207,6 +274,28 @@ mod tests {
         let mut p = Profile::new(vec![0.0, 1.0, 2.0], vec![1.0, 2.0, 3.0]).unwrap();
         p.scale(1e-6, 1e-9);
         assert_eq!((p.step(), p.heights()[2], p.length()), (Some(1e-6), 3.0 * 1e-9, 3e-6));
+    }
+
+    #[test]
+    fn a_stated_step_puts_positions_rounded_off_it_on_its_grid() {
+        // 0.15625 per sample printed to one decimal, the step stated as 0.156.
+        let x: Vec<f64> = (0..1000).map(|i| format!("{:.1}", 0.15625 * f64::from(i)).parse().unwrap()).collect();
+        let stated = StatedStep { step: 0.156, rounding: 0.0005 };
+        let mut p = Profile::new(x.clone(), vec![0.0; 1000]).unwrap();
+        assert_eq!((p.step(), printed_quantum(p.origin(), p.positions())), (None, Some(0.1)));
+        p.adopt_stated_step(stated);
+        let step = x[999] / 999.0;
+        assert_eq!((p.step(), p.stated_grid.clone(), p.positions()[500]), (Some(step), Some(Ok(())), 500.0 * step));
+        // A step stated otherwise, or a position a rounding further off: left as read.
+        let mut p = Profile::new(x.clone(), vec![0.0; 1000]).unwrap();
+        p.adopt_stated_step(StatedStep { step: 0.150, rounding: 0.0005 });
+        assert!(p.step().is_none() && p.stated_grid.as_ref().unwrap().as_ref().unwrap_err().contains("0.15,"));
+        // Point 8 at 1.2 where 7 × 0.15625 = 1.09375 printed is 1.1 (point 9 at 1.3, not 1.25 → 1.2).
+        let mut moved = x;
+        (moved[7], moved[8]) = (1.2, 1.3);
+        let mut p = Profile::new(moved, vec![0.0; 1000]).unwrap();
+        p.adopt_stated_step(stated);
+        assert!(p.step().is_none() && p.stated_grid.unwrap().unwrap_err().starts_with("point 8 lies"));
     }
 
     #[test]

@@ -358,10 +358,14 @@ fn refuse_missing_nonuniform(p: &Profile) -> Result<()> {
 /// profile (its spectrum would need an interpolation) and missing points.
 pub fn profile_psd(p: &Profile, window: Window) -> Result<Psd> {
     let Some(dx) = p.step() else {
-        return Err(p.error(
-            "the profile is not uniform (its positions are not equally spaced): its spectrum would need an \
-             interpolation, which asperity does not make",
-        ));
+        let why = match &p.stated_grid {
+            Some(Err(why)) => format!(" ({why})"),
+            _ => String::new(),
+        };
+        return Err(p.error(format!(
+            "the profile is not uniform (its positions are not equally spaced{why}): its spectrum would need an \
+             interpolation, which asperity does not make"
+        )));
     };
     let n = p.points();
     if n < 4 {

@@ -3,7 +3,7 @@
 //! 0 is missing).
 
 use super::binary;
-use super::profile;
+use super::columns;
 use super::text;
 use super::{ProfileData, ProfileFormat};
 
@@ -33,7 +33,7 @@ impl ProfileFormat for Hfm {
         let units = lines.next().map(|(_, l)| l).unwrap_or_default();
         let unit = |u: Option<&str>, what: &str| {
             let u = u.and_then(|u| u.trim().strip_prefix('[')?.strip_suffix(']')).map(binary::normalise_unit);
-            u.filter(|u| profile::metres_per(u).is_some())
+            u.filter(|u| columns::metres_per(u).is_some())
                 .ok_or_else(|| format!("the units line '{}' gives no length unit of the {what}", text::excerpt(units)))
         };
         let mut fields = units.split(';');
@@ -62,6 +62,7 @@ impl ProfileFormat for Hfm {
             position_unit: Some(position_unit),
             height_unit: Some(height_unit),
             decided: true,
+            stated_step: None,
         })
     }
 }

@@ -10,7 +10,7 @@ use std::io::Cursor;
 
 use calamine::{Data, DataType, Reader, Xlsx};
 
-use super::{container, profile, ProfileData, ProfileFormat};
+use super::{columns, container, ProfileData, ProfileFormat};
 use crate::limits::Limits;
 use crate::quantity::quoted;
 
@@ -52,7 +52,7 @@ impl ProfileFormat for Mitutoyo {
         let cut_off = certificate.get_value((47, 4)).and_then(|c| c.get_string()).unwrap_or("").trim();
         let position_unit = cut_off.trim_start_matches(|c: char| c.is_ascii_digit() || "+-.".contains(c)).trim();
         for (unit, cell) in [(height_unit.as_str(), "DATA A1"), (position_unit, "Certificate E48")] {
-            if profile::metres_per(unit).is_none() {
+            if columns::metres_per(unit).is_none() {
                 return Err(format!("{cell}: {} is not a length unit", quoted(unit)));
             }
         }
@@ -88,6 +88,7 @@ impl ProfileFormat for Mitutoyo {
             position_unit: Some(position_unit.to_string()),
             height_unit: Some(height_unit),
             decided: true,
+            stated_step: None,
         })
     }
 }

@@ -13,6 +13,7 @@
 mod al3d;
 mod bcr;
 mod binary;
+mod columns;
 mod container;
 mod datx;
 mod dektak;
@@ -59,7 +60,7 @@ use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
 
-use super::profile::Profile;
+use super::profile::{Profile, StatedStep};
 use super::{units, AnyTopography, Provenance, Topography};
 use crate::error::{Error, Result};
 use crate::limits::Limits;
@@ -128,6 +129,8 @@ pub struct ProfileData {
     /// Whether the content says it is a profile rather than a map two points wide (a header, a
     /// format of profiles, enough rows); an undecided file is read only when `--format` says so.
     pub decided: bool,
+    /// The grid step the header states, in the positions' unit, if it does.
+    pub stated_step: Option<StatedStep>,
 }
 
 /// A file format that holds a line profile.
@@ -254,8 +257,11 @@ pub struct ReadOptions {
     /// Physical size (lx, ly) \[m]: required for bare formats, checked against the file's
     /// otherwise.
     pub physical_size: Option<(f64, f64)>,
-    /// Height unit of a bare file (default metres).
+    /// Height unit of a file that states none (a bare array's default: metres); of a line
+    /// profile's positions too, unless `position_unit` gives theirs.
     pub height_unit: Option<String>,
+    /// Unit of a line profile's positions when the file states none.
+    pub position_unit: Option<String>,
     /// The largest grid and file accepted.
     pub limits: Limits,
 }
@@ -607,8 +613,9 @@ fn decided(path: &Path, forced: bool, data: &ProfileData) -> Result<()> {
 }
 
 /// The line profile of `data` read from `path` by `format`, positions and heights in metres
-/// when their units are known: the file's, else `--height-unit` for each the file leaves
-/// without (SurfaceTopography's one unit of a line scan).
+/// when their units are known: the file's, else `--position-unit` and `--height-unit` for what
+/// the file leaves without, on the grid the header states when the positions agree with it
+/// ([`Profile::adopt_stated_step`]).
 fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> Result<Profile> {
     if opts.physical_size.is_some() {
         return Err(Error::invalid(
@@ -619,32 +626,44 @@ fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> 
     if let Some(c) = opts.channel.as_deref().filter(|&c| c != data.name && c != "0") {
         return Err(Error::file(path, format!("no channel '{c}' (channels: '{}')", data.name)));
     }
-    let user = match opts.height_unit.as_deref() {
-        Some(_) if data.height_unit.is_some() && data.position_unit.is_some() => {
-            return Err(Error::invalid(
-                "--height-unit",
-                format!("{} states its own units, of positions and heights", path.display()),
-            ));
+    // A unit the user gives applies where the file states none; the heights' to the positions
+    // too unless --position-unit gives theirs (SurfaceTopography's one unit of a line scan).
+    let given = |option: &str, unit: Option<&str>, stated: bool, what: &str| -> Result<Option<(String, f64)>> {
+        let Some(u) = unit else { return Ok(None) };
+        if stated {
+            return Err(Error::invalid(option, format!("{} states the unit of its {what}", path.display())));
         }
-        Some(u) => Some((
-            u.to_string(),
-            units::metres_per(u)
-                .ok_or_else(|| Error::invalid("--height-unit", format!("'{u}' is not a length unit")))?,
-        )),
-        None => None,
+        let metres =
+            units::metres_per(u).ok_or_else(|| Error::invalid(option, format!("'{u}' is not a length unit")))?;
+        Ok(Some((u.to_string(), metres)))
+    };
+    let (states_x, states_z) = (data.position_unit.is_some(), data.height_unit.is_some());
+    let z_user = given(
+        "--height-unit",
+        opts.height_unit.as_deref(),
+        states_z && (states_x || opts.position_unit.is_some()),
+        "heights",
+    )?;
+    let x_user = match given("--position-unit", opts.position_unit.as_deref(), states_x, "positions")? {
+        Some(u) => Some(u),
+        None if states_x => None,
+        None => given("--height-unit", opts.height_unit.as_deref(), false, "positions")?,
     };
     // A stated unit is a length (the readers take only those); the user's applies to what the
     // file leaves without one.
-    let unit = |stated: Option<String>| match stated {
+    let unit = |stated: Option<String>, user: Option<(String, f64)>| match stated {
         Some(u) => {
-            let metres = profile::metres_per(&u).expect("readers state length units only");
+            let metres = columns::metres_per(&u).expect("readers state length units only");
             (Some(u), Some(metres))
         }
         None => (user.as_ref().map(|(u, _)| u.clone()), user.as_ref().map(|(_, m)| *m)),
     };
-    let (position_unit, x_scale) = unit(data.position_unit);
-    let (height_unit, z_scale) = unit(data.height_unit);
+    let (position_unit, x_scale) = unit(data.position_unit, x_user);
+    let (height_unit, z_scale) = unit(data.height_unit, z_user);
     let mut p = Profile::new(data.positions, data.heights).map_err(|reason| Error::file(path, reason))?;
+    if let Some(stated) = data.stated_step.filter(|_| p.step().is_none()) {
+        p.adopt_stated_step(stated);
+    }
     p.scale(x_scale.unwrap_or(1.0), z_scale.unwrap_or(1.0));
     p.require_representable().map_err(|reason| Error::file(path, reason))?;
     if x_scale.is_some() {
@@ -700,6 +719,12 @@ fn map(
     }
     if fmt.is_bare() && physical_size.is_none() {
         return Err(Error::file(path, "a bare array carries no physical size: give it with --size LX[,LY] (metres)"));
+    }
+    if opts.position_unit.is_some() {
+        return Err(Error::invalid(
+            "--position-unit",
+            format!("{} is a 2-D map: its lateral size comes from the file or --size", path.display()),
+        ));
     }
     // The user's height unit (metres for a bare array) applies to a channel that states none.
     if let Some(unit) = opts.height_unit.as_deref().or(fmt.is_bare().then_some("m")) {

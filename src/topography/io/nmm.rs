@@ -90,6 +90,7 @@ impl ProfileFormat for Nmm {
             position_unit: Some("m".into()),
             height_unit: Some("m".into()),
             decided: true,
+            stated_step: None,
         })
     }
 }

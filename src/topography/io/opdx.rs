@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 
 use super::binary::{self, Cursor, Endian};
-use super::profile;
+use super::columns;
 use super::{ProfileData, ProfileFormat};
 
 pub struct Opdx;
@@ -89,7 +89,7 @@ fn decode(bytes: &[u8]) -> Result<ProfileData, String> {
     let quantity = |name: &str| match items.get(&format!("{prefix}/{name}")) {
         Some(Value::Quantity(v, unit)) => {
             let unit = binary::normalise_unit(unit);
-            match profile::metres_per(&unit) {
+            match columns::metres_per(&unit) {
                 Some(_) if v.is_finite() => Ok((*v, unit)),
                 _ => Err(format!("its {name} {v} '{}' is not a length", binary::printable(&unit))),
             }
@@ -123,6 +123,7 @@ fn decode(bytes: &[u8]) -> Result<ProfileData, String> {
         position_unit: Some(position_unit),
         height_unit: Some(height_unit),
         decided: true,
+        stated_step: None,
     })
 }
 
