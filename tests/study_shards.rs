@@ -191,7 +191,9 @@ fn a_missing_shard_is_solved_by_the_assembling_run_and_overlapping_pieces_exclud
         let o = asperity(dir, &["run", "study.toml", "--out", "out", "--shard", shard]);
         succeeds(&o);
         let e = stderr(&o);
-        shares.push(e.split(" solves,").next().unwrap().rsplit(' ').next().unwrap().parse::<usize>().unwrap());
+        // The closing line: "shard 1/3 of …: N solves, …".
+        let closing = e.lines().find(|l| l.starts_with("shard ")).unwrap();
+        shares.push(closing.split(" solves,").next().unwrap().rsplit(' ').next().unwrap().parse::<usize>().unwrap());
     }
     // A piece of another split, held by "another process" (this test): a run that needs those
     // loads is refused, naming the topography, until it goes.

@@ -144,10 +144,11 @@ def run_study(
     index.html) and resumes a run of the same study that was stopped; ``fresh`` starts over.
     ``quick`` runs it on 256 × 256 points with 7 loads. ``progress``: True prints one line per
     solve and elastic onset on stderr; a callable receives one dict per event (``{"event":
-    "start", "total", "done", "grid_points", "grid_points_done", "onsets", "onsets_done"}``:
-    the solves, their grid points (a measure of their work) and the elastic onsets, and how
+    "start", "total", "done", "work", "work_done", "onsets", "onsets_done"}``:
+    the solves, their estimated work (grid points times 1 + the decades of load above the
+    lowest) and the elastic onsets, and how
     many of each an earlier run did; ``{"event": "solved", "topography", "load_n",
-    "iterations", "seconds", "grid_points"}``; and with elastic sharing ``{"event": "slid",
+    "iterations", "seconds", "work"}``; and with elastic sharing ``{"event": "slid",
     "topography", "load_n", "law", "iterations", "seconds"}`` per law before its solve's
     "solved", and while an onset runs, after its first second and at most every second,
     ``{"event": "sliding", "topography", "load_n", "law", "stage", "steps", "largest_drop",

@@ -1759,8 +1759,8 @@ enum Event {
     Start {
         total: usize,
         done: usize,
-        grid_points: u64,
-        grid_points_done: u64,
+        work: u64,
+        work_done: u64,
         onsets: usize,
         onsets_done: usize,
     },
@@ -1785,7 +1785,7 @@ enum Event {
         load_n: f64,
         iterations: usize,
         seconds: f64,
-        grid_points: u64,
+        work: u64,
     },
 }
 
@@ -1851,8 +1851,8 @@ fn _run_study(
                         let (topography, law) = (topography.to_string(), law.to_string());
                         Event::Sliding { topography, load_n, law, stage, steps, largest_drop, seconds }
                     }
-                    Progress::Start { total, done, grid_points, grid_points_done, onsets, onsets_done } => {
-                        Event::Start { total, done, grid_points, grid_points_done, onsets, onsets_done }
+                    Progress::Start { total, done, work, work_done, onsets, onsets_done } => {
+                        Event::Start { total, done, work, work_done, onsets, onsets_done }
                     }
                     Progress::Slid { topography, load_n, law, iterations, seconds } => Event::Slid {
                         topography: topography.to_string(),
@@ -1861,8 +1861,8 @@ fn _run_study(
                         iterations,
                         seconds,
                     },
-                    Progress::Solved { topography, load_n, iterations, seconds, grid_points } => {
-                        Event::Solved { topography: topography.to_string(), load_n, iterations, seconds, grid_points }
+                    Progress::Solved { topography, load_n, iterations, seconds, work } => {
+                        Event::Solved { topography: topography.to_string(), load_n, iterations, seconds, work }
                     }
                 });
                 if stop.load(Ordering::Relaxed) {
@@ -1880,12 +1880,12 @@ fn _run_study(
                     if let (Some(callback), None) = (&progress, &raised) {
                         let dict = PyDict::new(py);
                         match event {
-                            Event::Start { total, done, grid_points, grid_points_done, onsets, onsets_done } => {
+                            Event::Start { total, done, work, work_done, onsets, onsets_done } => {
                                 dict.set_item("event", "start")?;
                                 dict.set_item("total", total)?;
                                 dict.set_item("done", done)?;
-                                dict.set_item("grid_points", grid_points)?;
-                                dict.set_item("grid_points_done", grid_points_done)?;
+                                dict.set_item("work", work)?;
+                                dict.set_item("work_done", work_done)?;
                                 dict.set_item("onsets", onsets)?;
                                 dict.set_item("onsets_done", onsets_done)?;
                             }
@@ -1907,13 +1907,13 @@ fn _run_study(
                                 dict.set_item("iterations", iterations)?;
                                 dict.set_item("seconds", seconds)?;
                             }
-                            Event::Solved { topography, load_n, iterations, seconds, grid_points } => {
+                            Event::Solved { topography, load_n, iterations, seconds, work } => {
                                 dict.set_item("event", "solved")?;
                                 dict.set_item("topography", topography)?;
                                 dict.set_item("load_n", load_n)?;
                                 dict.set_item("iterations", iterations)?;
                                 dict.set_item("seconds", seconds)?;
-                                dict.set_item("grid_points", grid_points)?;
+                                dict.set_item("work", work)?;
                             }
                         }
                         if let Err(e) = callback.call1((dict,)) {

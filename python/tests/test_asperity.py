@@ -351,10 +351,11 @@ def test_a_study_from_a_dict_runs_and_resumes(tmp_path):
     events = []
     rows = ap.run_study(SMALL_STUDY, out=tmp_path / "r", progress=events.append)
     assert [r["load_n"] for r in rows] == [1e-4, 1e-3]
-    assert events[0] == {"event": "start", "total": 2, "done": 0, "grid_points": 2 * 48 * 48,
-                         "grid_points_done": 0, "onsets": 0, "onsets_done": 0}
+    # A solve's work: its grid points times 1 + the decades its load lies above the lowest.
+    assert events[0] == {"event": "start", "total": 2, "done": 0, "work": 3 * 48 * 48,
+                         "work_done": 0, "onsets": 0, "onsets_done": 0}
     assert [e["event"] for e in events[1:]] == ["solved", "solved"]
-    assert [e["grid_points"] for e in events[1:]] == [48 * 48, 48 * 48]
+    assert [e["work"] for e in events[1:]] == [48 * 48, 2 * 48 * 48]
     # The rows are the direct calls' numbers (the default study's tolerance is 1e-8).
     t = ap.generate(size=10e-6, grid=48, hurst=0.8, rms=5e-9, sphere_radius=1e-3, seed=3)
     sols = ap.contact(t, loads=[1e-4, 1e-3], tolerance=1e-8)
@@ -374,8 +375,8 @@ def test_a_study_with_elastic_sharing_counts_its_onsets(tmp_path):
     events = []
     study = dict(SMALL_STUDY, model={"sharing": ["equal", "elastic"]})
     rows = ap.run_study(study, out=tmp_path / "r", progress=events.append)
-    assert events[0] == {"event": "start", "total": 2, "done": 0, "grid_points": 2 * 48 * 48,
-                         "grid_points_done": 0, "onsets": 2, "onsets_done": 0}
+    assert events[0] == {"event": "start", "total": 2, "done": 0, "work": 3 * 48 * 48,
+                         "work_done": 0, "onsets": 2, "onsets_done": 0}
     # Each load's onset is reported before its solve (these onsets take less than the second
     # after which one under way reports).
     assert [e["event"] for e in events[1:]] == ["slid", "solved", "slid", "solved"]

@@ -88,8 +88,8 @@ pub fn run(args: RunArgs) -> Result<()> {
     // A batch log (stderr not a terminal) gets a plain line every few seconds instead of the bar.
     let batch = !std::io::stderr().is_terminal();
     let last_line = Mutex::new(Instant::now());
-    // Without elastic onsets the bar measures the solves' work, their grid points, and tells
-    // the time left from it; an onset's cost grows steeply with its contact points, unknown
+    // Without elastic onsets the bar measures the solves' estimated work (grid points, more at
+    // higher loads) and tells the time left from it; an onset's cost grows steeply with its contact points, unknown
     // until its solve is done, so with onsets it counts solves and onsets and tells none.
     let by_work = Mutex::new(None::<Pace>);
     let (solved, solves) = (AtomicUsize::new(0), AtomicUsize::new(0));
@@ -116,15 +116,15 @@ pub fn run(args: RunArgs) -> Result<()> {
         }
     };
     let outcome = study.run(&args.out, args.fresh, &|event| match event {
-        Progress::Start { total, done, grid_points, grid_points_done, onsets, onsets_done } => {
+        Progress::Start { total, done, work, work_done, onsets, onsets_done } => {
             solved.store(done, Ordering::Relaxed);
             solves.store(total, Ordering::Relaxed);
             if onsets == 0 {
                 bar.set_style(super::bar_style("solving", "{percent}%", true));
-                bar.set_length(grid_points);
-                bar.set_position(grid_points_done);
+                bar.set_length(work);
+                bar.set_position(work_done);
                 *by_work.lock().unwrap_or_else(|e| e.into_inner()) =
-                    Some(Pace { start: Instant::now(), from: grid_points_done, total: grid_points });
+                    Some(Pace { start: Instant::now(), from: work_done, total: work });
             } else {
                 bar.set_length((total + onsets) as u64);
                 bar.set_position((done + onsets_done) as u64);
@@ -170,13 +170,13 @@ pub fn run(args: RunArgs) -> Result<()> {
             }
         }
         Progress::Sliding { .. } => {}
-        Progress::Solved { topography, load_n, iterations, grid_points, .. } => {
+        Progress::Solved { topography, load_n, iterations, work, .. } => {
             let topography = escaped(topography);
             let count = solved.fetch_add(1, Ordering::Relaxed) + 1;
             let at = format!("{topography} at {} ({iterations} iterations)", show(load_n, &FORCE));
             if by_work.lock().unwrap_or_else(|e| e.into_inner()).is_some() {
                 bar.set_message(format!("{count}/{} solves, {at}", solves.load(Ordering::Relaxed)));
-                bar.inc(grid_points);
+                bar.inc(work);
             } else {
                 bar.set_message(at);
                 bar.inc(1);
