@@ -207,6 +207,24 @@ pub struct AdhesiveReport {
     pub seconds: f64,
 }
 
+impl AdhesiveReport {
+    /// Whether the load reached differs from `target` \[N] by more than a millionth of
+    /// N_c + N_a: then the warning to give, one line. The load jumps with the separation where
+    /// the discrete problem snaps from one equilibrium to another (a pixel leaving the
+    /// Maugis–Dugdale zone, or a cohesive zone narrower than a pixel), and a load inside a jump
+    /// is reached as nearly as the jump allows.
+    pub fn missed(&self, target: f64) -> Option<String> {
+        let scale = self.compressive_force + self.adhesive_force;
+        ((self.load - target).abs() > 1e-6 * scale).then(|| {
+            format!(
+                "the load reached is {} N: the load jumps with the separation where the cohesive zone snaps from \
+                 one equilibrium to the next (a finer grid, or a longer or smoother cohesive law, narrows the jumps)",
+                crate::quantity::human(self.load)
+            )
+        })
+    }
+}
+
 /// The pull-off force and where it is reached.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct PullOff {
@@ -225,6 +243,10 @@ const LOOSE: f64 = 1e-4;
 
 /// Steps of the load control's secant before it gives up.
 const MAX_SECANT: usize = 100;
+
+/// How far the load rises above the least found, relative to the adhesive force at zero load,
+/// before the pull-off sweep stops.
+const RISE: f64 = 0.1;
 
 /// Steps of the pull-off sweep before it gives up.
 const MAX_SWEEP: usize = 400;
@@ -634,8 +656,8 @@ impl AdhesiveSolver {
 
     /// The pull-off force: the least load along the branch that unloads from the equilibrium
     /// at zero load as the separation grows. A sweep with steps that keep each change of the
-    /// load near 5 % of the adhesive force at zero load, refined twice by eight steps around
-    /// the least load found. The solver is left at the pull-off.
+    /// load near 5 % of the adhesive force at zero load, until the load has risen 10 % of it
+    /// above the least found, refined twice by eight steps around the least load. The solver is left at the pull-off.
     pub fn pull_off(&mut self) -> Result<PullOff> {
         let mut tally = Tally::default();
         self.pressure_scale = 0.0;
@@ -795,7 +817,9 @@ impl AdhesiveSolver {
                 best = (r.separation, r.load, r.contact_points);
                 before.copy_from_slice(&last);
                 s_before = s_last;
-            } else if r.load > load_last {
+            } else if r.load > best.1 + RISE * scale {
+                // Well past the least load: a rise within RISE may be a jump of the load where
+                // a pixel leaves the Maugis–Dugdale zone, with lower loads beyond.
                 after = Some(r.separation);
                 break;
             }
