@@ -246,7 +246,7 @@ const MAX_SECANT: usize = 100;
 
 /// How far the load rises above the least found, relative to the adhesive force at zero load,
 /// before the pull-off sweep stops.
-const RISE: f64 = 0.1;
+const RISE: f64 = 0.01;
 
 /// Steps of the pull-off sweep before it gives up.
 const MAX_SWEEP: usize = 400;
@@ -656,7 +656,7 @@ impl AdhesiveSolver {
 
     /// The pull-off force: the least load along the branch that unloads from the equilibrium
     /// at zero load as the separation grows. A sweep with steps that keep each change of the
-    /// load near 5 % of the adhesive force at zero load, until the load has risen 10 % of it
+    /// load near 5 % of the adhesive force at zero load, until the load has risen 1 % of it
     /// above the least found, refined twice by eight steps around the least load. The solver is left at the pull-off.
     pub fn pull_off(&mut self) -> Result<PullOff> {
         let mut tally = Tally::default();
@@ -737,8 +737,10 @@ impl AdhesiveSolver {
             if !outward && next.load >= target {
                 break ((next.separation, next.load), (current.separation, current.load));
             }
-            if outward && next.load >= current.load {
-                // Past the least load of the branch, or apart: the pull-off decides.
+            if outward && target < 0.0 && next.load >= current.load {
+                // Past the least load of the branch, or apart, or a jump of the load: the
+                // pull-off decides (a load of zero or more lies above it: no sweep, whose own
+                // first step is the load zero).
                 let (zero, pull_off) = self.sweep_to_pull_off(tally)?;
                 if target < pull_off.load {
                     return Err(Error::invalid(
