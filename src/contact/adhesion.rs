@@ -244,11 +244,7 @@ const LOOSE: f64 = 1e-4;
 /// Steps of the load control's secant before it gives up.
 const MAX_SECANT: usize = 100;
 
-/// How far the load rises above the least found, relative to the adhesive force at zero load,
-/// before the pull-off sweep stops.
-const RISE: f64 = 0.01;
-
-/// Steps of the pull-off sweep before it gives up.
+/// Steps of the pull-off sweep, or of load control's march, before it gives up.
 const MAX_SWEEP: usize = 400;
 
 /// Iterations and solves at imposed separation, summed over a load-controlled solve or a sweep.
@@ -656,8 +652,10 @@ impl AdhesiveSolver {
 
     /// The pull-off force: the least load along the branch that unloads from the equilibrium
     /// at zero load as the separation grows. A sweep with steps that keep each change of the
-    /// load near 5 % of the adhesive force at zero load, until the load has risen 1 % of it
-    /// above the least found, refined twice by eight steps around the least load. The solver is left at the pull-off.
+    /// load near 5 % of the adhesive force at zero load, until the load rises, refined twice by
+    /// eight steps around the least load. Where the load jumps with the separation (a cohesive
+    /// zone of a few pixels or less), a lower load may lie past the first rise: the pull-off
+    /// is that of the branch up to it. The solver is left at the pull-off.
     pub fn pull_off(&mut self) -> Result<PullOff> {
         let mut tally = Tally::default();
         self.pressure_scale = 0.0;
@@ -688,22 +686,27 @@ impl AdhesiveSolver {
         // LOOSE, so that the solve that is accepted has the convergence's.
         let tight = self.convergence.tolerance;
         self.tolerance = LOOSE.max(tight);
-        let held = self.warm;
-        let mut current = if held {
-            self.forces()
-        } else {
-            let s = match self.boundary {
-                Boundary::Periodic => self.touching,
-                Boundary::Free => 0.0,
-            };
-            let mut r = self.at(s, tally)?;
-            // Pressed first, so that a tensile load is reached unloading.
-            let mut step = self.law.range();
-            while r.load < target.max(0.0) {
-                r = self.at(self.closer(r.separation, step), tally)?;
-                step *= 2.0;
+        // A state held in contact is the start; one apart (past a pull-off) carries no load to
+        // start a branch from, and a cold start presses first.
+        let held_state = if self.warm { Some(self.forces()).filter(|r| r.contact_points > 0) } else { None };
+        let held = held_state.is_some();
+        let mut current = match held_state {
+            Some(state) => state,
+            None => {
+                self.warm = false;
+                let s = match self.boundary {
+                    Boundary::Periodic => self.touching,
+                    Boundary::Free => 0.0,
+                };
+                let mut r = self.at(s, tally)?;
+                // Pressed first, so that a tensile load is reached unloading.
+                let mut step = self.law.range();
+                while r.load < target.max(0.0) {
+                    r = self.at(self.closer(r.separation, step), tally)?;
+                    step *= 2.0;
+                }
+                r
             }
-            r
         };
         let tolerance = |r: &AdhesiveReport, c: &Convergence| {
             (100.0 * c.tolerance).max(1e-13) * (r.compressive_force + r.adhesive_force)
@@ -718,16 +721,27 @@ impl AdhesiveSolver {
         }
         loosen(self, &current);
         // March towards the target, each step the secant's estimate of the distance left
-        // (at first the law's range), at most twice the last, until the load crosses it: the
-        // first crossing from the state held. Bracket: (separation, load) closer, with the load
-        // above the target, and farther, at or below it.
+        // (at first the law's range), at most twice the last and at least a thousandth of the
+        // range, until the load crosses it: the first crossing from the state held. Bracket:
+        // (separation, load) closer, with the load above the target, and farther, at or below.
         let outward = current.load > target;
-        let mut step = self.law.range();
+        let range = self.law.range();
+        let mut step = range;
         let mut last_step = f64::INFINITY;
         let mut slope: Option<f64> = None;
+        let mut marched = 0;
         let (mut near, mut far) = loop {
+            marched += 1;
+            if marched > MAX_SWEEP {
+                return Err(Error::NotConverged {
+                    solver: "adhesive load control",
+                    iterations: MAX_SWEEP,
+                    residual: (current.load - target).abs() / target.abs().max(f64::MIN_POSITIVE),
+                    tolerance: 100.0 * self.convergence.tolerance,
+                });
+            }
             if let Some(k) = slope {
-                step = (1.2 * (current.load - target).abs() / k).min(2.0 * last_step);
+                step = (1.2 * (current.load - target).abs() / k).min(2.0 * last_step).max(1e-3 * range);
             }
             let s = if outward { current.separation + step } else { self.closer(current.separation, step) };
             let next = self.at(s, tally)?;
@@ -819,9 +833,7 @@ impl AdhesiveSolver {
                 best = (r.separation, r.load, r.contact_points);
                 before.copy_from_slice(&last);
                 s_before = s_last;
-            } else if r.load > best.1 + RISE * scale {
-                // Well past the least load: a rise within RISE may be a jump of the load where
-                // a pixel leaves the Maugis–Dugdale zone, with lower loads beyond.
+            } else if r.load > best.1 {
                 after = Some(r.separation);
                 break;
             }
