@@ -70,7 +70,8 @@ pub struct ContactArgs {
     #[arg(long)]
     plastic: bool,
     /// Convergence tolerance on the solver's relative residual (complementarity and
-    /// penetration, relative to mean pressure × RMS height), below 1e-2.
+    /// penetration, relative to mean pressure × RMS height; with adhesion, the traction
+    /// residual relative to the traction), below 1e-2.
     #[arg(long, value_name = "T", default_value = "1e-10")]
     tolerance: f64,
     /// Iteration limit per load; a solve that has not converged by then is an error.
