@@ -177,10 +177,10 @@ struct LoadEntry {
     edge_load_fraction: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     load_above_hardness_fraction: Option<f64>,
-    /// With adhesion: the integral of the compressive tractions [N].
+    /// With adhesion: N_c, the integral of the compressive pressure [N].
     #[serde(skip_serializing_if = "Option::is_none")]
     compressive_force_n: Option<f64>,
-    /// With adhesion: the integral of the tensile tractions, positive [N].
+    /// With adhesion: N_a = N_c − N, the integral of the tension, positive [N].
     #[serde(skip_serializing_if = "Option::is_none")]
     adhesive_force_n: Option<f64>,
     /// With adhesion: the load reached, N_c − N_a [N], where a jump of the load with the

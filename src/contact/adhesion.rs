@@ -9,9 +9,9 @@
 //! traction residual σ + t(g) (σ the traction, compressive positive; t the cohesive tension),
 //! which the iteration drives to zero where the surfaces are apart and keeps non-negative where
 //! they touch: Polonsky & Keer's scheme with gap and pressure exchanged. Why the gap: the
-//! cohesive law is a function of the gap, so it enters each iteration exactly (a solve on the
-//! pressure would lag it by an iteration and diverge when the Tabor parameter is large, the
-//! JKR side). Without adhesion the energy is convex and the scheme is Polonsky & Keer's,
+//! cohesive law is a function of the gap, so it enters each iteration exactly (on the pressure
+//! it would lag an iteration behind, a fixed point that holds only while the cohesive
+//! stiffness stays below the elastic one, the DMT side). Without adhesion the energy is convex and the scheme is Polonsky & Keer's,
 //! which converges; with it the energy is convex plus a concave cohesive term, and what the
 //! iteration reaches is an equilibrium connected to its starting state: the solver therefore
 //! keeps its state between solves (load and separation sweeps follow one branch, as a loaded
@@ -185,9 +185,10 @@ fn positive(option: &str, v: f64, unit: &str) -> Result<()> {
 pub struct AdhesiveReport {
     /// Normal load N = N_c − N_a \[N] (compressive positive).
     pub load: f64,
-    /// Compressive force N_c: the integral of the positive tractions \[N].
+    /// Compressive force N_c: the integral of the compressive pressure
+    /// ([`AdhesiveSolver::compressive_pressure`]) \[N].
     pub compressive_force: f64,
-    /// Adhesive force N_a: the integral of the tensile tractions, as a positive number \[N].
+    /// Adhesive force N_a = N_c − N: the integral of the tension, as a positive number \[N].
     pub adhesive_force: f64,
     /// Separation \[m]: the mean gap (periodic) or the rigid body's position from first touch
     /// of its highest point, negative when pressed in (free boundary).
@@ -460,7 +461,18 @@ impl AdhesiveSolver {
     /// The compressive part max(σ, 0) of the traction \[Pa] on the window: the pressure that
     /// carries friction (the cohesive tension outside the contact carries none).
     pub fn compressive_pressure(&self) -> Vec<f64> {
-        self.window_map(|s, i| s.traction_at(i).max(0.0))
+        self.window_map(|s, i| s.compressive_at(i))
+    }
+
+    /// max(σ, 0) at window point `i` where the surfaces touch, zero where they are apart: there
+    /// the traction is the cohesive tension, and a positive value is the residual's.
+    #[inline]
+    fn compressive_at(&self, i: usize) -> f64 {
+        if self.gap_at(i, self.x[i]) <= 0.0 {
+            self.traction_at(i).max(0.0)
+        } else {
+            0.0
+        }
     }
 
     /// Gap \[m] on the window (row-major (ny, nx)): zero in contact.
@@ -882,18 +894,17 @@ impl AdhesiveSolver {
     /// The forces of the current state, with the separation and the contact points.
     fn forces(&mut self) -> AdhesiveReport {
         let area = self.size.0 * self.size.1 / (self.ny * self.nx) as f64;
-        let [compressive, adhesive, contact, _] = self.sum_rows(|s, i| {
+        let [load, compressive, contact, _] = self.sum_rows(|s, i| {
             if !s.in_window(i) {
                 return [0.0; SUMS];
             }
-            let sigma = s.traction_at(i);
             let touching = s.gap_at(i, s.x[i]) <= 0.0;
-            [sigma.max(0.0), (-sigma).max(0.0), if touching { 1.0 } else { 0.0 }, 0.0]
+            [s.traction_at(i), s.compressive_at(i), if touching { 1.0 } else { 0.0 }, 0.0]
         });
         AdhesiveReport {
-            load: (compressive - adhesive) * area,
+            load: load * area,
             compressive_force: compressive * area,
-            adhesive_force: adhesive * area,
+            adhesive_force: (compressive - load) * area,
             separation: self.separation,
             contact_points: contact as usize,
             iterations: 0,
