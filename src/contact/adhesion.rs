@@ -11,11 +11,11 @@
 //! they touch: Polonsky & Keer's scheme with gap and pressure exchanged. Why the gap: the
 //! cohesive law is a function of the gap, so it enters each iteration exactly (on the pressure
 //! it would lag an iteration behind, a fixed point that holds only while the cohesive
-//! stiffness stays below the elastic one, the DMT side). Without adhesion the energy is convex and the scheme is Polonsky & Keer's,
-//! which converges; with it the energy is convex plus a concave cohesive term, and what the
-//! iteration reaches is an equilibrium connected to its starting state: the solver therefore
-//! keeps its state between solves (load and separation sweeps follow one branch, as a loaded
-//! and unloaded ball does).
+//! stiffness stays below the elastic one, the DMT side). Without adhesion the energy is convex
+//! and the scheme is Polonsky & Keer's, which converges; with it the energy is convex plus a
+//! concave cohesive term, and what the iteration reaches is an equilibrium connected to its
+//! starting state: the solver therefore keeps its state between solves (load and separation
+//! sweeps follow one branch, as a loaded and unloaded ball does).
 //!
 //! Both boundaries use the half-space operator of [`Influence`] inverted on its FFT grid
 //! (traction from displacement): periodic, the window's grid, E*|q|/2, the mean gap (the
@@ -24,13 +24,14 @@
 //! (its traction driven to zero) and the rigid body's position (the separation, zero when the
 //! highest point just touches) imposed.
 //!
-//! Load control is a bracketing secant (Illinois) on the separation: the load falls as the
-//! separation grows along a branch, down to the pull-off force, the most tensile load with an
-//! equilibrium; beyond it the load rises again (a displacement-controlled branch past its
-//! minimum) or the surfaces separate. [`AdhesiveSolver::pull_off`] finds it by sweeping the
-//! separation from the equilibrium at zero load, refining around the least load found. A
-//! solve starts cold from a compressive state (pressing until the load is at least zero) and
-//! unloads from there, so that a tensile load is reached on the unloading branch.
+//! Load control is a march and then a bracketing regula falsi (Illinois) on the separation:
+//! the load falls as the separation grows along a branch, down to the pull-off force, the most
+//! tensile load with an equilibrium; beyond it the load rises again (a displacement-controlled
+//! branch past its minimum) or the surfaces separate. [`AdhesiveSolver::pull_off`] finds it
+//! by sweeping the separation from the equilibrium at zero load, refining around the least
+//! load found. A solve starts cold from a compressive state (pressing until the load is at
+//! least zero) and unloads from there, so that a tensile load is reached on the unloading
+//! branch.
 //!
 //! One iteration applies the inverse operator once (to the search direction) and once more
 //! when the projection moved points (the change's traction); the traction is carried along
@@ -560,8 +561,9 @@ impl AdhesiveSolver {
         total
     }
 
-    /// Residual r = σ + t(g) at grid point `i` (t only on the window), and whether the point is free to move: apart (g > 0),
-    /// outside the window, or in contact with r < 0 (pulled open).
+    /// Residual r = σ + t(g) at grid point `i` (t only on the window), and whether the point
+    /// is free to move: apart (g > 0), outside the window, or in contact with r < 0 (pulled
+    /// open).
     #[inline]
     fn residual_at(&self, i: usize) -> (f64, bool) {
         let sigma = self.traction_at(i);
