@@ -153,9 +153,9 @@ class ContactSolution:
     warnings: List[str]
     """The warnings about this load, as warnings.warn gave them."""
     compressive_force: Optional[float]
-    """With adhesion: N_c [N], the integral of the positive tractions; None without."""
+    """With adhesion: N_c [N], the integral of pressure; None without."""
     adhesive_force: Optional[float]
-    """With adhesion: N_a [N], the integral of the tensile tractions (N = N_c − N_a)."""
+    """With adhesion: N_a = N_c − N [N], the integral of the tension."""
     traction: Optional[npt.NDArray[np.float64]]
     """With adhesion: traction [Pa], (ny, nx), tensile negative."""
     separation: Optional[float]

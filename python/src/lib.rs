@@ -837,16 +837,16 @@ struct ContactSolution {
     /// prints them): an unusual load, a contact cut by the window, pressures at the hardness.
     #[pyo3(get)]
     warnings: Vec<String>,
-    /// With adhesion: the compressive force N_c, the integral of the positive tractions [N];
-    /// None without.
+    /// With adhesion: the compressive force N_c, the integral of ``pressure`` [N]; None
+    /// without.
     #[pyo3(get)]
     compressive_force: Option<f64>,
-    /// With adhesion: the adhesive force N_a, the integral of the tensile tractions as a positive
-    /// number [N] (N = N_c − N_a); None without.
+    /// With adhesion: the adhesive force N_a = N_c − N, the integral of the tension as a
+    /// positive number [N]; None without.
     #[pyo3(get)]
     adhesive_force: Option<f64>,
     /// With adhesion: the traction [Pa], float64 of shape (ny, nx), tensile negative
-    /// (``pressure`` is its compressive part); None without.
+    /// (``pressure`` is its compressive part where the gap is zero); None without.
     #[pyo3(get)]
     traction: Option<Py<PyArray2<f64>>>,
     /// With adhesion: the separation [m] (periodic: the mean gap; free: the rigid body's position
