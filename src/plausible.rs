@@ -5,7 +5,7 @@
 //! the language of where it was given ([`Spelling`]): the command line, the study file or Python.
 //! Every front end calls these functions; they never name an option (the caller does).
 
-use crate::quantity::{self, human, Dimension, FORCE, LENGTH, PRESSURE};
+use crate::quantity::{self, human, Dimension, FORCE, LENGTH, PRESSURE, SURFACE_ENERGY};
 
 /// How a front end writes a quantity, for the suggestion of the unit likely meant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,6 +112,21 @@ const SLIP_DISTANCE: Kind = Kind {
     typical: 1e-9,
     meant: &[("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)],
 };
+
+const ADHESION_WORK: Kind = Kind {
+    what: "a work of adhesion",
+    dim: &SURFACE_ENERGY,
+    possible: (1e-4, 10.0),
+    usual: (1e-3, 2.0),
+    typical: 0.05,
+    meant: &[("mJ/m2", 1e-3)],
+};
+
+/// A work of adhesion w \[J/m²]: 0.1 mJ/m² to 10 J/m² (usually 1 mJ/m² to 2 J/m²; silicon on
+/// silicon in air is of order 0.01–0.1 J/m²).
+pub fn adhesion_work(w: f64, spelling: Spelling) -> Verdict {
+    check(&ADHESION_WORK, w, spelling)
+}
 
 /// Young's modulus E \[Pa] of a body: 1 MPa to 2 TPa (usually 10 MPa to 1.2 TPa, diamond's).
 pub fn modulus(pa: f64, spelling: Spelling) -> Verdict {
@@ -314,6 +329,10 @@ mod tests {
         assert!(slip_distance(2.0, Python).unwrap_err().ends_with("did you mean 2e-9 (2 nm)?"));
         assert_eq!(slip_distance(2e-9, StudyFile), Ok(None));
         assert_eq!(slip_distance(5e-6, CommandLine), Ok(None));
+        let e = adhesion_work(50.0, CommandLine).unwrap_err();
+        assert_eq!(e, "50 J/m² is not a work of adhesion (0.1 mJ/m² to 10 J/m²); did you mean 50mJ/m2?");
+        assert_eq!(adhesion_work(0.05, StudyFile), Ok(None));
+        assert!(adhesion_work(5e-5, Python).is_err());
         // Nothing scales a value too small up: no suggestion.
         assert_eq!(pixel(1e-13, CommandLine).unwrap_err(), "0.1 pm is not a pixel size (1 pm to 1 m)");
         assert!(modulus(130.0, CommandLine).unwrap_err().starts_with("130 Pa is not"));

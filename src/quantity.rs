@@ -75,8 +75,17 @@ pub const STIFFNESS: Dimension = Dimension {
     shown: &[("N/m", 1.0)],
 };
 
+/// A work of adhesion (an energy per area) [J/m²].
+pub const SURFACE_ENERGY: Dimension = Dimension {
+    name: "work of adhesion",
+    si: "J/m²",
+    units: "J/m², mJ/m² (J/m2, mJ/m2), N/m, mN/m",
+    per_unit: joules_per_square_metre_per,
+    shown: &[("J/m²", 1.0), ("mJ/m²", 1e-3)],
+};
+
 /// Every dimension, to name the one a misplaced unit belongs to.
-const DIMENSIONS: [&Dimension; 7] = [&LENGTH, &FORCE, &PRESSURE, &AREA, &TIME, &SPEED, &STIFFNESS];
+const DIMENSIONS: [&Dimension; 8] = [&LENGTH, &FORCE, &PRESSURE, &AREA, &TIME, &SPEED, &STIFFNESS, &SURFACE_ENERGY];
 
 /// Seconds per `unit` ("h", "min", "s", "ms", "µs"/"us"), `None` for anything else.
 pub fn seconds_per(unit: &str) -> Option<f64> {
@@ -109,6 +118,19 @@ fn metres_per_second_per(unit: &str) -> Option<f64> {
 
 fn newtons_per_metre_per(unit: &str) -> Option<f64> {
     ratio(unit, newtons_per, units::metres_per)
+}
+
+/// Joules per square metre in `unit` ("J/m²", "mJ/m2"), or in a force per length ("N/m").
+fn joules_per_square_metre_per(unit: &str) -> Option<f64> {
+    let joules_per = |u: &str| {
+        Some(match u.trim() {
+            "J" => 1.0,
+            "mJ" => 1e-3,
+            "µJ" | "μJ" | "uJ" => 1e-6,
+            _ => return None,
+        })
+    };
+    ratio(unit, joules_per, square_metres_per).or_else(|| newtons_per_metre_per(unit))
 }
 
 /// Newtons per `unit` ("kN", "N", "mN", "µN"/"uN", "nN"), `None` for anything else.
@@ -298,6 +320,10 @@ mod tests {
         assert_eq!(show(1.0, &FORCE), "1 N");
         assert_eq!(show(1e-12, &FORCE), "0.001 nN");
         assert_eq!(show(4.17295326174e9, &PRESSURE), "4.17295 GPa");
+        assert_eq!(show(0.05, &SURFACE_ENERGY), "50 mJ/m²");
+        assert_eq!(parse("50 mJ/m2", &SURFACE_ENERGY, true), Ok(0.05));
+        assert_eq!(parse("0.05J/m²", &SURFACE_ENERGY, true), Ok(0.05));
+        assert_eq!(parse("50mN/m", &SURFACE_ENERGY, true), Ok(0.05));
         assert_eq!(show(130.0, &PRESSURE), "130 Pa");
         assert_eq!(show(31.13e-6, &LENGTH), "31.13 µm");
         assert_eq!(show(130e9, &PRESSURE), "130 GPa");

@@ -144,7 +144,8 @@ class ContactSolution:
     effective_modulus: float
     """E* [Pa]."""
     iterations: int
-    operator_applications: float
+    operator_applications: Optional[float]
+    """FFT pairs; None with adhesion."""
     residual: float
     seconds: float
     """Wall-clock time of the solve [s]."""
@@ -154,6 +155,16 @@ class ContactSolution:
     """"periodic" or "free"."""
     warnings: List[str]
     """The warnings about this load, as warnings.warn gave them."""
+    compressive_force: Optional[float]
+    """With adhesion: N_c [N], the integral of pressure; None without."""
+    adhesive_force: Optional[float]
+    """With adhesion: N_a = N_c − N [N], the integral of the tension."""
+    traction: Optional[npt.NDArray[np.float64]]
+    """With adhesion: traction [Pa], (ny, nx), tensile negative."""
+    separation: Optional[float]
+    """With adhesion: separation [m] (periodic: mean gap)."""
+    pull_off: Optional[float]
+    """With pull_off=True: the pull-off force [N]."""
 
 class ClassShare:
     """Count and shares of one class of elements at the critical state."""
@@ -311,8 +322,14 @@ def contact(
     tolerance: float = 1e-10,
     max_iter: int = 20000,
     device: str = "cpu",
+    adhesion_work: Optional[float] = None,
+    adhesion_stress: Optional[float] = None,
+    adhesion_range: Optional[float] = None,
+    adhesion_law: str = "maugis",
+    pull_off: bool = False,
 ) -> List[ContactSolution]:
-    """Elastic (or, with plastic=True, elastic–perfectly-plastic) normal contact; loads [N], moduli and hardness [Pa]."""
+    """Elastic (or, with plastic=True, elastic–perfectly-plastic) normal contact; loads [N], moduli and hardness [Pa];
+    with adhesion_work [J/m²] and adhesion_stress [Pa] or adhesion_range [m], adhesive (loads may be tensile)."""
 def onset(
     pressure: Union[_Map, ContactSolution],
     physical_size: Optional[_Lengths] = None,

@@ -18,8 +18,8 @@ use std::time::{Duration, Instant};
 use std::ffi::CString;
 
 use asperity::contact::{
-    self as core_contact, Boundary, ContactSolver, Convergence, Device, Material, ShearCompliance, SolverOptions,
-    TangentialOptions, TangentialSolver,
+    self as core_contact, AdhesiveSolver, Boundary, CohesiveLaw, ContactSolver, Convergence, Device, Material,
+    ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
     elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset, ClassShare as CoreShare, Curve,
@@ -832,9 +832,9 @@ struct ContactSolution {
     /// Conjugate-gradient iterations.
     #[pyo3(get)]
     iterations: usize,
-    /// Applications of the influence operator, in FFT pairs.
+    /// Applications of the influence operator, in FFT pairs (None with adhesion).
     #[pyo3(get)]
-    operator_applications: f64,
+    operator_applications: Option<f64>,
     /// Relative residual at convergence.
     #[pyo3(get)]
     residual: f64,
@@ -851,6 +851,26 @@ struct ContactSolution {
     /// prints them): an unusual load, a contact cut by the window, pressures at the hardness.
     #[pyo3(get)]
     warnings: Vec<String>,
+    /// With adhesion: the compressive force N_c, the integral of ``pressure`` [N]; None
+    /// without.
+    #[pyo3(get)]
+    compressive_force: Option<f64>,
+    /// With adhesion: the adhesive force N_a = N_c − N, the integral of the tension as a
+    /// positive number [N]; None without.
+    #[pyo3(get)]
+    adhesive_force: Option<f64>,
+    /// With adhesion: the traction [Pa], float64 of shape (ny, nx), tensile negative
+    /// (``pressure`` is its compressive part where the gap is zero); None without.
+    #[pyo3(get)]
+    traction: Option<Py<PyArray2<f64>>>,
+    /// With adhesion: the separation [m] (periodic: the mean gap; free: the rigid body's position
+    /// from first touch of its highest point); None without.
+    #[pyo3(get)]
+    separation: Option<f64>,
+    /// With ``pull_off=True``: the pull-off force [N], the most tensile load with an equilibrium;
+    /// None otherwise.
+    #[pyo3(get)]
+    pull_off: Option<f64>,
     /// The elastic bodies, for the tangential problem of ``slide``.
     bodies: Vec<Material>,
 }
@@ -873,6 +893,8 @@ struct Solved {
     pressure: Array2<f64>,
     gap: Array2<f64>,
     displacement: Array2<f64>,
+    /// With adhesion: its report and the traction.
+    adhesive: Option<(core_contact::AdhesiveReport, Array2<f64>)>,
 }
 
 /// Elastic normal contact of a rigid rough surface on an elastic half-space (boundary integral
@@ -891,6 +913,13 @@ struct Solved {
 /// ``max_iter`` (default 20000): iteration limit per load. ``device``: "cpu" (default, every
 /// core) or "gpu" (the first NVIDIA GPU; a build with the ``gpu`` feature).
 ///
+/// Adhesion, as ``asperity contact --adhesion-work``: ``adhesion_work`` [J/m²] (default None:
+/// none; plausible from 1e-4 to 10) with ``adhesion_stress`` [Pa] or ``adhesion_range`` [m],
+/// ``adhesion_law`` "maugis" (default) or "exponential"; loads may then be zero or negative
+/// (tensile) and are solved from the largest down, each solution carrying
+/// ``compressive_force``, ``adhesive_force``, ``traction`` and ``separation``; ``pull_off=True``
+/// also finds the pull-off force (``pull_off`` on each solution).
+///
 /// Values no contact problem has (``youngs=130``, a load pressing harder than E*) raise
 /// ``asperity.Error`` with the unit likely meant; unusual ones, a contact cut by the window's
 /// edges and pressures at the hardness are ``UserWarning``s, kept in each solution's
@@ -899,10 +928,13 @@ struct Solved {
 #[pyo3(signature = (topography, loads, *, youngs = Material::SILICON.youngs, poisson = Material::SILICON.poisson,
                     youngs2 = None, poisson2 = None, hardness = None, plastic = false, boundary = "periodic",
                     tolerance = SolverOptions::default().convergence.tolerance,
-                    max_iter = SolverOptions::default().convergence.max_iterations, device = "cpu"),
+                    max_iter = SolverOptions::default().convergence.max_iterations, device = "cpu",
+                    adhesion_work = None, adhesion_stress = None, adhesion_range = None, adhesion_law = "maugis",
+                    pull_off = false),
        text_signature = "(topography, loads, *, youngs=130e9, poisson=0.26, youngs2=None, poisson2=None, \
                          hardness=None, plastic=False, boundary='periodic', tolerance=1e-10, max_iter=20000, \
-                         device='cpu')")]
+                         device='cpu', adhesion_work=None, adhesion_stress=None, adhesion_range=None, \
+                         adhesion_law='maugis', pull_off=False)")]
 #[allow(clippy::too_many_arguments)]
 fn contact(
     py: Python<'_>,
@@ -918,8 +950,20 @@ fn contact(
     tolerance: f64,
     max_iter: usize,
     device: &str,
+    adhesion_work: Option<f64>,
+    adhesion_stress: Option<f64>,
+    adhesion_range: Option<f64>,
+    adhesion_law: &str,
+    pull_off: bool,
 ) -> PyResult<Vec<ContactSolution>> {
-    let named = |e| error_naming(e, &[("--load", "loads")]);
+    let names = [
+        ("--load", "loads"),
+        ("--adhesion-work", "adhesion_work"),
+        ("--adhesion-stress", "adhesion_stress"),
+        ("--adhesion-range", "adhesion_range"),
+        ("--adhesion-law", "adhesion_law"),
+    ];
+    let named = |e| error_naming(e, &names);
     let loads: Vec<f64> = match loads.extract::<f64>() {
         Ok(l) => vec![l],
         Err(_) => loads.extract().map_err(|_| invalid("loads", "expected a load or a sequence of loads [N]"))?,
@@ -927,7 +971,29 @@ fn contact(
     if loads.is_empty() {
         return Err(invalid("loads", "no load given"));
     }
-    core_contact::check_loads(&loads).map_err(named)?;
+    let law = match adhesion_work {
+        Some(w) => {
+            let law = CohesiveLaw::from_options(adhesion_law, w, adhesion_stress, adhesion_range).map_err(named)?;
+            judge(py, "adhesion_work", w, plausible::adhesion_work(w, Spelling::Python))?;
+            if plastic {
+                return Err(invalid("plastic", "is not solved with adhesion (adhesion_work)"));
+            }
+            if device != "cpu" {
+                return Err(invalid("device", "adhesive contact (adhesion_work) runs on the CPU"));
+            }
+            if let Some(l) = loads.iter().find(|l| !l.is_finite()) {
+                return Err(invalid("loads", format!("loads must be finite, got {l} N")));
+            }
+            Some(law)
+        }
+        None if adhesion_stress.is_some() || adhesion_range.is_some() || pull_off => {
+            return Err(invalid("adhesion_work", "is needed by adhesion_stress, adhesion_range and pull_off"));
+        }
+        None => {
+            core_contact::check_loads(&loads).map_err(named)?;
+            None
+        }
+    };
     judge(py, "youngs", youngs, plausible::modulus(youngs, Spelling::Python))?;
     let mut bodies = vec![Material::new(youngs, poisson, "youngs/poisson").map_err(error)?];
     match (youngs2, poisson2) {
@@ -993,6 +1059,11 @@ fn contact(
     // Every load checked before any is solved, as the command line does.
     let mut warnings: Vec<Vec<String>> = vec![Vec::new(); loads.len()];
     for (&load, said) in loads.iter().zip(&mut warnings) {
+        // With adhesion a load may be zero or tensile: its size is what is judged.
+        let load = if law.is_some() { load.abs() } else { load };
+        if law.is_some() && load == 0.0 {
+            continue;
+        }
         core_contact::check_load(load, size, e_star).map_err(named)?;
         said.extend(judge(py, "loads", load, plausible::load(load, size, e_star, Spelling::Python))?);
     }
@@ -1008,8 +1079,45 @@ fn contact(
     .collect();
     let shape = surface.heights.dim();
     let mut signals = Signals::new(py)?;
-    let solved = py.detach(|| -> asperity::Result<Vec<Solved>> {
+    let solved = py.detach(|| -> asperity::Result<(Vec<Solved>, Option<f64>)> {
         let heights = surface.heights.as_standard_layout();
+        let field = |v: Vec<f64>| Array2::from_shape_vec(shape, v).expect("a field has the grid's shape");
+        if let Some(law) = law {
+            let slice = heights.as_slice().expect("standard layout");
+            let mut solver = AdhesiveSolver::new(slice, shape, size, e_star, boundary, law, options.convergence)?;
+            let mut order: Vec<usize> = (0..loads.len()).collect();
+            order.sort_by(|&a, &b| loads[b].total_cmp(&loads[a]));
+            let mut solved = Vec::with_capacity(loads.len());
+            for index in order {
+                if signals.check().is_break() {
+                    return Err(asperity::Error::Interrupted { what: "adhesive contact solve".into() });
+                }
+                let report = solver.solve(loads[index])?;
+                let pressure = solver.compressive_pressure();
+                let summary = core_contact::summarize(&pressure, shape, size, boundary, hardness);
+                let normal = core_contact::SolveReport {
+                    load: report.load,
+                    mean_pressure: report.load / (size.0 * size.1),
+                    iterations: report.iterations,
+                    residual: report.residual,
+                    operator_applications: f64::NAN,
+                    seconds: report.seconds,
+                    hardness: None,
+                };
+                solved.push(Solved {
+                    index,
+                    report: normal,
+                    summary,
+                    pressure: field(pressure),
+                    gap: field(solver.gap()),
+                    displacement: field(solver.displacement()),
+                    adhesive: Some((report, field(solver.traction()))),
+                });
+            }
+            solved.sort_by_key(|s| s.index);
+            let pull_off = if pull_off { Some(solver.pull_off()?.load) } else { None };
+            return Ok((solved, pull_off));
+        }
         let mut solver =
             ContactSolver::new(heights.as_slice().expect("standard layout"), shape, size, e_star, boundary, options)?;
         solver.set_hardness(hardness.filter(|_| plastic))?;
@@ -1019,7 +1127,6 @@ fn contact(
         for index in order {
             let report = solver.solve(loads[index], |_, _| signals.check())?;
             let summary = core_contact::summarize(solver.pressure(), shape, size, boundary, hardness);
-            let field = |v: Vec<f64>| Array2::from_shape_vec(shape, v).expect("a field has the grid's shape");
             solved.push(Solved {
                 index,
                 report,
@@ -1027,15 +1134,17 @@ fn contact(
                 pressure: field(solver.pressure().to_vec()),
                 gap: field(solver.gap()),
                 displacement: field(solver.displacement()),
+                adhesive: None,
             });
         }
         solved.sort_by_key(|s| s.index);
-        Ok(solved)
+        Ok((solved, None))
     });
-    let solved = solved.map_err(|e| signals.error(e))?;
+    let (solved, pull_off) = solved.map_err(|e| signals.error(e))?;
     let mut solutions = Vec::with_capacity(solved.len());
     for (s, mut said) in solved.into_iter().zip(warnings) {
-        for w in s.summary.warnings(&remedies) {
+        let missed = s.adhesive.as_ref().and_then(|(r, _)| r.missed(loads[s.index]));
+        for w in s.summary.warnings(&remedies).into_iter().chain(missed) {
             let line = format!("at {}: {w}", asperity::quantity::show(s.report.load, &asperity::quantity::FORCE));
             warn(py, &line, 1)?;
             said.push(line);
@@ -1058,12 +1167,17 @@ fn contact(
             plastic,
             effective_modulus: e_star,
             iterations: s.report.iterations,
-            operator_applications: s.report.operator_applications,
+            operator_applications: Some(s.report.operator_applications).filter(|_| s.adhesive.is_none()),
             residual: s.report.residual,
             seconds: s.report.seconds,
             physical_size: size,
             boundary: boundary.name(),
             warnings: said,
+            compressive_force: s.adhesive.as_ref().map(|(r, _)| r.compressive_force),
+            adhesive_force: s.adhesive.as_ref().map(|(r, _)| r.adhesive_force),
+            separation: s.adhesive.as_ref().map(|(r, _)| r.separation),
+            traction: s.adhesive.map(|(_, t)| t.into_pyarray(py).unbind()),
+            pull_off,
             bodies: bodies.clone(),
         });
     }

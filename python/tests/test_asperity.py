@@ -162,6 +162,33 @@ def test_contact_matches_the_command_line_bit_for_bit(tmp_path):
     assert o.static_force == cli_onset["static_force_n"]
 
 
+def test_adhesive_contact_matches_the_command_line(tmp_path):
+    t = rough_ball(grid=(64, 48))
+    np.save(tmp_path / "h.npy", np.asarray(t.heights))
+    lx, ly = t.physical_size
+    loads = [0.0, 1e-4, -1e-6]
+    adhesion = dict(adhesion_work=0.05, adhesion_range=5e-9, adhesion_law="exponential")
+    run_cli("contact", tmp_path / "h.npy", "--size", f"{lx!r},{ly!r}", *(f"--load={l!r}" for l in loads),
+            "--adhesion-work", "50mJ/m2", "--adhesion-range", "5nm", "--adhesion-law", "exponential",
+            "--pull-off", "--out", tmp_path / "out")
+    record = json.loads((tmp_path / "out" / "contact.json").read_text())
+    sols = ap.contact(t, loads=loads, pull_off=True, **adhesion)
+    for k, (s, entry) in enumerate(zip(sols, record["loads"])):
+        assert np.array_equal(np.load(tmp_path / "out" / f"pressure-{k:03}.npy"), s.pressure)
+        assert np.array_equal(np.load(tmp_path / "out" / f"traction-{k:03}.npy"), s.traction)
+        assert np.array_equal(s.pressure, np.where(s.gap == 0, np.maximum(s.traction, 0.0), 0.0))
+        assert (s.compressive_force, s.adhesive_force) == (entry["compressive_force_n"], entry["adhesive_force_n"])
+        # N = N_c − N_a, the load asked.
+        assert abs(s.compressive_force - s.adhesive_force - loads[k]) <= 1e-6 * s.compressive_force
+        assert s.adhesive_force > 0 and s.pull_off == record["pull_off_n"] < loads[2]
+    with pytest.raises(ap.Error, match=r"^loads?: .* below the pull-off force -[0-9.e-]+ N"):
+        ap.contact(t, loads=[2 * sols[0].pull_off], **adhesion)
+    with pytest.raises(ap.Error, match=r"^adhesion_work=50: 50 J/m² is not a work of adhesion .*did you mean 0.05 \(50 mJ/m²\)\?"):
+        ap.contact(t, loads=[1e-4], adhesion_work=50.0, adhesion_range=5e-9)
+    with pytest.raises(ap.Error, match=r"^adhesion_work: needs adhesion_stress"):
+        ap.contact(t, loads=[1e-4], adhesion_work=0.05)
+
+
 def test_topography_preparation_and_psd():
     t = rough_ball(grid=128)
     tilted = ap.Topography(t.heights + 1e-3 * np.arange(128)[None, :] * t.pixel_size[0], t.physical_size)

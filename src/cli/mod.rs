@@ -421,6 +421,11 @@ pub fn force(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::FORCE, true)
 }
 
+/// A work of adhesion \[J/m²].
+pub fn surface_energy(s: &str) -> std::result::Result<f64, String> {
+    quantity::parse(s, &quantity::SURFACE_ENERGY, true)
+}
+
 /// A pressure or modulus \[Pa].
 pub fn pressure(s: &str) -> std::result::Result<f64, String> {
     quantity::parse(s, &quantity::PRESSURE, true)

@@ -4,11 +4,14 @@
 //! - [`influence`]: the half-space operators u = K p (periodic, free boundary);
 //! - [`solver`]: the Polonsky–Keer constrained conjugate gradient at imposed load, on the CPU
 //!   or (`gpu` feature) on an NVIDIA GPU (`gpu`);
+//! - [`adhesion`]: adhesive normal contact (Maugis–Dugdale or exponential cohesive zone) at
+//!   imposed load or separation, and the pull-off force;
 //! - [`patches`]: contact patches (4-connected clusters);
 //! - [`tangential`]: shear tractions on a fixed contact set under a tangential displacement,
 //!   with Coulomb bounds (the sliding onset's elastic solve);
 //! - here: materials, the contact state and the distribution of local pressure.
 
+pub mod adhesion;
 #[cfg(feature = "gpu")]
 mod gpu;
 pub mod influence;
@@ -16,6 +19,7 @@ pub mod patches;
 pub mod solver;
 pub mod tangential;
 
+pub use adhesion::{AdhesiveReport, AdhesiveSolver, CohesiveLaw, PullOff};
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
 pub use solver::{
     check_load, check_solve_memory, check_solves_memory, ContactSolver, Convergence, Device, Proceed, SolveReport,

@@ -1,0 +1,1080 @@
+//! Adhesive normal contact: a cohesive zone between the rigid rough surface and the elastic
+//! half-space, Maugis–Dugdale (a constant tension σ₀ while the gap is below h₀ = w/σ₀) or
+//! exponential (a tension (w/ρ)·e^(−g/ρ)), each of work of adhesion w.
+//!
+//! Algorithm: the projected conjugate gradient on the gap of Rey, Anciaux & Molinari (Comput.
+//! Mech. 60, 2017, 69–81), as Tamaas solves adhesion. The unknown is the displacement field
+//! (the gap on the window); the energy is the elastic energy plus the cohesive potential Σφ(g)
+//! (φ' the tension, φ(0) = −w), minimised with the gap g ≥ 0. Its gradient at a point is the
+//! traction residual σ + t(g) (σ the traction, compressive positive; t the cohesive tension),
+//! which the iteration drives to zero where the surfaces are apart and keeps non-negative where
+//! they touch: Polonsky & Keer's scheme with gap and pressure exchanged. Why the gap: the
+//! cohesive law is a function of the gap, so it enters each iteration exactly (on the pressure
+//! it would lag an iteration behind, a fixed point that holds only while the cohesive
+//! stiffness stays below the elastic one, the DMT side). Without adhesion the energy is convex
+//! and the scheme is Polonsky & Keer's, which converges; with it the energy is convex plus a
+//! concave cohesive term, and what the iteration reaches is an equilibrium connected to its
+//! starting state: the solver therefore keeps its state between solves (load and separation
+//! sweeps follow one branch, as a loaded and unloaded ball does).
+//!
+//! Both boundaries use the half-space operator of [`Influence`] inverted on its FFT grid
+//! (traction from displacement): periodic, the window's grid, E*|q|/2, the mean gap (the
+//! *separation*) imposed as a constraint as Tamaas does; free, the zero-padded (2ny, 2nx)
+//! grid, whose circulant Love kernel is positive definite, the displacement of the padding free
+//! (its traction driven to zero) and the rigid body's position (the separation, zero when the
+//! highest point just touches) imposed.
+//!
+//! Load control is a march and then a bracketing regula falsi (Illinois) on the separation:
+//! the load falls as the separation grows along a branch, down to the pull-off force, the most
+//! tensile load with an equilibrium; beyond it the load rises again (a displacement-controlled
+//! branch past its minimum) or the surfaces separate. [`AdhesiveSolver::pull_off`] finds it
+//! by sweeping the separation from the equilibrium at zero load, refining around the least
+//! load found. A solve starts cold from a compressive state (pressing until the load is at
+//! least zero) and unloads from there, so that a tensile load is reached on the unloading
+//! branch.
+//!
+//! One iteration applies the inverse operator once (to the search direction) and once more
+//! when the projection moved points (the change's traction); the traction is carried along
+//! and recomputed from scratch before convergence is accepted. Sums are taken per grid row and
+//! added in row order, so results do not depend on the number of threads.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
+
+use super::influence::{Boundary, Influence};
+use super::solver::{Convergence, Iterations, STALL};
+use crate::error::{Error, Result};
+use crate::fft::{Fft2, Fft2Work};
+use crate::limits::{check_memory, grid_memory};
+
+/// The cohesive law between the surfaces: its tension t(g) \[Pa] at gap g \[m], of work of
+/// adhesion w = ∫₀^∞ t(g) dg \[J/m²].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "law", rename_all = "lowercase")]
+pub enum CohesiveLaw {
+    /// Maugis–Dugdale: t = σ₀ for g < h₀ = w/σ₀, 0 beyond.
+    Maugis {
+        /// Work of adhesion w \[J/m²].
+        work: f64,
+        /// Cohesive stress σ₀ \[Pa].
+        stress: f64,
+    },
+    /// Exponential: t = (w/ρ)·e^(−g/ρ).
+    Exponential {
+        /// Work of adhesion w \[J/m²].
+        work: f64,
+        /// Range ρ \[m].
+        range: f64,
+    },
+}
+
+impl CohesiveLaw {
+    /// A Maugis–Dugdale law of work `work` \[J/m²] and stress `stress` \[Pa].
+    pub fn maugis(work: f64, stress: f64) -> Result<Self> {
+        positive("--adhesion-work", work, "J/m²")?;
+        positive("--adhesion-stress", stress, "Pa")?;
+        Ok(CohesiveLaw::Maugis { work, stress })
+    }
+
+    /// An exponential law of work `work` \[J/m²] and range `range` \[m].
+    pub fn exponential(work: f64, range: f64) -> Result<Self> {
+        positive("--adhesion-work", work, "J/m²")?;
+        positive("--adhesion-range", range, "m")?;
+        Ok(CohesiveLaw::Exponential { work, range })
+    }
+
+    /// The law named `name` (`"maugis"` or `"exponential"`) of work `work` \[J/m²], given by
+    /// its strength `stress` \[Pa] (σ₀, or the exponential law's peak tension w/ρ) or its range
+    /// `range` \[m] (h₀ = w/σ₀, or ρ): exactly one of the two. Errors name the command line's
+    /// options.
+    pub fn from_options(name: &str, work: f64, stress: Option<f64>, range: Option<f64>) -> Result<Self> {
+        positive("--adhesion-work", work, "J/m²")?;
+        let exponential = match name {
+            "maugis" => false,
+            "exponential" => true,
+            other => {
+                return Err(Error::invalid("--adhesion-law", format!("'{other}' is not maugis or exponential")));
+            }
+        };
+        match (stress, range) {
+            (Some(stress), None) => {
+                positive("--adhesion-stress", stress, "Pa")?;
+                if exponential {
+                    Self::exponential(work, work / stress)
+                } else {
+                    Self::maugis(work, stress)
+                }
+            }
+            (None, Some(range)) => {
+                positive("--adhesion-range", range, "m")?;
+                if exponential {
+                    Self::exponential(work, range)
+                } else {
+                    Self::maugis(work, work / range)
+                }
+            }
+            (Some(_), Some(_)) => Err(Error::invalid(
+                "--adhesion-stress",
+                "give the cohesive law's strength or its range (--adhesion-range), not both",
+            )),
+            (None, None) => Err(Error::invalid(
+                "--adhesion-work",
+                "needs --adhesion-stress S or --adhesion-range R: the cohesive law's strength or range",
+            )),
+        }
+    }
+
+    /// Name as written in options and outputs: `"maugis"` or `"exponential"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            CohesiveLaw::Maugis { .. } => "maugis",
+            CohesiveLaw::Exponential { .. } => "exponential",
+        }
+    }
+
+    /// Work of adhesion w \[J/m²].
+    pub fn work(&self) -> f64 {
+        match *self {
+            CohesiveLaw::Maugis { work, .. } | CohesiveLaw::Exponential { work, .. } => work,
+        }
+    }
+
+    /// The largest tension, at contact: σ₀ or w/ρ \[Pa].
+    pub fn strength(&self) -> f64 {
+        match *self {
+            CohesiveLaw::Maugis { stress, .. } => stress,
+            CohesiveLaw::Exponential { work, range } => work / range,
+        }
+    }
+
+    /// The gap over which the tension acts: h₀ = w/σ₀ or ρ \[m].
+    pub fn range(&self) -> f64 {
+        match *self {
+            CohesiveLaw::Maugis { work, stress } => work / stress,
+            CohesiveLaw::Exponential { range, .. } => range,
+        }
+    }
+
+    /// Tension t(g) \[Pa] at gap `gap` ≥ 0 \[m].
+    #[inline]
+    pub fn tension(&self, gap: f64) -> f64 {
+        match *self {
+            CohesiveLaw::Maugis { work, stress } => {
+                if gap < work / stress {
+                    stress
+                } else {
+                    0.0
+                }
+            }
+            CohesiveLaw::Exponential { work, range } => work / range * (-gap / range).exp(),
+        }
+    }
+}
+
+fn positive(option: &str, v: f64, unit: &str) -> Result<()> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(option, format!("must be positive and finite, got {v} {unit}")))
+    }
+}
+
+/// What an adhesive solve reports besides its fields.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct AdhesiveReport {
+    /// Normal load N = N_c − N_a \[N] (compressive positive).
+    pub load: f64,
+    /// Compressive force N_c: the integral of the compressive pressure
+    /// ([`AdhesiveSolver::compressive_pressure`]) \[N].
+    pub compressive_force: f64,
+    /// Adhesive force N_a = N_c − N: the integral of the tension, as a positive number \[N].
+    pub adhesive_force: f64,
+    /// Separation \[m]: the mean gap (periodic) or the rigid body's position from first touch
+    /// of its highest point, negative when pressed in (free boundary).
+    pub separation: f64,
+    /// Points in contact (gap zero).
+    pub contact_points: usize,
+    /// Conjugate-gradient iterations, over all the solves at imposed separation.
+    pub iterations: usize,
+    /// Solves at imposed separation (one under separation control; the secant's steps under
+    /// load control).
+    pub solves: usize,
+    /// Residual of the last solve: the traction residual's L2 norm relative to the
+    /// traction's plus √n times the larger of the cohesive strength and the sought load's
+    /// mean pressure (n the window's points).
+    pub residual: f64,
+    /// Wall-clock time \[s].
+    pub seconds: f64,
+}
+
+impl AdhesiveReport {
+    /// Whether the load reached differs from `target` \[N] by more than a millionth of
+    /// N_c + N_a: then the warning to give, one line. The load jumps with the separation where
+    /// the discrete problem snaps from one equilibrium to another (a pixel leaving the
+    /// Maugis–Dugdale zone, or a cohesive zone narrower than a pixel), and a load inside a jump
+    /// is reached as nearly as the jump allows.
+    pub fn missed(&self, target: f64) -> Option<String> {
+        let scale = self.compressive_force + self.adhesive_force;
+        ((self.load - target).abs() > 1e-6 * scale).then(|| {
+            format!(
+                "the load reached is {} N: the load jumps with the separation where the cohesive zone snaps from \
+                 one equilibrium to the next (a finer grid, or a longer or smoother cohesive law, narrows the jumps)",
+                crate::quantity::human(self.load)
+            )
+        })
+    }
+}
+
+/// The pull-off force and where it is reached.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PullOff {
+    /// The most tensile load with an equilibrium \[N] (negative).
+    pub load: f64,
+    /// The separation at which it is reached \[m].
+    pub separation: f64,
+    /// Points in contact there.
+    pub contact_points: usize,
+    /// Solves at imposed separation the sweep took.
+    pub solves: usize,
+}
+
+/// The loosest tolerance of load control's steps far from the load sought.
+const LOOSE: f64 = 1e-4;
+
+/// Steps of the load control's secant before it gives up.
+const MAX_SECANT: usize = 100;
+
+/// Steps of the pull-off sweep, or of load control's march, before it gives up.
+const MAX_SWEEP: usize = 400;
+
+/// Iterations and solves at imposed separation, summed over a load-controlled solve or a sweep.
+#[derive(Default)]
+struct Tally {
+    iterations: usize,
+    solves: usize,
+}
+
+/// Partial sums kept per grid row.
+const SUMS: usize = 4;
+
+/// Bytes per grid point of an adhesive solve: eight fields of f64 (with the operator's two
+/// kernels) and the spectrum.
+const BYTES_PER_POINT: u64 = 8 * 8 + 16;
+
+/// The memory of an adhesive solve on an ny × nx surface \[bytes].
+pub fn solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> u64 {
+    let padding = if boundary == Boundary::Free { 4 } else { 1 };
+    grid_memory(nx, ny, BYTES_PER_POINT * padding)
+}
+
+/// Adhesive normal contact of one surface, solved for one load (or separation) after another;
+/// each solve starts from the last one's state.
+pub struct AdhesiveSolver {
+    ny: usize,
+    nx: usize,
+    size: (f64, f64),
+    boundary: Boundary,
+    law: CohesiveLaw,
+    convergence: Convergence,
+    /// FFT grid (gy, gx): the window's (periodic) or the padded one (free).
+    gy: usize,
+    gx: usize,
+    fft_plan: Influence,
+    /// Inverse operator (traction from displacement) in the spectrum layout, normalisation
+    /// folded in.
+    stiffness: Vec<f64>,
+    /// Heights h on the grid \[m]: periodic as given, free less the highest (≤ 0, zero in the
+    /// padding).
+    heights: Vec<f64>,
+    /// Mean gap of the undeformed surface touching at its highest point (periodic) \[m].
+    touching: f64,
+    /// Primal field x on the grid \[m]: the gap (periodic) or the displacement (free).
+    x: Vec<f64>,
+    /// M x: the traction of x \[Pa] (periodic: without M h and the mean traction).
+    mx: Vec<f64>,
+    /// M h (periodic) \[Pa]; empty for the free boundary.
+    mh: Vec<f64>,
+    /// Search direction t \[m] and its traction M t \[Pa].
+    direction: Vec<f64>,
+    m_direction: Vec<f64>,
+    /// The projection's changes to x \[m].
+    change: Vec<f64>,
+    row_sums: Vec<[f64; SUMS]>,
+    /// The mean traction (periodic: the multiplier of the imposed mean gap) \[Pa].
+    mean_traction: f64,
+    /// The mean pressure of the load sought \[Pa] (zero at imposed separation): with the
+    /// cohesive strength, the traction scale below which the residual is not resolved.
+    pressure_scale: f64,
+    /// The tolerance of the solve at hand: the convergence's, or looser in load control's
+    /// first steps, far from the load sought.
+    tolerance: f64,
+    separation: f64,
+    /// Whether x holds an equilibrium at `separation` (a warm start).
+    warm: bool,
+}
+
+impl AdhesiveSolver {
+    /// Set up the problem for `heights` \[m] (row-major, ny × nx) on a window of physical size
+    /// (lx, ly) \[m], effective modulus E* \[Pa], the boundary, the cohesive law and the
+    /// convergence of each solve at imposed separation.
+    pub fn new(
+        heights: &[f64],
+        (ny, nx): (usize, usize),
+        (lx, ly): (f64, f64),
+        e_star: f64,
+        boundary: Boundary,
+        law: CohesiveLaw,
+        convergence: Convergence,
+    ) -> Result<Self> {
+        if ny < 2 || nx < 2 {
+            return Err(Error::invalid("surface", format!("grid {ny}×{nx} is too small: at least 2×2 points")));
+        }
+        if heights.len() != ny * nx {
+            return Err(Error::invalid("surface", format!("{} heights for a {ny}×{nx} grid", heights.len())));
+        }
+        if let Some(i) = heights.iter().position(|h| !h.is_finite()) {
+            return Err(Error::invalid(
+                "surface",
+                format!("height at row {}, column {} is {}", i / nx, i % nx, heights[i]),
+            ));
+        }
+        for (name, v) in [("--size (x)", lx), ("--size (y)", ly)] {
+            positive(name, v, "m")?;
+        }
+        positive("effective modulus", e_star, "Pa")?;
+        match law {
+            CohesiveLaw::Maugis { work, stress } => CohesiveLaw::maugis(work, stress)?,
+            CohesiveLaw::Exponential { work, range } => CohesiveLaw::exponential(work, range)?,
+        };
+        convergence.check()?;
+        check_memory(solve_memory((ny, nx), boundary), &format!("an adhesive contact solve on {nx} × {ny} points"))
+            .map_err(|r| Error::invalid("surface", r))?;
+        let op = match boundary {
+            Boundary::Periodic => Influence::periodic(ny, nx, (lx, ly), e_star),
+            Boundary::Free => Influence::free(ny, nx, (lx, ly), e_star),
+        };
+        let (gy, gx) = op.fft().shape();
+        let norm = 1.0 / (gy * gx) as f64;
+        let mut op = op;
+        let stiffness = {
+            let (_, kernel, _, _) = op.parts();
+            kernel.iter().map(|k| if *k > 0.0 { norm * norm / k } else { 0.0 }).collect()
+        };
+        let top = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let mut grid = vec![0.0; gy * gx];
+        for y in 0..ny {
+            for x in 0..nx {
+                let h = heights[y * nx + x];
+                grid[y * gx + x] = if boundary == Boundary::Free { h - top } else { h };
+            }
+        }
+        let touching = heights.iter().map(|h| top - h).sum::<f64>() / (ny * nx) as f64;
+        let mut solver = AdhesiveSolver {
+            ny,
+            nx,
+            size: (lx, ly),
+            boundary,
+            law,
+            convergence,
+            gy,
+            gx,
+            fft_plan: op,
+            stiffness,
+            heights: grid,
+            touching,
+            x: vec![0.0; gy * gx],
+            mx: vec![0.0; gy * gx],
+            mh: Vec::new(),
+            direction: vec![0.0; gy * gx],
+            m_direction: vec![0.0; gy * gx],
+            change: vec![0.0; gy * gx],
+            row_sums: vec![[0.0; SUMS]; gy],
+            mean_traction: 0.0,
+            pressure_scale: 0.0,
+            tolerance: convergence.tolerance,
+            separation: 0.0,
+            warm: false,
+        };
+        if boundary == Boundary::Periodic {
+            let mut mh = vec![0.0; gy * gx];
+            let h = std::mem::take(&mut solver.heights);
+            solver.apply(&h, &mut mh);
+            (solver.heights, solver.mh) = (h, mh);
+        }
+        Ok(solver)
+    }
+
+    /// Grid shape (ny, nx).
+    pub fn shape(&self) -> (usize, usize) {
+        (self.ny, self.nx)
+    }
+
+    /// The cohesive law.
+    pub fn law(&self) -> CohesiveLaw {
+        self.law
+    }
+
+    /// Start the next solve from scratch rather than from the last state.
+    pub fn reset(&mut self) {
+        self.warm = false;
+    }
+
+    /// Start the next solve from the gap map `gap` \[m] (row-major (ny, nx), each ≥ 0) of a
+    /// state at separation `separation` \[m], as from a saved solve (the displacement of the
+    /// free boundary's padding starts at zero).
+    pub fn warm_start(&mut self, gap: &[f64], separation: f64) -> Result<()> {
+        let (ny, nx) = (self.ny, self.nx);
+        if gap.len() != ny * nx {
+            return Err(Error::invalid("warm start", format!("{} gaps for a {ny}×{nx} grid", gap.len())));
+        }
+        if let Some(i) = gap.iter().position(|g| !(g.is_finite() && *g >= 0.0)) {
+            return Err(Error::invalid("warm start", format!("gap {} m at point {i}", gap[i])));
+        }
+        if !separation.is_finite() {
+            return Err(Error::invalid("warm start", format!("separation {separation} m")));
+        }
+        self.separation = separation;
+        self.x.iter_mut().for_each(|v| *v = 0.0);
+        for y in 0..ny {
+            for x in 0..nx {
+                let i = y * self.gx + x;
+                self.x[i] = self.floor_at(i) + gap[y * nx + x];
+            }
+        }
+        self.refresh_traction();
+        self.warm = true;
+        Ok(())
+    }
+
+    /// Whether grid point `i` lies in the window.
+    #[inline]
+    fn in_window(&self, i: usize) -> bool {
+        self.boundary == Boundary::Periodic || (i / self.gx < self.ny && i % self.gx < self.nx)
+    }
+
+    /// Traction \[Pa] on the window (row-major (ny, nx)), compressive positive.
+    pub fn traction(&self) -> Vec<f64> {
+        self.window_map(|s, i| s.traction_at(i))
+    }
+
+    /// The compressive part max(σ, 0) of the traction \[Pa] on the window: the pressure that
+    /// carries friction (the cohesive tension outside the contact carries none).
+    pub fn compressive_pressure(&self) -> Vec<f64> {
+        self.window_map(|s, i| s.compressive_at(i))
+    }
+
+    /// max(σ, 0) at window point `i` where the surfaces touch, zero where they are apart: there
+    /// the traction is the cohesive tension, and a positive value is the residual's.
+    #[inline]
+    fn compressive_at(&self, i: usize) -> f64 {
+        if self.gap_at(i, self.x[i]) <= 0.0 {
+            self.traction_at(i).max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Gap \[m] on the window (row-major (ny, nx)): zero in contact.
+    pub fn gap(&self) -> Vec<f64> {
+        self.window_map(|s, i| s.gap_at(i, s.x[i]))
+    }
+
+    /// Surface displacement \[m] on the window (row-major (ny, nx)), into the body positive:
+    /// periodic, with zero mean (the mean is not defined there); free, that of the half-space.
+    pub fn displacement(&self) -> Vec<f64> {
+        match self.boundary {
+            Boundary::Free => self.window_map(|s, i| s.x[i]),
+            Boundary::Periodic => {
+                let u = self.window_map(|s, i| s.x[i] + s.heights[i]);
+                let mean = u.iter().sum::<f64>() / u.len() as f64;
+                u.iter().map(|u| u - mean).collect()
+            }
+        }
+    }
+
+    fn window_map(&self, f: impl Fn(&Self, usize) -> f64) -> Vec<f64> {
+        (0..self.ny).flat_map(|y| (0..self.nx).map(move |x| (y, x))).map(|(y, x)| f(self, y * self.gx + x)).collect()
+    }
+
+    #[inline]
+    fn traction_at(&self, i: usize) -> f64 {
+        match self.boundary {
+            Boundary::Periodic => self.mx[i] + self.mh[i] + self.mean_traction,
+            Boundary::Free => self.mx[i],
+        }
+    }
+
+    /// The gap at grid point `i` of the window if x there were `x`.
+    #[inline]
+    fn gap_at(&self, i: usize, x: f64) -> f64 {
+        match self.boundary {
+            Boundary::Periodic => x,
+            Boundary::Free => x - (self.heights[i] - self.separation),
+        }
+    }
+
+    /// The lowest x at window point `i`: zero gap.
+    #[inline]
+    fn floor_at(&self, i: usize) -> f64 {
+        match self.boundary {
+            Boundary::Periodic => 0.0,
+            Boundary::Free => self.heights[i] - self.separation,
+        }
+    }
+
+    /// out = M v on the grid (one FFT pair).
+    fn apply(&mut self, v: &[f64], out: &mut [f64]) {
+        let (gy, gx) = (self.gy, self.gx);
+        let stiffness = &self.stiffness;
+        let (fft, _, spectrum, work): (&Fft2, _, &mut Vec<Complex64>, &mut Fft2Work) = self.fft_plan.parts();
+        fft.forward(v, gy, gx, spectrum, work);
+        spectrum.par_iter_mut().zip(stiffness.par_iter()).for_each(|(s, k)| *s *= *k);
+        fft.inverse(spectrum, out, gy, gx, work);
+    }
+
+    /// Recompute M x from scratch.
+    fn refresh_traction(&mut self) {
+        let x = std::mem::take(&mut self.x);
+        let mut mx = std::mem::take(&mut self.mx);
+        self.apply(&x, &mut mx);
+        (self.x, self.mx) = (x, mx);
+    }
+
+    /// Per-row sums of `f(i)` over the grid, added in row order.
+    fn sum_rows(&mut self, f: impl Fn(&Self, usize) -> [f64; SUMS] + Sync) -> [f64; SUMS] {
+        let gx = self.gx;
+        let mut sums = std::mem::take(&mut self.row_sums);
+        let this = &*self;
+        sums.par_iter_mut().enumerate().for_each(|(y, s)| {
+            *s = (y * gx..(y + 1) * gx).fold([0.0; SUMS], |mut a, i| {
+                a.iter_mut().zip(f(this, i)).for_each(|(a, v)| *a += v);
+                a
+            });
+        });
+        let total = sums.iter().fold([0.0; SUMS], |mut a, s| {
+            a.iter_mut().zip(s).for_each(|(a, v)| *a += v);
+            a
+        });
+        self.row_sums = sums;
+        total
+    }
+
+    /// Residual r = σ + t(g) at grid point `i` (t only on the window), and whether the point
+    /// is free to move: apart (g > 0), outside the window, or in contact with r < 0 (pulled
+    /// open).
+    #[inline]
+    fn residual_at(&self, i: usize) -> (f64, bool) {
+        let sigma = self.traction_at(i);
+        if !self.in_window(i) {
+            return (sigma, true);
+        }
+        let g = self.gap_at(i, self.x[i]);
+        let r = sigma + self.law.tension(g.max(0.0));
+        (r, g > 0.0 || r < 0.0)
+    }
+
+    /// Make x admissible at the current separation: gap ≥ 0 on the window, and the mean gap
+    /// imposed (periodic).
+    fn admit(&mut self) {
+        let gx = self.gx;
+        let mut x = std::mem::take(&mut self.x);
+        let this = &*self;
+        x.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
+            for (j, v) in row.iter_mut().enumerate() {
+                let i = y * gx + j;
+                if this.in_window(i) {
+                    *v = v.max(this.floor_at(i));
+                }
+            }
+        });
+        self.x = x;
+        if self.boundary == Boundary::Periodic {
+            self.impose_mean_gap();
+        }
+    }
+
+    /// Scale the gap (≥ 0) to the imposed mean (periodic); the traction M x scales with it.
+    fn impose_mean_gap(&mut self) {
+        let n = (self.gy * self.gx) as f64;
+        let mean = self.sum_rows(|s, i| [s.x[i], 0.0, 0.0, 0.0])[0] / n;
+        if mean > 0.0 {
+            let k = self.separation / mean;
+            self.x.par_iter_mut().for_each(|v| *v *= k);
+            self.mx.par_iter_mut().for_each(|v| *v *= k);
+        } else {
+            self.x.par_iter_mut().for_each(|v| *v = self.separation);
+            self.mx.par_iter_mut().for_each(|v| *v = 0.0);
+        }
+    }
+
+    /// A cold state at separation `s`: the undeformed surface, pressed through where it would
+    /// penetrate (free), or its gap scaled to the mean `s` (periodic).
+    fn cold_start(&mut self, s: f64) {
+        self.separation = s;
+        match self.boundary {
+            Boundary::Free => self.x.iter_mut().for_each(|v| *v = 0.0),
+            Boundary::Periodic => {
+                let top = self.heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let extra = (s - self.touching).max(0.0);
+                let h = &self.heights;
+                self.x.iter_mut().zip(h).for_each(|(v, h)| *v = top - h + extra);
+            }
+        }
+        self.admit();
+        self.refresh_traction();
+        self.warm = true;
+    }
+
+    /// Solve at imposed separation `s` \[m] (see [`AdhesiveReport::separation`]; periodic: the
+    /// mean gap, positive), from the last state.
+    pub fn solve_separation(&mut self, s: f64) -> Result<AdhesiveReport> {
+        (self.pressure_scale, self.tolerance) = (0.0, self.convergence.tolerance);
+        self.at_separation(s)
+    }
+
+    /// [`solve_separation`](Self::solve_separation) with the residual's scale as set.
+    fn at_separation(&mut self, s: f64) -> Result<AdhesiveReport> {
+        let start = Instant::now();
+        if !s.is_finite() || (self.boundary == Boundary::Periodic && s <= 0.0) {
+            let periodic = if self.boundary == Boundary::Periodic { " and positive (the mean gap)" } else { "" };
+            return Err(Error::invalid("separation", format!("must be finite{periodic}, got {s} m")));
+        }
+        let (iterations, residual) = self.relax(s)?;
+        Ok(AdhesiveReport { iterations, solves: 1, residual, seconds: start.elapsed().as_secs_f64(), ..self.forces() })
+    }
+
+    /// Solve for the normal load `load` \[N] (compressive positive, tensile negative), from
+    /// the last state, or cold from a compressive one. A load below the pull-off force is
+    /// refused with the pull-off force in the message.
+    pub fn solve(&mut self, load: f64) -> Result<AdhesiveReport> {
+        let start = Instant::now();
+        if !load.is_finite() {
+            return Err(Error::invalid("--load", format!("must be finite, got {load} N")));
+        }
+        let mut tally = Tally::default();
+        self.pressure_scale = load.abs() / (self.size.0 * self.size.1);
+        let last = self.reach_load(load, &mut tally)?;
+        Ok(AdhesiveReport {
+            iterations: tally.iterations,
+            solves: tally.solves,
+            seconds: start.elapsed().as_secs_f64(),
+            ..last
+        })
+    }
+
+    /// The pull-off force: the least load along the branch that unloads from the equilibrium
+    /// at zero load as the separation grows. A sweep with steps that keep each change of the
+    /// load near 5 % of the adhesive force at zero load, until the load rises, refined twice by
+    /// eight steps around the least load. Where the load jumps with the separation (a cohesive
+    /// zone of a few pixels or less), a lower load may lie past the first rise: the pull-off
+    /// is that of the branch up to it. The solver is left at the pull-off.
+    pub fn pull_off(&mut self) -> Result<PullOff> {
+        let mut tally = Tally::default();
+        self.pressure_scale = 0.0;
+        let (_, pull_off) = self.sweep_to_pull_off(&mut tally)?;
+        Ok(pull_off)
+    }
+
+    /// One solve at separation `s`, counted, to the tolerance set.
+    fn at(&mut self, s: f64, tally: &mut Tally) -> Result<AdhesiveReport> {
+        let report = self.at_separation(s)?;
+        tally.iterations += report.iterations;
+        tally.solves += 1;
+        Ok(report)
+    }
+
+    /// A separation `step` \[m] closer than `s`: periodic, the mean gap stays positive.
+    fn closer(&self, s: f64, step: f64) -> f64 {
+        match self.boundary {
+            Boundary::Periodic => (s - step).max(0.25 * s),
+            Boundary::Free => s - step,
+        }
+    }
+
+    /// See [`solve`](Self::solve): the last solve's report.
+    fn reach_load(&mut self, target: f64, tally: &mut Tally) -> Result<AdhesiveReport> {
+        // Far from the load sought a step needs no more than a rough solve: the tolerance of
+        // each is a hundredth of the last relative load error, between the convergence's and
+        // LOOSE, so that the solve that is accepted has the convergence's.
+        let tight = self.convergence.tolerance;
+        self.tolerance = LOOSE.max(tight);
+        // A state held in contact is the start; one apart (past a pull-off) carries no load to
+        // start a branch from, and a cold start presses first.
+        let held_state = if self.warm { Some(self.forces()).filter(|r| r.contact_points > 0) } else { None };
+        let held = held_state.is_some();
+        let mut current = match held_state {
+            Some(state) => state,
+            None => {
+                self.warm = false;
+                let s = match self.boundary {
+                    Boundary::Periodic => self.touching,
+                    Boundary::Free => 0.0,
+                };
+                let mut r = self.at(s, tally)?;
+                // Pressed first, so that a tensile load is reached unloading.
+                let mut step = self.law.range();
+                while r.load < target.max(0.0) {
+                    r = self.at(self.closer(r.separation, step), tally)?;
+                    step *= 2.0;
+                }
+                r
+            }
+        };
+        let tolerance = |r: &AdhesiveReport, c: &Convergence| {
+            (100.0 * c.tolerance).max(1e-13) * (r.compressive_force + r.adhesive_force)
+        };
+        let loosen = |this: &mut Self, r: &AdhesiveReport| {
+            let error = (r.load - target).abs() / (r.compressive_force + r.adhesive_force).max(f64::MIN_POSITIVE);
+            this.tolerance = (0.01 * error).clamp(tight, LOOSE.max(tight));
+        };
+        if held && (current.load - target).abs() <= tolerance(&current, &self.convergence) {
+            // The state held (at the tolerance its solve had) already carries the load.
+            return Ok(current);
+        }
+        loosen(self, &current);
+        // March towards the target, each step the secant's estimate of the distance left
+        // (at first the law's range), at most twice the last and at least a thousandth of the
+        // range, until the load crosses it: the first crossing from the state held. Bracket:
+        // (separation, load) closer, with the load above the target, and farther, at or below.
+        let outward = current.load > target;
+        let range = self.law.range();
+        let mut step = range;
+        let mut last_step = f64::INFINITY;
+        let mut slope: Option<f64> = None;
+        let mut marched = 0;
+        let (mut near, mut far) = loop {
+            marched += 1;
+            if marched > MAX_SWEEP {
+                return Err(Error::NotConverged {
+                    solver: "adhesive load control",
+                    iterations: MAX_SWEEP,
+                    residual: (current.load - target).abs() / target.abs().max(f64::MIN_POSITIVE),
+                    tolerance: 100.0 * self.convergence.tolerance,
+                });
+            }
+            if let Some(k) = slope {
+                step = (1.2 * (current.load - target).abs() / k).min(2.0 * last_step).max(1e-3 * range);
+            }
+            let s = if outward { current.separation + step } else { self.closer(current.separation, step) };
+            let next = self.at(s, tally)?;
+            if outward && next.load <= target {
+                break ((current.separation, current.load), (next.separation, next.load));
+            }
+            if !outward && next.load >= target {
+                break ((next.separation, next.load), (current.separation, current.load));
+            }
+            if outward && target < 0.0 && next.load >= current.load {
+                // Past the least load of the branch, or apart, or a jump of the load: the
+                // pull-off decides (a load of zero or more lies above it: no sweep, whose own
+                // first step is the load zero).
+                let (zero, pull_off) = self.sweep_to_pull_off(tally)?;
+                if target < pull_off.load {
+                    return Err(Error::invalid(
+                        "--load",
+                        format!(
+                            "{} N is below the pull-off force {} N: no equilibrium holds the surfaces together",
+                            crate::quantity::human(target),
+                            crate::quantity::human(pull_off.load)
+                        ),
+                    ));
+                }
+                break ((zero, 0.0), (pull_off.separation, pull_off.load));
+            }
+            loosen(self, &next);
+            let k = ((next.load - current.load) / (next.separation - current.separation)).abs();
+            slope = Some(k).filter(|k| *k > 0.0);
+            last_step = (next.separation - current.separation).abs();
+            current = next;
+        };
+        // Regula falsi, Illinois: the end that stays has its load difference halved. A solve
+        // that meets the load loosely is done again at the convergence's tolerance; a bracket
+        // narrower than a billionth of the law's range ends it (the Maugis–Dugdale law's load
+        // jumps where a pixel leaves its zone: the load nearest the target is returned).
+        let (mut f_near, mut f_far) = (near.1 - target, far.1 - target);
+        let mut side = 0;
+        for _ in 0..MAX_SECANT {
+            let s = far.0 - f_far * (far.0 - near.0) / (f_far - f_near);
+            let mut r = self.at(s, tally)?;
+            let narrow = (far.0 - near.0).abs() <= 1e-9 * self.law.range();
+            if ((r.load - target).abs() <= tolerance(&r, &self.convergence) || narrow) && self.tolerance > tight {
+                self.tolerance = tight;
+                r = self.at(s, tally)?;
+            }
+            if (r.load - target).abs() <= tolerance(&r, &self.convergence) || narrow {
+                return Ok(r);
+            }
+            loosen(self, &r);
+            let f = r.load - target;
+            if f > 0.0 {
+                (near, f_near) = ((s, r.load), f);
+                if side == 1 {
+                    f_far *= 0.5;
+                }
+                side = 1;
+            } else {
+                (far, f_far) = ((s, r.load), f);
+                if side == -1 {
+                    f_near *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        Err(Error::NotConverged {
+            solver: "adhesive load control",
+            iterations: MAX_SECANT,
+            residual: (near.1 - target).abs().min((far.1 - target).abs()) / target.abs().max(f64::MIN_POSITIVE),
+            tolerance: 100.0 * self.convergence.tolerance,
+        })
+    }
+
+    /// The sweep of [`pull_off`](Self::pull_off): (the separation at zero load, the pull-off).
+    fn sweep_to_pull_off(&mut self, tally: &mut Tally) -> Result<(f64, PullOff)> {
+        let zero = self.reach_load(0.0, tally)?;
+        self.tolerance = self.convergence.tolerance;
+        let scale = zero.adhesive_force.max(f64::MIN_POSITIVE);
+        // States kept: the sample before the least load, and the last sample.
+        let mut before = self.x.clone();
+        let mut last = self.x.clone();
+        let (mut s_before, mut s_last, mut load_last) = (zero.separation, zero.separation, zero.load);
+        let mut best = (zero.separation, zero.load, zero.contact_points);
+        let mut step = self.law.range();
+        let mut after = None;
+        for _ in 0..MAX_SWEEP {
+            let r = self.at(s_last + step, tally)?;
+            if r.load < best.1 {
+                best = (r.separation, r.load, r.contact_points);
+                before.copy_from_slice(&last);
+                s_before = s_last;
+            } else if r.load > best.1 {
+                after = Some(r.separation);
+                break;
+            }
+            step *= (0.05 * scale / (r.load - load_last).abs().max(f64::MIN_POSITIVE)).clamp(0.5, 2.0);
+            last.copy_from_slice(&self.x);
+            (s_last, load_last) = (r.separation, r.load);
+        }
+        let mut end = after.ok_or_else(|| Error::NotConverged {
+            solver: "pull-off sweep",
+            iterations: MAX_SWEEP,
+            residual: 1.0,
+            tolerance: 0.0,
+        })?;
+        // Refine: from the state before the least load, eight steps to the sample after it.
+        for _ in 0..2 {
+            self.x.copy_from_slice(&before);
+            (self.separation, self.warm) = (s_before, true);
+            let (start, width) = (s_before, (end - s_before) / 8.0);
+            let mut previous = (s_before, before.clone());
+            end = start + 8.0 * width;
+            for k in 1..=8 {
+                let s = start + k as f64 * width;
+                let r = self.at(s, tally)?;
+                if r.load < best.1 {
+                    best = (s, r.load, r.contact_points);
+                    before.copy_from_slice(&previous.1);
+                    s_before = previous.0;
+                    end = s + width;
+                } else if r.load > best.1 && s > best.0 {
+                    end = end.min(s);
+                    break;
+                }
+                previous.0 = s;
+                previous.1.copy_from_slice(&self.x);
+            }
+        }
+        self.x.copy_from_slice(&before);
+        (self.separation, self.warm) = (s_before, true);
+        self.at(best.0, tally)?;
+        Ok((
+            zero.separation,
+            PullOff { load: best.1, separation: best.0, contact_points: best.2, solves: tally.solves },
+        ))
+    }
+
+    /// The forces of the current state, with the separation and the contact points.
+    fn forces(&mut self) -> AdhesiveReport {
+        let area = self.size.0 * self.size.1 / (self.ny * self.nx) as f64;
+        let [load, compressive, contact, _] = self.sum_rows(|s, i| {
+            if !s.in_window(i) {
+                return [0.0; SUMS];
+            }
+            let touching = s.gap_at(i, s.x[i]) <= 0.0;
+            [s.traction_at(i), s.compressive_at(i), if touching { 1.0 } else { 0.0 }, 0.0]
+        });
+        AdhesiveReport {
+            load: load * area,
+            compressive_force: compressive * area,
+            adhesive_force: (compressive - load) * area,
+            separation: self.separation,
+            contact_points: contact as usize,
+            iterations: 0,
+            solves: 0,
+            residual: 0.0,
+            seconds: 0.0,
+        }
+    }
+
+    /// The projected conjugate gradient at separation `s`: (iterations, residual).
+    fn relax(&mut self, s: f64) -> Result<(usize, f64)> {
+        if !self.warm {
+            self.cold_start(s);
+        } else {
+            self.separation = s;
+            self.admit();
+            self.refresh_traction();
+        }
+        // A failed solve is no warm start.
+        self.warm = false;
+        let periodic = self.boundary == Boundary::Periodic;
+        let n_window = (self.ny * self.nx) as f64;
+        let floor = self.law.strength().max(self.pressure_scale) * n_window.sqrt();
+        let mut counter = Iterations::new("adhesive contact solver", self.convergence, STALL);
+        let mut previous = f64::NAN;
+        let mut fresh = true;
+        loop {
+            // The mean traction: the mean of −(M(g + h) + t) over the points apart (periodic).
+            let mean = if periodic {
+                let [sum, count, _, _] = self.sum_rows(|s, i| {
+                    let g = s.x[i];
+                    if g > 0.0 {
+                        [-(s.mx[i] + s.mh[i] + s.law.tension(g)), 1.0, 0.0, 0.0]
+                    } else {
+                        [0.0; SUMS]
+                    }
+                });
+                if count > 0.0 {
+                    sum / count
+                } else {
+                    0.0
+                }
+            } else {
+                0.0
+            };
+            self.mean_traction = mean;
+            let [norm, opening, traction, _] = self.sum_rows(|s, i| {
+                let (r, free) = s.residual_at(i);
+                let sigma = if s.in_window(i) { s.traction_at(i) } else { 0.0 };
+                let open = free && s.in_window(i) && s.gap_at(i, s.x[i]) <= 0.0;
+                [if free { r * r } else { 0.0 }, if open { 1.0 } else { 0.0 }, sigma * sigma, 0.0]
+            });
+            let residual = norm.sqrt() / (traction.sqrt() + floor);
+            if residual <= self.tolerance {
+                if fresh {
+                    self.warm = true;
+                    return Ok((counter.done(), residual));
+                }
+                // Accept only on a traction recomputed from scratch.
+                self.refresh_traction();
+                fresh = true;
+                counter.forget_best();
+                continue;
+            }
+            let restart = counter.next(residual)?;
+            if restart {
+                self.refresh_traction();
+                previous = f64::NAN;
+                continue;
+            }
+            fresh = false;
+            // Conjugation (Fletcher–Reeves), restarted when points were pulled open.
+            let beta = if opening > 0.0 || previous.is_nan() { 0.0 } else { norm / previous };
+            previous = norm;
+            self.update_direction(|r, t| r + beta * t);
+            if periodic {
+                // The direction keeps the mean gap: its mean over the free points removed.
+                let [sum, count, _, _] =
+                    self.sum_rows(
+                        |s, i| {
+                            if s.residual_at(i).1 {
+                                [s.direction[i], 1.0, 0.0, 0.0]
+                            } else {
+                                [0.0; SUMS]
+                            }
+                        },
+                    );
+                let shift = if count > 0.0 { sum / count } else { 0.0 };
+                self.update_direction(|_, t| t - shift);
+            }
+            let t = std::mem::take(&mut self.direction);
+            let mut mt = std::mem::take(&mut self.m_direction);
+            self.apply(&t, &mut mt);
+            (self.direction, self.m_direction) = (t, mt);
+            let [along, curvature, _, _] = self.sum_rows(|s, i| {
+                let t = s.direction[i];
+                if t == 0.0 {
+                    return [0.0; SUMS];
+                }
+                [s.residual_at(i).0 * t, t * s.m_direction[i], 0.0, 0.0]
+            });
+            if !(curvature > 0.0) {
+                // A direction the elastic energy does not see (nothing left to move).
+                self.refresh_traction();
+                previous = f64::NAN;
+                continue;
+            }
+            if self.step(along / curvature) {
+                // The traction of the projection's change D; M t is no longer needed.
+                let change = std::mem::take(&mut self.change);
+                let mut md = std::mem::take(&mut self.m_direction);
+                self.apply(&change, &mut md);
+                self.mx.par_iter_mut().zip(md.par_iter()).for_each(|(m, d)| *m += d);
+                (self.change, self.m_direction) = (change, md);
+            }
+            if periodic {
+                self.impose_mean_gap();
+            }
+        }
+    }
+
+    /// t ← f(r, t) at the free points (r the residual), 0 elsewhere.
+    fn update_direction(&mut self, f: impl Fn(f64, f64) -> f64 + Sync) {
+        let gx = self.gx;
+        let mut t = std::mem::take(&mut self.direction);
+        let this = &*self;
+        t.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
+            for (j, t) in row.iter_mut().enumerate() {
+                let i = y * gx + j;
+                let (r, free) = this.residual_at(i);
+                *t = if free { f(r, *t) } else { 0.0 };
+            }
+        });
+        self.direction = t;
+    }
+
+    /// x ← max(x − τt, floor), M x ← M x − τ M t; the clipped part goes to `change`. Returns
+    /// whether anything was clipped (M x then misses M·change).
+    fn step(&mut self, step: f64) -> bool {
+        let gx = self.gx;
+        let mut x = std::mem::take(&mut self.x);
+        let mut change = std::mem::take(&mut self.change);
+        let mut sums = std::mem::take(&mut self.row_sums);
+        {
+            let this = &*self;
+            x.par_chunks_mut(gx).zip(change.par_chunks_mut(gx)).zip(sums.par_iter_mut()).enumerate().for_each(
+                |(y, ((xs, ds), sum))| {
+                    let mut count = 0.0;
+                    for (j, (x, d)) in xs.iter_mut().zip(ds.iter_mut()).enumerate() {
+                        let i = y * gx + j;
+                        let moved = *x - step * this.direction[i];
+                        (*x, *d) = (moved, 0.0);
+                        if this.in_window(i) {
+                            let floor = this.floor_at(i);
+                            if moved < floor {
+                                (*x, *d) = (floor, floor - moved);
+                                count += 1.0;
+                            }
+                        }
+                    }
+                    sum[0] = count;
+                },
+            );
+        }
+        let clipped = sums.iter().any(|s| s[0] > 0.0);
+        (self.x, self.change, self.row_sums) = (x, change, sums);
+        let (mt, mx) = (&self.m_direction, &mut self.mx);
+        mx.par_iter_mut().zip(mt.par_iter()).for_each(|(m, t)| *m -= step * t);
+        clipped
+    }
+}
