@@ -911,7 +911,7 @@ impl Draw for RatioSnapshots<'_> {
             let x = (ROW_HEADER + j as u32 * CELL + CELL / 2) as i32;
             let heading = format!("N = {}, {} elements", load_label(snap.load_n), onset.elements);
             let (view, zoomed) = View::detail(snap, plot_size((CELL, CELL)));
-            let what = if zoomed { "zoom: most loaded patch, neighbours whole" } else { "whole contact" };
+            let what = if zoomed { "zoom on the main patch" } else { "whole contact" };
             let zoom = format!("{what}; x, y [{}]", view.fit(plot_size((CELL, CELL))).unit().1);
             text(&col_heads, &heading, (x, 16), LABEL, (HPos::Center, VPos::Center))?;
             text(&col_heads, &zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
@@ -988,6 +988,53 @@ mod tests {
         let inset_pixels = [(20, 230), (230, 230)];
         let (bx, by) = scale_bar_corner((252, 252), (80, 44), &inset_pixels, 10.0);
         assert_eq!(covered(&inset_pixels, (bx, by, 80, 44), 10), 0, "{bx} {by}");
+    }
+
+    /// On a map's own pixels: the inset covers no contact pixel of a sparse map (a 7-pixel
+    /// patch lay under the inset at 10 mN), and on a map with contact everywhere it has no place
+    /// on the map (it is drawn beside it).
+    #[test]
+    fn an_inset_covers_no_contact_pixel_or_goes_beside_the_map() {
+        let map = |cells: &[(usize, usize)]| {
+            let mut pressure = Array2::zeros((200, 200));
+            for &(r, c) in cells {
+                pressure[[r, c]] = 1e9;
+            }
+            let pixel = (1e-8, 1e-8);
+            MapSnapshot {
+                topography: "scan".into(),
+                load_n: 1e-2,
+                pressure,
+                origin: (0, 0),
+                grid: (200, 200),
+                pixel_size: pixel,
+                stuck_stiffness: None,
+            }
+        };
+        let plot = (600, 600);
+        // A 7-pixel patch in each corner region, the zoomed patch in the middle.
+        let mut cells: Vec<(usize, usize)> = vec![(100, 100), (100, 101), (101, 100)];
+        for (r, c) in [(30, 30), (30, 160), (160, 30), (160, 160)] {
+            cells.extend((0..7).map(|k| (r + k % 3, c + k / 3)));
+        }
+        let sparse = map(&cells);
+        let window = View::window(&sparse);
+        let values = sparse.pressure.mapv(|p| if p > 0.0 { p } else { f64::NAN });
+        let layer = Layer::on(&sparse, &values);
+        let zoom = View::main_patch(&sparse);
+        let ((l, t), side) = inset_place(window.fit(plot), plot, window, zoom, &layer).expect("room on a sparse map");
+        // Each map pixel is 3 px; row 0 at the bottom.
+        for &(r, c) in &cells {
+            let (x0, y1) = (3 * c as i32, 600 - 3 * r as i32);
+            let apart = x0 + 3 <= l || x0 >= l + side || y1 <= t || y1 - 3 >= t + side;
+            assert!(apart, "contact pixel ({r}, {c}) under the inset at ({l}, {t}), side {side}");
+        }
+        // A pixel every 15 map pixels (45 px): no place for the smallest inset (144 px).
+        let grid: Vec<(usize, usize)> = (0..14).flat_map(|i| (0..14).map(move |j| (15 * i, 15 * j))).collect();
+        let dense = map(&grid);
+        let values = dense.pressure.mapv(|p| if p > 0.0 { p } else { f64::NAN });
+        let layer = Layer::on(&dense, &values);
+        assert_eq!(inset_place(window.fit(plot), plot, window, View::main_patch(&dense), &layer), None);
     }
 
     #[test]
