@@ -75,7 +75,10 @@ pub fn trace_figure(trace: &Trace, analysis: &Analysis, options: &ShsOptions) ->
             None => options.speed * (t[j] - t[r]),
         };
         let last = (end + (end - r) / 3).min(t.len() - 1);
-        let curve = (r..=last).map(|j| (distance(j) * 1e6, f[j] * f_scale)).collect();
+        // From the last sample below the axis (the rise from the hold is cut off, not drawn
+        // along the axis' bottom edge).
+        let first = (r..=last).find(|&j| f[j] * f_scale >= r_lo).map_or(r, |j| j.saturating_sub(1).max(r));
+        let curve = (first..=last).map(|j| (distance(j) * 1e6, f[j] * f_scale)).collect();
         let g = group_of(c.hold_s).unwrap_or(0);
         let first = !std::mem::replace(&mut labelled[g], true);
         let hold = analysis.groups.get(g).map_or(c.hold_s, |g| g.hold_s.mean);
