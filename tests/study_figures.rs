@@ -395,7 +395,7 @@ fn bad_snapshot_fractions_are_left_out_with_a_note() {
 }
 
 /// What a referee reads in each figure: labels that say what is drawn, a key for
-/// every colour, no literal markup, no figure-load markers among the friction drop's entries.
+/// every colour, no literal markup, one entry for the friction drop's figure-load ticks.
 #[test]
 fn figures_say_what_they_show() {
     let s = study();
@@ -407,6 +407,7 @@ fn figures_say_what_they_show() {
     let drop = svg("friction-drop");
     assert!(drop.contains("mean over the topographies") && drop.contains("range over 2 topographies"));
     assert!(!drop.contains("p(σ) at"), "the p(σ) loads are named in the caption, not in the legend");
+    assert_eq!(drop.matches("ticks along the top: the loads of the p(σ) figure").count(), 1, "the ticks are keyed");
     assert!(!drop.contains("μ_S/μ_D") && !drop.contains(">μ<"), "one notation for the drop");
 
     // Both preset laws have μ^D = 0.4: one dynamic line, said to be every law's.
@@ -419,7 +420,8 @@ fn figures_say_what_they_show() {
         assert!(histograms.contains(key), "the colour key names {key:?}");
     }
     assert!(histograms.contains("fraction of the elements") && !histograms.contains(">tot<"));
-    assert!(histograms.contains("critical element"), "the few critical elements' bar is marked");
+    assert!(histograms.contains("critical (▲)"), "the few critical elements' bar is marked");
+    assert!(histograms.contains("(a) one element") && !histograms.contains("(e) N ="), "panels lettered from (a)");
 
     assert!(!svg("stress-ratio-snapshots").contains("μ^S"), "the colour bar's μ^S is typeset");
     assert!(svg("pressure-distribution").contains("ball 0"), "p(σ) names its topography");
@@ -429,8 +431,10 @@ fn figures_say_what_they_show() {
 
     let report = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(report.contains("every topography solved on its own grid"));
+    let full_size = r#"<a href="figures/friction-drop.png"><img src="figures/friction-drop.png""#;
+    assert!(report.contains(full_size), "a click shows a figure at full size");
     assert!(report.contains("lifts this"), "the limits say what elastic sharing lifts");
-    assert!(report.contains("The lowest load with more than one element on some topography, per pixel size"));
+    assert!(report.contains("The lowest load with more than one element on some topography, per resolution"));
 }
 
 /// The hold-time figure samples the aging law through the study's two laws, between and beyond
@@ -453,4 +457,39 @@ fn hold_time_samples_the_aging_law() {
     }
     let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(html.contains("one aging law") && html.contains("49 hold times from 1 s to 10000 s"), "{html}");
+}
+
+/// Files of one study need not share a pixel: the resolution figure names each topography's
+/// own (it named every one by the first's).
+#[test]
+fn the_resolution_figure_names_each_topographys_pixel() {
+    let s = study();
+    // The second ball as if scanned over a window four times as wide: pixels four times as large.
+    let resolution: Vec<ResolutionRow> = s
+        .resolution
+        .iter()
+        .map(|r| {
+            let scale = if r.topography == "ball 1" { 4.0 } else { 1.0 };
+            ResolutionRow { pixel_size_m: r.pixel_size_m * scale, ..r.clone() }
+        })
+        .collect();
+    let figures = [FigureKind::Resolution];
+    let mut input = input(s, &s.maps, &[], &figures, &[1.0]);
+    input.resolution = &resolution;
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), &input).unwrap();
+    let svg = std::fs::read_to_string(dir.path().join("figures/resolution.svg")).unwrap();
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    let pixel = |ball: &str, factor: usize| {
+        let r = resolution.iter().find(|r| r.topography == ball && r.coarsening == factor).unwrap();
+        format!("{} nm on {ball}", asperity::plot::tick_label(&(r.pixel_size_m * 1e9)))
+    };
+    // (The SVG and the page escape the apostrophe of "the study's pixel".)
+    for (factor, what) in [(1, "pixel"), (2, "2× coarser")] {
+        let label = format!("{what}: {}, {}", pixel("ball 0", factor), pixel("ball 1", factor));
+        assert!(svg.contains(&label), "the legend reads {label:?}");
+        assert!(html.contains(&label), "the caption reads {label:?}");
+    }
+    // The two balls' pixels differ, as labelled.
+    assert_ne!(pixel("ball 0", 1).split(' ').next(), pixel("ball 1", 1).split(' ').next());
 }

@@ -182,13 +182,18 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
         );
     }
     let (y0, y1) = fit(&levels);
-    // The loads of the p(σ) figure: short ticks along the top, not lines like axes; named in
-    // the caption, not in the legend of the friction drop.
+    // The loads of the p(σ) figure: short ticks along the top, not lines like axes; one legend
+    // entry says what they are, the caption names each load.
     let top = y1 - (y1 - y0) * 0.08;
     let mut marked = Vec::new();
     for (k, &target) in crate::study::FIGURE_LOADS_N[..3].iter().enumerate() {
         if let Some(load) = nearest_load(input.rows, target) {
-            series.push(Series::line(vec![(load * 1e3, top), (load * 1e3, y1)], LOAD_COLOURS[k]).width(4));
+            let tick = Series::line(vec![(load * 1e3, top), (load * 1e3, y1)], LOAD_COLOURS[k]).width(4);
+            series.push(if marked.is_empty() {
+                tick.label("ticks along the top: the loads of the p(σ) figure")
+            } else {
+                tick
+            });
             marked.push(load_label(load));
         }
     }
@@ -465,24 +470,37 @@ pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
             loads.iter().map(|&l| spread(rows.iter().filter(|r| r.load_n == l).map(|r| r.friction_drop))).collect();
         levels.extend(stats.iter().flat_map(|s| [s.0, s.2]));
         let x: Vec<f64> = loads.iter().map(|l| l * 1e3).collect();
-        let pixel = rows[0].pixel_size_m;
-        pixels.push(format!("{} nm", tick_label(&(pixel * 1e9))));
+        // Each topography's own pixel: files of one study need not share theirs.
+        let nm = |m: f64| format!("{} nm", tick_label(&(m * 1e9)));
+        let mut own: Vec<(&str, f64)> = Vec::new();
+        for r in &rows {
+            if !own.iter().any(|(t, _)| *t == r.topography) {
+                own.push((&r.topography, r.pixel_size_m));
+            }
+        }
+        let one = own.iter().all(|(_, p)| (p / own[0].1 - 1.0).abs() < 1e-9);
+        let pixel = if one {
+            nm(own[0].1)
+        } else {
+            own.iter().map(|(t, p)| format!("{} on {t}", nm(*p))).collect::<Vec<_>>().join(", ")
+        };
+        let what = if factor == 1 { "the study's pixel".to_string() } else { format!("{factor}× coarser") };
+        pixels.push(format!("{what}: {pixel}"));
         let multi = rows.iter().filter(|r| r.contact_points > 1).min_by(|a, b| a.load_n.total_cmp(&b.load_n));
         first_multi.push(match multi {
             Some(r) => format!(
-                "{} nm: {} ({} elements on {})",
-                tick_label(&(pixel * 1e9)),
+                "{what}: {} ({} elements on {}, pixel {})",
                 load_label(r.load_n),
                 r.contact_points,
-                r.topography
+                r.topography,
+                nm(r.pixel_size_m)
             ),
-            None => format!("{} nm: none", tick_label(&(pixel * 1e9))),
+            None => format!("{what}: none"),
         });
-        let what = if factor == 1 { "the study's".to_string() } else { format!("{factor}× coarser") };
         let colour = RESOLUTION_COLOURS[k];
         series.push(
             Series::band(x.clone(), stats.iter().map(|s| s.0).collect(), stats.iter().map(|s| s.2).collect(), colour)
-                .label(format!("pixel {} nm ({what})", tick_label(&(pixel * 1e9)))),
+                .label(format!("{what}: {pixel}")),
         );
         series.push(Series::line(x.into_iter().zip(stats.iter().map(|s| s.1)).collect(), colour));
     }
@@ -500,17 +518,17 @@ pub(super) fn resolution(input: &FigureInput) -> Option<(Figure, String)> {
         Axis::new("normal load N", "mN").log().range(x0, x1),
         Axis::dimensionless("friction drop F_S/(μ^D N)").range(y0, y1),
     )
-    .title(format!("Friction drop vs load at {} pixel sizes ({name})", pixels.len()))
+    .title(format!("Friction drop vs load at {} resolutions ({name})", pixels.len()))
     .legend(LegendPosition::LowerLeft);
     panel.series = series;
     let caption = format!(
         "The friction drop against the normal load for the law \"{name}\" with the same topographies resampled to \
-         pixels of {} (band over the topographies, line their mean). The pixel is the model's element: a coarser \
+         coarser pixels ({}; band over the topographies, line their mean). The pixel is the model's element: a coarser \
          pixel carries more load per element, so on the whole the drop at a given load is higher; but resampling \
          also splits and merges contact spots, so a coarser grid need not stay single-element longer. The lowest \
-         load with more than one element on some topography, per pixel size: {}. Results of the model hold for one \
+         load with more than one element on some topography, per resolution: {}. Results of the model hold for one \
          pixel size; a study on another grid (such as `asperity run --quick`) gives other numbers.",
-        pixels.join(", "),
+        pixels.join("; "),
         first_multi.join("; ")
     );
     Some((Figure::new(panel).with_size(1400, 850), caption))

@@ -30,8 +30,17 @@ const MAP_MARGIN: u32 = 10;
 const Y_LABELS: u32 = 78;
 const X_LABELS: u32 = 52;
 
+/// Width [px] of the column beside a contact map that takes its inset when no place on the map
+/// is free of contact.
+const INSET_COLUMN: u32 = 240;
+
 /// Least size [px] of a map pixel on the detailed views of snapshots and movies.
 pub(super) const DETAIL_PX: f64 = 2.5;
+
+/// Extent of a detailed view about the most loaded patch, in units of the patch's own.
+const SURROUNDINGS: f64 = 4.0;
+/// Least extent of a detailed view about the most loaded patch [map pixels].
+const SURROUNDINGS_PX: f64 = 24.0;
 
 /// Least size [px] of a drawn pixel on a sparse map.
 const SPARSE_MIN_PX: f64 = 3.0;
@@ -74,25 +83,48 @@ impl View {
 
     /// The view of a map drawn on a plotting area of `plot` px: the whole contact when its
     /// pixels then show at least [`DETAIL_PX`] px wide, else the most loaded patch with its
-    /// surroundings at that scale (or the patch alone when larger), grown until it cuts no
-    /// patch (see [`View::uncut`]). Returns the view (a zoom fitted to `plot`) and whether it
-    /// leaves some of the contact out.
+    /// surroundings — [`SURROUNDINGS`] times its extent, at least [`SURROUNDINGS_PX`] pixels and
+    /// at most what shows pixels [`DETAIL_PX`] wide — grown until it cuts no patch (see
+    /// [`View::uncut`]). The view keeps inside the window where it fits. Returns the view
+    /// (fitted to `plot`) and whether it leaves some of the contact out.
     pub fn detail(snap: &MapSnapshot, plot: (u32, u32)) -> (View, bool) {
+        let window = View::window(snap);
         let region = View::contact(snap);
         let (dx, dy) = snap.pixel_size;
         let least = f64::from(plot.0) / DETAIL_PX;
         if region.width().max(region.height()) <= least * dx.max(dy) {
-            return (region, false);
+            return (region.fit(plot).inside(window), false);
         }
         let patch = View::main_patch(snap);
         let grow = |(a, b): (f64, f64), d: f64| {
-            let half = (0.5 * (b - a)).max(0.5 * least * d);
+            let span = (SURROUNDINGS * (b - a)).max(SURROUNDINGS_PX * d).min(least * d);
+            let half = (0.5 * (b - a)).max(0.5 * span);
             (0.5 * (a + b) - half, 0.5 * (a + b) + half)
         };
         let boxes = patches(snap);
         let view = View { x: grow(patch.x, dx), y: grow(patch.y, dy) }.uncut(&boxes, plot);
+        let inside = view.inside(window);
+        let view = if boxes.iter().any(|(b, _)| inside.cuts(b)) { view } else { inside };
         let zoomed = boxes.iter().any(|(b, _)| !view.holds(b));
         (view, zoomed)
+    }
+
+    /// This view moved to lie inside `window` where it fits (a zoom near the edge showed
+    /// positions off the scan); centred on it where it does not.
+    fn inside(self, window: View) -> View {
+        let shift = |(a, b): (f64, f64), (lo, hi): (f64, f64)| {
+            let d = if b - a >= hi - lo {
+                0.5 * (lo + hi) - 0.5 * (a + b)
+            } else if a < lo {
+                lo - a
+            } else if b > hi {
+                hi - b
+            } else {
+                0.0
+            };
+            (a + d, b + d)
+        };
+        View { x: shift(self.x, window.x), y: shift(self.y, window.y) }
     }
 
     /// This view fitted to `plot` px and grown, as often as needed, over every patch of
@@ -451,7 +483,7 @@ pub(super) fn colour_bar<DB: DrawingBackend>(
         .disable_y_axis()
         .x_labels(6)
         .x_label_formatter(&|v| tick_label(v))
-        .label_style((style::FONT, TICK))
+        .label_style((style::FONT, style::TICK_LABEL_SIZE))
         .draw()?;
     // The name typeset below the ticks: "μ^S" as a superscript, not as written.
     let (w, h) = area.dim_in_pixel();
@@ -557,10 +589,6 @@ impl Draw for ContactMaps<'_> {
             let layer = Layer::on(snap, &values);
             let colour = |p: f64| pressure_colour(p / p_max);
             let window = View::window(snap);
-            let MapAxes { chart, view, plot } = map_chart(&body, window, true)?;
-            draw_layer(&chart, view, plot, &layer, colour)?;
-            let frame = [(window.x.0, window.y.0), (window.x.1, window.y.1)];
-            chart.plotting_area().draw(&Rectangle::new(frame, style::GREY.mix(0.7).stroke_width(1)))?;
             // Zoom into a contact that is small beside the window; when the contact is spread
             // but sparse, into its most loaded patch.
             let small = |v: &View| v.width().max(v.height()) < 0.15 * window.width().min(window.height());
@@ -569,8 +597,27 @@ impl Draw for ContactMaps<'_> {
             let zoom = Some(View::contact(snap))
                 .filter(small)
                 .or_else(|| Some(View::main_patch(snap)).filter(|v| sparse && small(v)));
-            if let Some(zoom) = zoom {
-                inset(&chart, window, zoom, &layer, colour)?;
+            let plot = plot_size(body.dim_in_pixel());
+            let place = zoom.map(|z| inset_place(window.fit(plot), plot, window, z, &layer));
+            // Where every place on the map would hide contact, the map is narrowed and the
+            // inset drawn beside it.
+            let (map, beside) = match place {
+                Some(None) => {
+                    let (map, beside) = body.split_horizontally(body.dim_in_pixel().0 - INSET_COLUMN);
+                    // Centred at the height of its narrower plotting area: a square window.
+                    let (w, h) = plot_size(map.dim_in_pixel());
+                    let pad = (h.saturating_sub(w) / 2) as i32;
+                    let (top, bottom) = (pad + MAP_MARGIN as i32, pad + X_LABELS as i32);
+                    (map.margin(pad, pad, 0, 0), beside.margin(top, bottom, 0, MAP_MARGIN as i32))
+                }
+                _ => (body.clone(), body.clone()),
+            };
+            let MapAxes { chart, view, plot } = map_chart(&map, window, true)?;
+            draw_layer(&chart, view, plot, &layer, colour)?;
+            let frame = [(window.x.0, window.y.0), (window.x.1, window.y.1)];
+            chart.plotting_area().draw(&Rectangle::new(frame, style::GREY.mix(0.7).stroke_width(1)))?;
+            if let (Some(zoom), Some(place)) = (zoom, place) {
+                inset(&chart, place, &beside, zoom, &layer, colour)?;
             }
         }
         colour_bar(
@@ -582,25 +629,19 @@ impl Draw for ContactMaps<'_> {
     }
 }
 
-/// An inset in the corner of the window `frame` (inside it) that hides the fewest drawn
-/// pixels of `layer` (the farthest from `zoom` among equals), showing `zoom` at full resolution
-/// with a scale bar, and the zoomed region marked on the main map.
-fn inset<DB: DrawingBackend>(
-    chart: &MapChart<'_, DB>,
-    frame: View,
-    zoom: View,
-    layer: &Layer,
-    colour: impl Fn(f64) -> RGBColor,
-) -> DrawResult<DB> {
-    let plotting = chart.plotting_area();
-    let base = plotting.get_base_pixel();
+/// Where an inset goes: `(left, top)` and side [px] inside the map's plotting area, where it
+/// hides no drawn pixel, or none when every place inside would hide some.
+type InsetPlace = Option<((i32, i32), i32)>;
+
+/// The place of an inset on the map `view` (fitted to a plotting area of `plot` px) that shows
+/// `zoom` of `layer`: inside the window `frame` where it hides none of the layer's drawn
+/// pixels (see [`place_inset`]), else none: it then goes beside the map.
+fn inset_place(view: View, plot: (u32, u32), frame: View, zoom: View, layer: &Layer) -> InsetPlace {
     let at = |x: f64, y: f64| {
-        let p = chart.backend_coord(&(x, y));
-        (p.0 - base.0, p.1 - base.1)
+        let px = (x - view.x.0) / view.width() * f64::from(plot.0);
+        let py = (view.y.1 - y) / view.height() * f64::from(plot.1);
+        (px.round() as i32, py.round() as i32)
     };
-    let ((fx0, fy0), (fx1, fy1)) = (at(frame.x.0, frame.y.1), at(frame.x.1, frame.y.0));
-    let centre = at(0.5 * (zoom.x.0 + zoom.x.1), 0.5 * (zoom.y.0 + zoom.y.1));
-    // Drawn pixels (screen) of the layer, to count what each place would hide.
     let (dx, dy) = layer.pixel;
     let drawn: Vec<(i32, i32)> = layer
         .values
@@ -608,7 +649,24 @@ fn inset<DB: DrawingBackend>(
         .filter(|(_, v)| !v.is_nan())
         .map(|((r, c), _)| at((layer.origin.1 + c) as f64 * dx + 0.5 * dx, (layer.origin.0 + r) as f64 * dy + 0.5 * dy))
         .collect();
-    let ((left, top), side) = place_inset((fx0, fy0, fx1, fy1), &drawn, centre);
+    let ((fx0, fy0), (fx1, fy1)) = (at(frame.x.0, frame.y.1), at(frame.x.1, frame.y.0));
+    let centre = at(0.5 * (zoom.x.0 + zoom.x.1), 0.5 * (zoom.y.0 + zoom.y.1));
+    place_inset((fx0.max(0), fy0.max(0), fx1.min(plot.0 as i32), fy1.min(plot.1 as i32)), &drawn, centre)
+}
+
+/// An inset showing `zoom` of `layer` at full resolution with a scale bar, the zoomed region
+/// marked on the map: at `place` inside the map's plotting area (joined to the mark by a
+/// line), or, without one, as large a square as fits at the top of `beside`.
+fn inset<DB: DrawingBackend>(
+    chart: &MapChart<'_, DB>,
+    place: InsetPlace,
+    beside: &DrawingArea<DB, Shift>,
+    zoom: View,
+    layer: &Layer,
+    colour: impl Fn(f64) -> RGBColor,
+) -> DrawResult<DB> {
+    let plotting = chart.plotting_area();
+    let base = plotting.get_base_pixel();
     let screen = plotting.strip_coord_spec();
 
     // The zoomed region on the main map, at least 14 px wide so that it is seen.
@@ -619,15 +677,29 @@ fn inset<DB: DrawingBackend>(
     };
     let ((x0, x1), (y0, y1)) = (grow(a.0 - base.0, b.0 - base.0), grow(a.1 - base.1, b.1 - base.1));
     screen.draw(&Rectangle::new([(x0, y0), (x1, y1)], BLACK.stroke_width(2)))?;
-    // Lines to the inset's nearer corners.
-    let corner_x = if left > x1 { left } else { left + side };
-    let corner_y = if top > y1 { top } else { top + side };
-    let (mark_x, mark_y) = (if corner_x > x1 { x1 } else { x0 }, if corner_y > y1 { y1 } else { y0 });
-    screen.draw(&PathElement::new(vec![(mark_x, mark_y), (corner_x, corner_y)], BLACK.mix(0.5).stroke_width(1)))?;
-
-    let area = screen.shrink((left, top), (side as u32, side as u32));
+    let (area, side) = match place {
+        Some(((left, top), side)) => {
+            // A line to the inset's nearer corners.
+            let corner_x = if left > x1 { left } else { left + side };
+            let corner_y = if top > y1 { top } else { top + side };
+            let (mark_x, mark_y) = (if corner_x > x1 { x1 } else { x0 }, if corner_y > y1 { y1 } else { y0 });
+            let line = vec![(mark_x, mark_y), (corner_x, corner_y)];
+            screen.draw(&PathElement::new(line, BLACK.mix(0.5).stroke_width(1)))?;
+            (screen.shrink((left, top), (side as u32, side as u32)), side)
+        }
+        None => {
+            let (w, h) = beside.dim_in_pixel();
+            let side = w.min(h);
+            (beside.clone().shrink(((w - side) / 2, 0), (side, side)), side as i32)
+        }
+    };
     area.fill(&WHITE)?;
-    let zoom = zoom.fit((side as u32, side as u32));
+    let (dx, dy) = layer.pixel;
+    // A strip below the zoomed region keeps the scale bar off the contact it measures.
+    let (bh, strip) = (44, 52.0);
+    let fitted = zoom.fit((side as u32, side as u32));
+    let per_px = fitted.height() / f64::from(side as u32);
+    let zoom = View { x: zoom.x, y: (zoom.y.0 - strip * per_px, zoom.y.1) }.fit((side as u32, side as u32));
     let zchart = ChartBuilder::on(&area).build_cartesian_2d(zoom.x.0..zoom.x.1, zoom.y.0..zoom.y.1)?;
     draw_layer(&zchart, zoom, (side as u32, side as u32), layer, colour)?;
     area.draw(&Rectangle::new([(0, 0), (side - 1, side - 1)], BLACK.stroke_width(2)))?;
@@ -648,7 +720,7 @@ fn inset<DB: DrawingBackend>(
             (p.0 - zbase.0, p.1 - zbase.1)
         })
         .collect();
-    let (bw, bh) = (bar_px.max(60) + 14, 44);
+    let bw = bar_px.max(60) + 14;
     let (bx, by) = scale_bar_corner((side, side), (bw, bh), &zoomed, dx / zoom.width() * side as f64);
     area.draw(&Rectangle::new([(bx, by), (bx + bw, by + bh)], WHITE.mix(0.85).filled()))?;
     area.draw(&Rectangle::new([(bx + 6, by + bh - 14), (bx + 6 + bar_px, by + bh - 8)], BLACK.filled()))?;
@@ -675,12 +747,11 @@ fn scale_bar_corner((iw, ih): (i32, i32), (w, h): (i32, i32), drawn: &[(i32, i32
 /// at `drawn` [px]: ((left, top), side) of the largest square, from 42 % of the frame's
 /// smaller side down to 24 %, with a place that hides none of them (12 px kept clear) — a
 /// corner first, then along the edges and inside, the farthest from `centre` (the zoomed
-/// region) among equals; where every place hides some, the one hiding the fewest.
-fn place_inset((x0, y0, x1, y1): (i32, i32, i32, i32), drawn: &[(i32, i32)], centre: (i32, i32)) -> ((i32, i32), i32) {
+/// region) among equals; none where every place hides some.
+fn place_inset((x0, y0, x1, y1): (i32, i32, i32, i32), drawn: &[(i32, i32)], centre: (i32, i32)) -> InsetPlace {
     const PAD: i32 = 8;
     const CLEAR: i32 = 12;
-    const STEPS: i32 = 6;
-    let mut best: Option<(usize, (i32, i32), i32)> = None;
+    const STEPS: i32 = 12;
     for share in [0.42, 0.36, 0.30, 0.24] {
         let side = ((x1 - x0).min(y1 - y0) as f64 * share) as i32;
         let (free_x, free_y) = ((x1 - x0 - side - 2 * PAD).max(0), (y1 - y0 - side - 2 * PAD).max(0));
@@ -696,20 +767,15 @@ fn place_inset((x0, y0, x1, y1): (i32, i32, i32, i32), drawn: &[(i32, i32)], cen
         };
         let far = |(l, t): (i32, i32)| -(((l + side / 2 - centre.0) as f64).hypot((t + side / 2 - centre.1) as f64));
         let hides = |(l, t): (i32, i32)| covered(drawn, (l - CLEAR, t - CLEAR, side + 2 * CLEAR, side + 2 * CLEAR), 0);
-        let place = places
+        let free = places
             .into_iter()
-            .min_by(|a, b| hides(*a).cmp(&hides(*b)).then(corner(b).cmp(&corner(a))).then(far(*a).total_cmp(&far(*b))))
-            .expect("places on the grid");
-        let h = hides(place);
-        if h == 0 {
-            return (place, side);
-        }
-        if best.is_none_or(|b| h < b.0) {
-            best = Some((h, place, side));
+            .filter(|p| hides(*p) == 0)
+            .min_by(|a, b| corner(b).cmp(&corner(a)).then(far(*a).total_cmp(&far(*b))));
+        if let Some(place) = free {
+            return Some((place, side));
         }
     }
-    let (_, place, side) = best.expect("four sizes tried");
-    (place, side)
+    None
 }
 
 /// Element classes at the critical state (Fig. 4f): critical, pre-sliding and subcritical
@@ -760,10 +826,12 @@ impl Draw for ClassMap<'_> {
         let MapAxes { chart, view, plot } = map_chart(&map, View::contact(snap), true)?;
         let layer = Layer::on(snap, &values);
         draw_layer(&chart, view, plot, &layer, colour)?;
-        // Where a screen pixel shows several elements, the most loaded patch at full resolution.
+        // Where a screen pixel shows several elements, the most loaded patch at full resolution:
+        // on the map where it hides no contact, else below the legend.
         let patch = View::main_patch(snap);
         if patch.width().max(patch.height()) < 0.3 * view.width().min(view.height()) {
-            inset(&chart, view, patch, &layer, colour)?;
+            let place = inset_place(view, plot, view, patch, &layer);
+            inset(&chart, place, &side.margin(400, 20, 10, 20), patch, &layer, colour)?;
         }
         // A few critical elements among thousands would be lost: ring each.
         if onset.critical.count <= 50 {
@@ -842,13 +910,11 @@ impl Draw for RatioSnapshots<'_> {
         for (j, (snap, onset)) in self.columns.iter().enumerate() {
             let x = (ROW_HEADER + j as u32 * CELL + CELL / 2) as i32;
             let heading = format!("N = {}, {} elements", load_label(snap.load_n), onset.elements);
-            let zoom = if View::detail(snap, plot_size((CELL, CELL))).1 {
-                "zoom: most loaded patch, neighbours whole"
-            } else {
-                "whole contact"
-            };
+            let (view, zoomed) = View::detail(snap, plot_size((CELL, CELL)));
+            let what = if zoomed { "zoom on the main patch" } else { "whole contact" };
+            let zoom = format!("{what}; x, y [{}]", view.fit(plot_size((CELL, CELL))).unit().1);
             text(&col_heads, &heading, (x, 16), LABEL, (HPos::Center, VPos::Center))?;
-            text(&col_heads, zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
+            text(&col_heads, &zoom, (x, 42), TICK, (HPos::Center, VPos::Center))?;
         }
         let layers: Vec<(&MapSnapshot, &Onset, View)> =
             self.columns.iter().map(|(s, o)| (*s, o, View::detail(s, plot_size((CELL, CELL))).0)).collect();
@@ -869,9 +935,6 @@ impl Draw for RatioSnapshots<'_> {
                 let MapAxes { chart, view: fitted, plot } = map_chart(&cell, *view, false)?;
                 let mu_s = self.law.mu_s;
                 draw_layer(&chart, fitted, plot, &Layer::on(snap, &values), |v| ratio_value_colour(v, mu_s))?;
-                let (_, unit) = fitted.unit();
-                let corner = chart.plotting_area().strip_coord_spec();
-                text(&corner, &format!("x, y [{unit}]"), (plot.0 as i32 - 6, 6), TICK, (HPos::Right, VPos::Top))?;
             }
         }
         ratio_key(&bottom.margin(10, 10, ROW_HEADER as i32, 20), &self.law)
@@ -908,20 +971,70 @@ mod tests {
                 drawn.extend([(x + d - 10, y), (x, y + d - 10)]);
             }
         }
-        let ((l, t), side) = place_inset(frame, &drawn, (300, 300));
+        let ((l, t), side) = place_inset(frame, &drawn, (300, 300)).expect("a free place");
         assert!(side >= 100 && l >= 0 && t >= 0 && l + side <= 600 && t + side <= 600, "{l} {t} {side}");
         assert_eq!(covered(&drawn, (l - 12, t - 12, side + 24, side + 24), 0), 0, "{l} {t} {side}");
         // A free corner is taken first, at the largest size.
         // (the top left corner's contact only).
         let few = &drawn[..40];
-        let ((l, t), side) = place_inset(frame, few, (300, 300));
+        let ((l, t), side) = place_inset(frame, few, (300, 300)).expect("a free corner");
         assert_eq!(side, 252);
         assert_eq!(covered(few, (l - 12, t - 12, side + 24, side + 24), 0), 0, "{l} {t}");
         assert!(l == 340 || t == 340, "a corner away from the contact: {l} {t}");
+        // Contact every 100 px leaves no place for the smallest inset (144 px): none is taken.
+        let everywhere: Vec<(i32, i32)> = (0..7).flat_map(|i| (0..7).map(move |j| (100 * i, 100 * j))).collect();
+        assert_eq!(place_inset(frame, &everywhere, (300, 300)), None);
         // The scale bar goes to a corner of the inset its box leaves clear.
         let inset_pixels = [(20, 230), (230, 230)];
         let (bx, by) = scale_bar_corner((252, 252), (80, 44), &inset_pixels, 10.0);
         assert_eq!(covered(&inset_pixels, (bx, by, 80, 44), 10), 0, "{bx} {by}");
+    }
+
+    /// On a map's own pixels: the inset covers no contact pixel of a sparse map (a 7-pixel
+    /// patch lay under the inset at 10 mN), and on a map with contact everywhere it has no place
+    /// on the map (it is drawn beside it).
+    #[test]
+    fn an_inset_covers_no_contact_pixel_or_goes_beside_the_map() {
+        let map = |cells: &[(usize, usize)]| {
+            let mut pressure = Array2::zeros((200, 200));
+            for &(r, c) in cells {
+                pressure[[r, c]] = 1e9;
+            }
+            let pixel = (1e-8, 1e-8);
+            MapSnapshot {
+                topography: "scan".into(),
+                load_n: 1e-2,
+                pressure,
+                origin: (0, 0),
+                grid: (200, 200),
+                pixel_size: pixel,
+                stuck_stiffness: None,
+            }
+        };
+        let plot = (600, 600);
+        // A 7-pixel patch in each corner region, the zoomed patch in the middle.
+        let mut cells: Vec<(usize, usize)> = vec![(100, 100), (100, 101), (101, 100)];
+        for (r, c) in [(30, 30), (30, 160), (160, 30), (160, 160)] {
+            cells.extend((0..7).map(|k| (r + k % 3, c + k / 3)));
+        }
+        let sparse = map(&cells);
+        let window = View::window(&sparse);
+        let values = sparse.pressure.mapv(|p| if p > 0.0 { p } else { f64::NAN });
+        let layer = Layer::on(&sparse, &values);
+        let zoom = View::main_patch(&sparse);
+        let ((l, t), side) = inset_place(window.fit(plot), plot, window, zoom, &layer).expect("room on a sparse map");
+        // Each map pixel is 3 px; row 0 at the bottom.
+        for &(r, c) in &cells {
+            let (x0, y1) = (3 * c as i32, 600 - 3 * r as i32);
+            let apart = x0 + 3 <= l || x0 >= l + side || y1 <= t || y1 - 3 >= t + side;
+            assert!(apart, "contact pixel ({r}, {c}) under the inset at ({l}, {t}), side {side}");
+        }
+        // A pixel every 15 map pixels (45 px): no place for the smallest inset (144 px).
+        let grid: Vec<(usize, usize)> = (0..14).flat_map(|i| (0..14).map(move |j| (15 * i, 15 * j))).collect();
+        let dense = map(&grid);
+        let values = dense.pressure.mapv(|p| if p > 0.0 { p } else { f64::NAN });
+        let layer = Layer::on(&dense, &values);
+        assert_eq!(inset_place(window.fit(plot), plot, window, View::main_patch(&dense), &layer), None);
     }
 
     #[test]
@@ -940,7 +1053,7 @@ mod tests {
         let mut pressure = Array2::zeros((400, 400));
         // The most loaded patch, a neighbour across where a zoom of the least size ends, and a
         // far patch that makes the whole contact too wide to show at DETAIL_PX.
-        for (rows, cols, p) in [(195..205, 95..105, 5e9), (190..193, 150..175, 1e9), (200..204, 380..384, 1e9)] {
+        for (rows, cols, p) in [(195..205, 95..105, 5e9), (190..193, 115..140, 1e9), (200..204, 380..384, 1e9)] {
             pressure.slice_mut(ndarray::s![rows, cols]).fill(p);
         }
         let pixel = 1e-8;
@@ -957,9 +1070,9 @@ mod tests {
         let mut boxes: Vec<View> = patches(&snap).into_iter().map(|p| p.0).collect();
         boxes.sort_by(|a, b| a.x.0.total_cmp(&b.x.0));
         let [main, neighbour, far] = boxes[..] else { panic!("three patches: {boxes:?}") };
-        // The zoom of the least size about the main patch (120.8 px at 2.5 px each), as drawn
-        // before: it cut the neighbour.
-        let least = View { x: (39.6 * pixel, 160.4 * pixel), y: (139.6 * pixel, 260.4 * pixel) }.fit(plot);
+        // The zoom about the main patch (12 pixels with its margin) at four times its extent:
+        // it cuts the neighbour.
+        let least = View { x: (76.0 * pixel, 124.0 * pixel), y: (176.0 * pixel, 224.0 * pixel) }.fit(plot);
         assert!(least.cuts(&neighbour), "the case: {least:?} against {neighbour:?}");
 
         let (view, zoomed) = View::detail(&snap, plot);
@@ -968,7 +1081,7 @@ mod tests {
             assert!(!drawn.cuts(&b), "{drawn:?} cuts the patch {b:?}");
         }
         assert!(zoomed && drawn.holds(&main) && drawn.holds(&neighbour) && !drawn.holds(&far), "{drawn:?}");
-        assert!(drawn.width() < 200.0 * pixel, "still a zoom: {drawn:?}");
+        assert!(drawn.width() < 100.0 * pixel, "still a zoom: {drawn:?}");
     }
 
     /// Pixels outside the view are not drawn (their clipped rectangles were pinned to the
@@ -998,6 +1111,10 @@ mod tests {
     fn views_fit_the_screen_about_their_centre() {
         let v = View { x: (0.0, 2.0), y: (0.0, 1.0) }.fit((100, 100));
         assert_eq!(v, View { x: (0.0, 2.0), y: (-0.5, 1.5) });
+        // A zoom at the scan's edge keeps inside it; one wider than the scan is centred on it.
+        let window = View { x: (0.0, 10.0), y: (0.0, 10.0) };
+        assert_eq!(View { x: (-2.0, 3.0), y: (8.0, 11.0) }.inside(window), View { x: (0.0, 5.0), y: (7.0, 10.0) });
+        assert_eq!(View { x: (-4.0, 12.0), y: (2.0, 3.0) }.inside(window), View { x: (-3.0, 13.0), y: (2.0, 3.0) });
         assert_eq!(scale_bar_length(1e-6), 2e-7);
         assert_eq!(scale_bar_length(3e-7), 5e-8);
     }

@@ -55,11 +55,14 @@ fn is_preset(law: &FrictionLaw) -> bool {
         .any(|(name, mu_s, mu_d)| law.name.as_deref() == Some(*name) && law.mu_s == *mu_s && law.mu_d == *mu_d)
 }
 
+/// The page's look. Figures are drawn up to 1800 px wide for a text column of 1100 px: each is
+/// shown as wide as the window allows (centred on the column), and a click opens it at full size.
 const STYLE: &str = "body{font-family:'DejaVu Sans',Verdana,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;\
 color:#222;line-height:1.45}h1{font-size:1.6em}h2{font-size:1.25em;margin-top:2em;border-bottom:1px solid #ccc}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:.3em .7em;text-align:right}\
 th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}pre{background:#f6f6f6;padding:1em;\
-overflow-x:auto;font-size:.85em}figure{margin:1.5em 0}figure img{max-width:100%;border:1px solid #ddd}\
+overflow-x:auto;font-size:.85em}figure{margin:1.5em 0}figure img{display:block;position:relative;left:50%;\
+transform:translateX(-50%);max-width:calc(100vw - 2em);border:1px solid #ddd}\
 figcaption{font-size:.95em;color:#333;margin-top:.4em}.note{background:#fff6d8;border-left:4px solid #e0a800;\
 padding:.6em 1em}.skipped{color:#666}";
 
@@ -151,7 +154,7 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
             };
             let _ = writeln!(
                 w,
-                "<figure>\n<img src=\"{file}\" alt=\"{}\" loading=\"lazy\">\n<figcaption>{}{links}</figcaption>\n</figure>",
+                "<figure>\n<a href=\"{file}\"><img src=\"{file}\" alt=\"{}\" loading=\"lazy\"></a>\n<figcaption>{}{links}</figcaption>\n</figure>",
                 escape(title),
                 escape(&image.caption)
             );

@@ -110,7 +110,8 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                 let caption = "Contact maps at the loads nearest 0.1, 1, 10 and 100 mN (the paper's Fig. S4): the \
                                whole window, contact pixels coloured by their local normal stress on one scale; \
                                where the contact is small beside the window an inset zooms into it (scale bar \
-                               inside), its place marked on the map."
+                               inside), its place marked on the map; the inset lies where it hides no contact, \
+                               or beside the map where every place on it would."
                     .to_string();
                 figure(&mut drawn, name, &|p| write_figure(p, &fig), caption)?;
             }
@@ -124,7 +125,8 @@ fn draw(dir: &Path, input: &FigureInput, kind: FigureKind) -> Result<Drawn> {
                      at N = {}, for the law \"{}\" (the paper's Fig. 4f): critical elements stuck at μ_s (brown), \
                      pre-sliding elements already slipped, at μ_d (amber), subcritical elements stuck below μ_s, \
                      at μ_0 = μ_s n_c/n for an element of normal force n when the critical ones carry n_c (green); \
-                     zoomed to the contact region, the inset placed where it hides no contact if it can.",
+                     zoomed to the contact region, the inset on the map where it hides no contact, else below the \
+                     legend.",
                     load_label(snap.load_n),
                     law_name(law)
                 );
