@@ -308,10 +308,7 @@ pub fn run(args: ContactArgs) -> Result<()> {
         let pressure_file = format!("pressure-{index:03}.npy");
         output::write_npy(&out.path(&pressure_file), &to_field(solver.pressure().to_vec()))?;
         let (gap_file, displacement_file) = if args.fields {
-            let (g, d) = (format!("gap-{index:03}.npy"), format!("displacement-{index:03}.npy"));
-            output::write_npy(&out.path(&g), &to_field(solver.gap()))?;
-            output::write_npy(&out.path(&d), &to_field(solver.displacement()))?;
-            (Some(g), Some(d))
+            write_fields(&out, index, to_field(solver.gap()), to_field(solver.displacement()))?
         } else {
             (None, None)
         };
@@ -363,6 +360,19 @@ pub fn run(args: ContactArgs) -> Result<()> {
 }
 
 /// Write contact.json, commit the output and print the table.
+/// Write load `index`'s gap and displacement maps \[m] (`--fields`); their file names.
+fn write_fields(
+    out: &StagedDir,
+    index: usize,
+    gap: ndarray::Array2<f64>,
+    displacement: ndarray::Array2<f64>,
+) -> Result<(Option<String>, Option<String>)> {
+    let (g, d) = (format!("gap-{index:03}.npy"), format!("displacement-{index:03}.npy"));
+    output::write_npy(&out.path(&g), &gap)?;
+    output::write_npy(&out.path(&d), &displacement)?;
+    Ok((Some(g), Some(d)))
+}
+
 fn finish(out: StagedDir, file: &ContactFile) -> Result<()> {
     output::write_json(&out.path("contact.json"), file)?;
     let dir = super::commit(out)?;
@@ -444,10 +454,7 @@ fn run_adhesive(
         output::write_npy(&out.path(&pressure_file), &to_field(pressure))?;
         output::write_npy(&out.path(&traction_file), &to_field(solver.traction()))?;
         let (gap_file, displacement_file) = if args.fields {
-            let (g, d) = (format!("gap-{index:03}.npy"), format!("displacement-{index:03}.npy"));
-            output::write_npy(&out.path(&g), &to_field(solver.gap()))?;
-            output::write_npy(&out.path(&d), &to_field(solver.displacement()))?;
-            (Some(g), Some(d))
+            write_fields(&out, index, to_field(solver.gap()), to_field(solver.displacement()))?
         } else {
             (None, None)
         };

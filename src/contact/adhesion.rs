@@ -328,22 +328,7 @@ impl AdhesiveSolver {
         law: CohesiveLaw,
         convergence: Convergence,
     ) -> Result<Self> {
-        if ny < 2 || nx < 2 {
-            return Err(Error::invalid("surface", format!("grid {ny}×{nx} is too small: at least 2×2 points")));
-        }
-        if heights.len() != ny * nx {
-            return Err(Error::invalid("surface", format!("{} heights for a {ny}×{nx} grid", heights.len())));
-        }
-        if let Some(i) = heights.iter().position(|h| !h.is_finite()) {
-            return Err(Error::invalid(
-                "surface",
-                format!("height at row {}, column {} is {}", i / nx, i % nx, heights[i]),
-            ));
-        }
-        for (name, v) in [("--size (x)", lx), ("--size (y)", ly)] {
-            positive(name, v, "m")?;
-        }
-        positive("effective modulus", e_star, "Pa")?;
+        super::solver::check_problem(heights, (ny, nx), (lx, ly), e_star)?;
         match law {
             CohesiveLaw::Maugis { work, stress } => CohesiveLaw::maugis(work, stress)?,
             CohesiveLaw::Exponential { work, range } => CohesiveLaw::exponential(work, range)?,

@@ -480,6 +480,46 @@ macro_rules! on_engine {
     };
 }
 
+/// An error unless `heights` \[m] fill a grid of (ny, nx) ≥ 2×2 points with finite values and
+/// the window (lx, ly) \[m] and the effective modulus E* \[Pa] are positive and finite: what
+/// every normal solve, adhesive or not, needs of its problem.
+pub(crate) fn check_problem(
+    heights: &[f64],
+    (ny, nx): (usize, usize),
+    (lx, ly): (f64, f64),
+    e_star: f64,
+) -> Result<()> {
+    if ny < 2 || nx < 2 {
+        return Err(Error::invalid("surface", format!("grid {ny}×{nx} is too small: at least 2×2 points")));
+    }
+    if heights.len() != ny * nx {
+        return Err(Error::invalid("surface", format!("{} heights for a {ny}×{nx} grid", heights.len())));
+    }
+    if ny * nx > u32::MAX as usize {
+        return Err(Error::invalid("surface", format!("grid {ny}×{nx} has more than 2³² points")));
+    }
+    if let Some(i) = heights.iter().position(|h| !h.is_finite()) {
+        return Err(Error::invalid(
+            "surface",
+            format!(
+                "height at row {}, column {} is {} (fill or crop missing points first)",
+                i / nx,
+                i % nx,
+                heights[i]
+            ),
+        ));
+    }
+    for (name, v) in [("--size (x)", lx), ("--size (y)", ly)] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(Error::invalid(name, format!("must be positive and finite, got {v} m")));
+        }
+    }
+    if !(e_star > 0.0 && e_star.is_finite()) {
+        return Err(Error::invalid("effective modulus", format!("must be positive and finite, got {e_star} Pa")));
+    }
+    Ok(())
+}
+
 impl ContactSolver {
     /// Set up the problem for `heights` \[m] (row-major, ny × nx) on a window of physical size
     /// (lx, ly) \[m], effective modulus E* \[Pa] and the given boundary, on `options.device`.
@@ -491,34 +531,7 @@ impl ContactSolver {
         boundary: Boundary,
         options: SolverOptions,
     ) -> Result<Self> {
-        if ny < 2 || nx < 2 {
-            return Err(Error::invalid("surface", format!("grid {ny}×{nx} is too small: at least 2×2 points")));
-        }
-        if heights.len() != ny * nx {
-            return Err(Error::invalid("surface", format!("{} heights for a {ny}×{nx} grid", heights.len())));
-        }
-        if ny * nx > u32::MAX as usize {
-            return Err(Error::invalid("surface", format!("grid {ny}×{nx} has more than 2³² points")));
-        }
-        if let Some(i) = heights.iter().position(|h| !h.is_finite()) {
-            return Err(Error::invalid(
-                "surface",
-                format!(
-                    "height at row {}, column {} is {} (fill or crop missing points first)",
-                    i / nx,
-                    i % nx,
-                    heights[i]
-                ),
-            ));
-        }
-        for (name, v) in [("--size (x)", lx), ("--size (y)", ly)] {
-            if !(v > 0.0 && v.is_finite()) {
-                return Err(Error::invalid(name, format!("must be positive and finite, got {v} m")));
-            }
-        }
-        if !(e_star > 0.0 && e_star.is_finite()) {
-            return Err(Error::invalid("effective modulus", format!("must be positive and finite, got {e_star} Pa")));
-        }
+        check_problem(heights, (ny, nx), (lx, ly), e_star)?;
         options.convergence.check()?;
         let n = ny * nx;
         let mean = heights.iter().sum::<f64>() / n as f64;
