@@ -11,6 +11,7 @@
 //!   that is ever removed from it;
 //! - files and folders get the permissions the umask gives, as with any Unix tool.
 
+mod aside;
 mod ledger;
 mod lock;
 mod staged;
@@ -25,9 +26,10 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 
+pub use aside::MANIFEST;
 pub use ledger::{Ledger, Written};
 pub use lock::{Access, Lock};
-pub use staged::{Committed, StagedDir, MANIFEST};
+pub use staged::{Committed, StagedDir};
 pub use temp::{is_temporary, remove_temporaries, Interrupted};
 
 /// Write a file atomically: `fill` writes into a temporary file beside `path`, which is then

@@ -193,14 +193,14 @@ pub fn remove_temporaries() -> Interrupted {
 }
 
 /// Remove the temporary `path`: a file, a staging folder with all it holds, or an earlier
-/// output moved aside, of which only its own files go ([`super::staged::retire`]: a user's file
+/// output moved aside, of which only its own files go ([`super::aside::retire`]: a user's file
 /// that found its way there is kept, in a visible folder).
 fn remove(path: &Path, is_dir: bool) -> io::Result<()> {
     if !is_dir {
         return std::fs::remove_file(path);
     }
     if path.to_str().is_some_and(|p| p.ends_with(ASIDE)) {
-        return super::staged::retire(path, None).map(drop);
+        return super::aside::retire(path, None).map(drop);
     }
     std::fs::remove_dir_all(path)
 }
