@@ -146,17 +146,20 @@ def psd_part(out):
                 results.append({"hurst": hurst, "rolloff_m": rolloff, "seed": seed,
                                 "fit_hurst": fit["hurst"], "fit_rolloff_m": fit["rolloff_wavelength_m"],
                                 "refusal": fit["refusal"]})
-    table = []
-    for hurst in [0.5, 0.65, 0.8, 0.95]:
-        these = [r for r in results if r["hurst"] == hurst and r["refusal"] is None]
-        dh = [r["fit_hurst"] - hurst for r in these]
+    def summary(group):
+        these = [r for r in group if r["refusal"] is None]
+        dh = [r["fit_hurst"] - r["hurst"] for r in these]
         dr = [r["fit_rolloff_m"] / r["rolloff_m"] - 1 for r in these if r["fit_rolloff_m"]]
-        table.append({"hurst": hurst, "maps": sum(r["hurst"] == hurst for r in results), "fitted": len(these),
-                      "mean_dh": statistics.mean(dh), "max_abs_dh": max(map(abs, dh)),
-                      "rolloff_found": len(dr),
-                      "median_abs_drolloff": statistics.median(map(abs, dr)) if dr else None,
-                      "max_abs_drolloff": max(map(abs, dr)) if dr else None})
-    return table
+        return {"maps": len(group), "fitted": len(these), "mean_dh": statistics.mean(dh),
+                "max_abs_dh": max(map(abs, dh)), "rolloff_found": len(dr),
+                "median_abs_drolloff": statistics.median(map(abs, dr)) if dr else None,
+                "max_abs_drolloff": max(map(abs, dr)) if dr else None}
+
+    by_hurst = [{"group": f"H = {h}", **summary([r for r in results if r["hurst"] == h])}
+                for h in [0.5, 0.65, 0.8, 0.95]]
+    by_rolloff = [{"group": f"λ_r = L/{parts}", **summary([r for r in results if r["rolloff_m"] == size / parts])}
+                  for parts in [4, 8, 16]]
+    return {"groups": by_hurst + by_rolloff + [{"group": "all", **summary(results)}], "maps": results}
 
 
 def stiffness_part(out):
@@ -167,7 +170,7 @@ def stiffness_part(out):
 def provenance():
     commit = run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"]).strip()
     dirty = run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"]).strip()
-    version = asperity("--version").split()[-1]
+    version = asperity("--version").split()[1]
     date = datetime.date.today().isoformat()
     return f"asperity {version}, commit {commit}{' (uncommitted changes)' if dirty else ''}, {date}"
 
@@ -190,12 +193,12 @@ def markdown(found, made):
                          f"{d} | {r['elements_changing_class']} |")
         lines.append("")
     if "psd" in found:
-        lines += ["| H | maps | fitted | mean error of H | largest error of H | roll-off found | median error of λ_r | largest error of λ_r |",
+        lines += ["| maps | count | fitted | mean error of H | largest error of H | roll-off found | median error of λ_r | largest error of λ_r |",
                   "|---|---|---|---|---|---|---|---|"]
-        for r in found["psd"]:
+        for r in found["psd"]["groups"]:
             med = "—" if r["median_abs_drolloff"] is None else f"{100 * r['median_abs_drolloff']:.1f} %"
             mx = "—" if r["max_abs_drolloff"] is None else f"{100 * r['max_abs_drolloff']:.1f} %"
-            lines.append(f"| {r['hurst']} | {r['maps']} | {r['fitted']} | {r['mean_dh']:+.3f} | {r['max_abs_dh']:.3f} | "
+            lines.append(f"| {r['group']} | {r['maps']} | {r['fitted']} | {r['mean_dh']:+.3f} | {r['max_abs_dh']:.3f} | "
                          f"{r['rolloff_found']} | {med} | {mx} |")
         lines.append("")
     if "stiffness" in found:
