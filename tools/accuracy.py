@@ -169,7 +169,9 @@ def stiffness_part(out):
 
 def provenance():
     commit = run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"]).strip()
-    dirty = run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"]).strip()
+    # The code the numbers depend on; the docs and tools may differ from the commit.
+    dirty = run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--", "src", "examples",
+                 "Cargo.toml", "Cargo.lock"]).strip()
     version = asperity("--version").split()[1]
     date = datetime.date.today().isoformat()
     return f"asperity {version}, commit {commit}{' (uncommitted changes)' if dirty else ''}, {date}"

@@ -23,7 +23,7 @@
 # pressure), seconds) and the figure FIGURE (PNG, with its SVG beside it) through
 # `cargo run --release --example sharing_convergence`.
 #
-# Usage: tools/sharing-convergence.sh [OUT [FIGURE]]
+# Usage: [LOADS="0.1mN 0.4mN"] tools/sharing-convergence.sh [OUT [FIGURE]]
 #   OUT     working folder (default target/sharing-convergence)
 #   FIGURE  default docs/figures/sharing-convergence.png
 # Takes about 6 minutes on a 2-core machine (the 10.38 nm onsets at 0.4 mN with d_c most).
@@ -45,7 +45,8 @@ crop=525:725,856:1056
 # The wafer cropped to the same window: compounding centres the two windows on each other.
 "$bin" topo convert wafer-1.gsf --crop $crop wafer-window.gsf
 
-loads=(0.1mN 0.4mN)
+# LOADS (space-separated) measures other loads, e.g. LOADS="0.03mN" for a contact of few patches.
+read -r -a loads <<<"${LOADS:-0.1mN 0.4mN}"
 weakenings=(instant 1nm 2nm 5nm)
 csv=sharing-convergence.csv
 echo "pixel_size_m,grid,load_n,slip_distance_m,contact_points,static_coefficient,friction_drop,equal_static_coefficient,equal_friction_drop,seconds" >"$csv.part"
@@ -56,7 +57,7 @@ for n in 100 200 400; do
     for load in "${loads[@]}"; do
         for w in "${weakenings[@]}"; do
             run="slide-$n-$load-$w"
-            if [ "$w" = instant ]; then dc=(); else dc=(--slip-distance "$w"); fi
+            if [ "$w" = instant ]; then dc=(--slip-distance 0); else dc=(--slip-distance "$w"); fi
             "$bin" slide "contact-$n" --load "$load" --mu-s 0.6 --mu-d 0.4 "${dc[@]}" --out "$run"
             # slide.json is pretty-printed: top-level keys at two spaces, equal_sharing's at four.
             awk -v pixel="$pixel" -v n=$n '
