@@ -9,6 +9,10 @@ guide (docs/accuracy.md), each with its conditions.
   slide    `asperity slide` on the default study's ball-1 at 0.1 and 1 mN (contact solved to
            1e-12), the instant drop and d_c = 2 nm, at its default tolerance 1e-6 and at 1e-8:
            how far F_S and the peak displacement move, and how many elements change class.
+  pixel    tools/sharing-convergence.sh at 0.03, 0.1 and 0.4 mN (ball-1's contact resampled to
+           pixels of 41.5, 20.75 and 10.4 nm; the instant drop and d_c = 1, 2, 5 nm): how far the
+           elastic-sharing drop moves from the study's pixel to half of it. An
+           OUT/pixel/sharing-convergence.csv already there is read instead.
   psd      `topo info --psd-fit` on synthetic maps (512², 10 µm, 1 nm RMS) written as .gsf, so
            read as a non-periodic file (Hann window): Hurst exponents 0.5, 0.65, 0.8, 0.95,
            roll-offs at L/4, L/8 and L/16, six seeds each (72 maps): the error of H and of the
@@ -36,7 +40,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "target", "release", "asperity")
-PARTS = ["contact", "slide", "psd", "stiffness"]
+PARTS = ["contact", "slide", "pixel", "psd", "stiffness"]
 
 
 def run(args, **kw):
@@ -131,6 +135,31 @@ def slide_part(out):
     return table
 
 
+def pixel_part(out):
+    """The elastic-sharing drop against the pixel (tools/sharing-convergence.sh)."""
+    folder = os.path.join(out, "pixel")
+    table = os.path.join(folder, "sharing-convergence.csv")
+    if not os.path.exists(table):
+        env = dict(os.environ, LOADS="0.03mN 0.1mN 0.4mN")
+        subprocess.run([os.path.join(ROOT, "tools", "sharing-convergence.sh"), folder,
+                        os.path.join(folder, "sharing-convergence.png")], check=True, env=env, stdout=sys.stderr)
+    rows = list(csv.DictReader(open(table)))
+    found = []
+    for load in sorted({float(r["load_n"]) for r in rows}):
+        these = [r for r in rows if float(r["load_n"]) == load]
+        points = [int(r["contact_points"]) for r in sorted(these, key=lambda r: int(r["grid"]))
+                  if float(r["slip_distance_m"]) == 0]
+        models = [("instant", 0.0, "friction_drop")] + [
+            (f"d_c {dc * 1e9:g} nm", dc, "friction_drop")
+            for dc in sorted({float(r["slip_distance_m"]) for r in these}) if dc > 0] + [
+            ("equal sharing, instant", 0.0, "equal_friction_drop")]
+        for name, dc, column in models:
+            by = {int(r["grid"]): float(r[column]) for r in these if float(r["slip_distance_m"]) == dc}
+            found.append({"load_n": load, "contact_points": points, "model": name,
+                          "drops": [by[n] for n in sorted(by)], "rel_change_last": rel(by[400], by[200])})
+    return found
+
+
 def psd_part(out):
     """`--psd-fit` on 72 synthetic maps read as files (Hann window)."""
     size = 10e-6
@@ -193,6 +222,14 @@ def markdown(found, made):
             d = "—" if r["rel_peak_displacement"] is None else f"{r['rel_peak_displacement']:.1e}"
             lines.append(f"| {r['load']} | {r['weakening']} | {r['contact_points']} | {r['rel_static_force']:.1e} | "
                          f"{d} | {r['elements_changing_class']} |")
+        lines.append("")
+    if "pixel" in found:
+        lines += ["| load | contact points (41.5 / 20.75 / 10.4 nm) | model | drop at 41.5 nm | 20.75 nm | 10.4 nm | change from 20.75 to 10.4 nm |",
+                  "|---|---|---|---:|---:|---:|---:|"]
+        for r in found["pixel"]:
+            d = " | ".join(f"{x:.4f}" for x in r["drops"])
+            lines.append(f"| {r['load_n'] * 1e3:g} mN | {' / '.join(map(str, r['contact_points']))} | {r['model']} | {d} | "
+                         f"{r['rel_change_last']:.1e} |")
         lines.append("")
     if "psd" in found:
         lines += ["| maps | count | fitted | mean error of H | largest error of H | roll-off found | median error of λ_r | largest error of λ_r |",
