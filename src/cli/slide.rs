@@ -1,4 +1,7 @@
 //! `asperity slide`: the onset of sliding with elastic interaction between the contact points.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -252,7 +255,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
     let contact_points = solver.points().len();
     if let Some(q) = args.tangential_force {
         let (state, work) = ramp_force(&mut solver, law.mu_s, q)?;
-        write_maps(&out, &solver, &normal, &state)?;
+        write_maps(&out, &solver, &state)?;
         let report = RampReport {
             input,
             boundary: normal.boundary.name(),
@@ -308,7 +311,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
         });
         bar.finish_and_clear();
         let onset = onset?;
-        write_maps(&out, &solver, &normal, &onset.peak)?;
+        write_maps(&out, &solver, &onset.peak)?;
         write_curve(&out.path("curve.csv"), &onset.curve)?;
         let (ny, nx) = normal.shape;
         let pressure = Array2::from_shape_vec((ny, nx), normal.pressure.clone()).expect("grid shape");
@@ -390,16 +393,12 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
             }
             Weakening::Curve(slip_curve_file(path, unit)?)
         }
-        (None, Some(0.0)) => Weakening::Instant,
         (None, Some(dc)) => {
-            if !(dc > 0.0 && dc.is_finite()) {
-                return Err(Error::invalid(
-                    "--slip-distance",
-                    format!("must be positive and finite, or 0 for the instant drop, got {dc:e} m"),
-                ));
+            let weakening = Weakening::of_slip_distance(dc, "--slip-distance")?;
+            if dc != 0.0 {
+                super::judge("--slip-distance", plausible::slip_distance(dc, Spelling::CommandLine))?;
             }
-            super::judge("--slip-distance", plausible::slip_distance(dc, Spelling::CommandLine))?;
-            Weakening::Linear(dc)
+            weakening
         }
         // A Coulomb ramp at mu_s has no weakening.
         (None, None) if args.tangential_force.is_some() => Weakening::Instant,
@@ -522,16 +521,8 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limi
 }
 
 /// shear_x.npy, shear_y.npy \[Pa] and classes.npy of a state.
-fn write_maps(out: &StagedDir, solver: &TangentialSolver, normal: &Normal, state: &Snapshot) -> Result<()> {
-    let (ny, nx) = normal.shape;
-    let (mut sx, mut sy) = (Array2::<f64>::zeros((ny, nx)), Array2::<f64>::zeros((ny, nx)));
-    let mut classes = Array2::<i8>::zeros((ny, nx));
-    for ((&i, q), c) in solver.points().iter().zip(&state.traction).zip(&state.classes) {
-        let at = (i / nx, i % nx);
-        sx[at] = q[0];
-        sy[at] = q[1];
-        classes[at] = *c as i8;
-    }
+fn write_maps(out: &StagedDir, solver: &TangentialSolver, state: &Snapshot) -> Result<()> {
+    let (sx, sy, classes) = state.maps(solver);
     output::write_npy(&out.path("shear_x.npy"), &sx)?;
     output::write_npy(&out.path("shear_y.npy"), &sy)?;
     output::write_npy(&out.path("classes.npy"), &classes)
