@@ -1,5 +1,8 @@
 //! The local friction law of one contact element: it stays stuck while its shear force is
 //! below `mu_s · n`, and carries `mu_d · n` once it has slipped.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact, topography and the base
+//! row.
 
 use std::path::Path;
 
