@@ -9,9 +9,9 @@ use std::time::Instant;
 
 use asperity::contact::{Boundary, ShearCompliance, TangentialOptions, TangentialSolver};
 use asperity::friction::{
-    elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset, ClassShare as CoreShare, Curve,
-    ElementLoads, FrictionLaw, Loading, Onset as CoreOnset, SlidePoint, SlipLaw, Weakening, DEFAULT_SLIP_DISTANCE_M,
-    PEAK_TOLERANCE,
+    check_curve_unit, check_partial_slip_force, elastic_onset, element_stiffness, ramp_force, slip_curve_file,
+    spring_slider_onset, ClassShare as CoreShare, Curve, ElementLoads, FrictionLaw, Loading, Onset as CoreOnset,
+    SlidePoint, SlipLaw, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::plausible::{self, Spelling};
 use ndarray::{Array2, ArrayView2};
@@ -501,14 +501,14 @@ pub(crate) fn slide(
     max_iter: usize,
 ) -> PyResult<Py<PyAny>> {
     let base = friction_law(py, mu_s, mu_d, law, curve.as_ref(), window)?;
+    if let (Some(_), Some(unit)) = (&curve, curve_unit) {
+        check_curve_unit(unit, "curve_unit").map_err(error)?;
+    }
     let curve_weakening = match (&curve, curve_unit) {
         (None, None) => None,
         (None, Some(_)) => return Err(invalid("curve_unit", "applies to a curve only")),
         (Some(_), None) => {
             return Err(invalid("curve_unit", "a curve needs its displacement unit [m] (1e-9 for nm) to be followed"))
-        }
-        (Some(_), Some(unit)) if !(unit > 0.0 && unit.is_finite()) => {
-            return Err(invalid("curve_unit", format!("must be a positive length, got {unit} m")))
         }
         (Some(_), Some(_)) if slip_distance.is_some() || tangential_force.is_some() => {
             let with = if slip_distance.is_some() { "slip_distance" } else { "tangential_force" };
@@ -536,12 +536,7 @@ pub(crate) fn slide(
     options.check().map_err(error)?;
     let load = solution.load;
     if let Some(q) = tangential_force {
-        if !(q > 0.0 && q.is_finite() && q < base.mu_s * load) {
-            return Err(invalid(
-                "tangential_force",
-                format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {q:e} N", base.mu_s * load),
-            ));
-        }
+        check_partial_slip_force(q, base.mu_s, load, "tangential_force").map_err(error)?;
     }
     let pressure: Vec<f64> = solution.pressure.bind(py).readonly().as_array().iter().copied().collect();
     let shape = solution.pressure.bind(py).readonly().as_array().dim();

@@ -15,9 +15,9 @@ use asperity::contact::{
     self, Boundary, ContactSolver, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
-    check_peak_tolerance, elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset,
-    ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw, Snapshot, Weakening,
-    DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
+    check_curve_unit, check_partial_slip_force, check_peak_tolerance, elastic_onset, element_stiffness, ramp_force,
+    slip_curve_file, spring_slider_onset, ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw,
+    Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -224,11 +224,8 @@ pub fn run(args: SlideArgs) -> Result<()> {
         }
         // The normal solve carries the load exactly: N = --load (a contact directory's load
         // is checked once read, and the ramp checks the N it sums).
-        if let Some(load) = args.load.filter(|n| q >= law.mu_s * n) {
-            return Err(Error::invalid(
-                "--tangential-force",
-                format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {q:e} N", law.mu_s * load),
-            ));
+        if let Some(load) = args.load {
+            check_partial_slip_force(q, law.mu_s, load, "--tangential-force")?;
         }
     }
     // Before the normal solve: an --out that cannot be written is said at once.
@@ -388,9 +385,7 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
     let weakening = match (&args.curve, args.slip_distance) {
         (Some(path), _) => {
             let unit = args.curve_unit.expect("clap requires --curve-unit with --curve");
-            if !(unit > 0.0 && unit.is_finite()) {
-                return Err(Error::invalid("--curve-unit", format!("must be a positive length, got {unit} m")));
-            }
+            check_curve_unit(unit, "--curve-unit")?;
             Weakening::Curve(slip_curve_file(path, unit)?)
         }
         (None, Some(dc)) => {

@@ -755,16 +755,24 @@ pub fn check_peak_tolerance(peak_tolerance: f64) -> Result<()> {
     }
 }
 
+/// An error unless the tangential force `force` \[N] of a partial-slip state (as `option`)
+/// lies in (0, μN), for the Coulomb coefficient `mu` and the normal force `normal_force` \[N].
+pub fn check_partial_slip_force(force: f64, mu: f64, normal_force: f64, option: &str) -> Result<()> {
+    if force > 0.0 && force < mu * normal_force {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            option,
+            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force:e} N", mu * normal_force),
+        ))
+    }
+}
+
 /// A partial-slip state under Coulomb friction (coefficient `mu`): the tangential force ramped
 /// to `force` \[N] by increasing δ, located to a relative 1e-6.
 pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<(Snapshot, SlideWork)> {
     let normal_force = solver.normal_force();
-    if !(force > 0.0 && force < mu * normal_force) {
-        return Err(Error::invalid(
-            "--tangential-force",
-            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force:e} N", mu * normal_force),
-        ));
-    }
+    check_partial_slip_force(force, mu, normal_force, "--tangential-force")?;
     let law = SlipLaw { mu_s: mu, mu_d: mu, weakening: Weakening::Instant };
     check_scales("--mu-s", &traction_scales(mu, mu, solver.pressure(), normal_force))?;
     let mut path = Path::new(solver, &law);

@@ -126,6 +126,16 @@ impl FrictionLaw {
     }
 }
 
+/// An error unless `unit`, the displacement unit \[m] of a friction curve that a user gave (as
+/// `option`), is a positive finite length.
+pub fn check_curve_unit(unit: f64, option: &str) -> Result<()> {
+    if unit > 0.0 && unit.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(option, format!("must be a positive length, got {unit} m")))
+    }
+}
+
 /// μ(slip) past the peak of the measured friction curve in the file at `path` (CSV, see
 /// [`parse_curve`]) whose displacements are in units of `unit` \[m]: the points from its peak
 /// on, slip \[m] counted from the peak, as [`crate::friction::Weakening::Curve`] follows them

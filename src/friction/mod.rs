@@ -23,10 +23,10 @@ mod stiffness;
 
 pub use curve::{displacement, write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
-    check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideStage,
-    SlideWork, Snapshot, PEAK_TOLERANCE,
+    check_partial_slip_force, check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint,
+    SlideProgress, SlideStage, SlideWork, Snapshot, PEAK_TOLERANCE,
 };
-pub use law::{law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
+pub use law::{check_curve_unit, law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
 pub use slip_law::{SlipLaw, Weakening, DEFAULT_SLIP_DISTANCE_M};
 pub use spring_slider::{spring_slider_onset, WeakeningOnset};
