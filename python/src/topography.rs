@@ -5,7 +5,6 @@
 
 use std::path::PathBuf;
 
-use asperity::limits::Limits;
 use asperity::plausible::{self, Spelling};
 use asperity::topography::detrend::Detrend;
 use asperity::topography::missing::fill_missing;

@@ -23,8 +23,7 @@
 //! sharing visits only the s where F(s) is a record (a plateau bridges each dip of F(s) at
 //! constant force): the running maximum of F(s), whose peak is the same max_k F_k.
 //!
-//! Must not import study, shs, plot or report: friction builds on contact, topography and the base
-//! row.
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use std::path::Path;
 

@@ -18,8 +18,7 @@
 //! never below it, though the path stops at total sliding with tractions still turned by the
 //! elastic coupling.
 //!
-//! Must not import study, shs, plot or report: friction builds on contact, topography and the base
-//! row.
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use ndarray::Array2;
 use serde::Serialize;

@@ -1,8 +1,7 @@
 //! The local friction law of one contact element: it stays stuck while its shear force is
 //! below `mu_s · n`, and carries `mu_d · n` once it has slipped.
 //!
-//! Must not import study, shs, plot or report: friction builds on contact, topography and the base
-//! row.
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use std::path::Path;
 

@@ -10,8 +10,7 @@
 //! interaction of the contact points through the half-space (the tangential solve);
 //! [`spring_slider_onset`] keeps equal sharing but gives it the same slip weakening.
 //!
-//! Must not import study, shs, plot or report: friction builds on contact, topography and the base
-//! row.
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 mod curve;
 mod elastic;

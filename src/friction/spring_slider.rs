@@ -9,8 +9,7 @@
 //! O(M log M). Beside elastic sharing with the same law, it separates what the elastic
 //! interaction does from what the weakening does.
 //!
-//! Must not import study, shs, plot or report: friction builds on contact, topography and the base
-//! row.
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use serde::Serialize;
 
