@@ -33,6 +33,9 @@
 //! (ranges a value must lie in), [`limits`] (how large an input may be), [`output`] (atomic,
 //! resumable writing), [`error`].
 //!
+//! Must not name the command line or Python: the library knows nothing of its front ends, and no
+//! module imports a later one (docs/architecture.md).
+//!
 //! # Example: from a measured file to the static friction coefficient
 //!
 //! An AFM scan (`mi-1.mi`, a 20 µm square, 256 × 256 points, from SurfaceTopography's example
@@ -66,7 +69,8 @@
 //! let e_star = Material::SILICON.plane_strain_modulus(); // [Pa]
 //! let heights: Vec<f64> = surface.heights.iter().copied().collect();
 //! let options = SolverOptions::default();
-//! let mut solver = ContactSolver::new(&heights, (ny, nx), (lx, ly), e_star, Boundary::Periodic, options)?;
+//! let mut solver = ContactSolver::new(&heights, (ny, nx), (lx, ly), e_star, Boundary::Periodic,
+//! options)?;
 //! let load = 1e-3; // [N]
 //! solver.solve(load, |_, _| {})?;
 //!

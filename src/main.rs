@@ -1,4 +1,7 @@
 //! The `asperity` command: a thin layer over the library.
+//!
+//! Must not hold a command's work (that is `cli`'s) nor physics (the library's): it parses and
+//! dispatches.
 
 mod cli;
 

@@ -2,6 +2,9 @@
 //! and `plot` (cli → report → plot → study). The study computes and records ([`Study::run`]);
 //! this module reads the measured points the study names, before anything is solved, and draws
 //! the figures and writes `index.html` from the study's [`Records`](crate::study::Records).
+//!
+//! Must not import topography, contact or friction: it joins what study recorded with plot, and
+//! nothing in the library imports it.
 
 use std::path::{Path, PathBuf};
 

@@ -1,4 +1,7 @@
 //! `asperity contact`: elastic normal contact of a topography at one or more loads.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::path::{Path, PathBuf};
 

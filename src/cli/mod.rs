@@ -1,4 +1,7 @@
 //! Command implementations: each parses its arguments (clap) and calls the library.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 pub mod contact;
 pub mod onset;

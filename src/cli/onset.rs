@@ -1,4 +1,7 @@
 //! `asperity onset`: the stick-slip transition model on one contact pressure map.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::path::{Path, PathBuf};
 

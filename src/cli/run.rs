@@ -1,4 +1,7 @@
 //! `asperity run`: the paper's numerical study, end to end.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};

@@ -1,4 +1,7 @@
 //! `asperity shs`: static and dynamic friction after each hold of a slide-hold-slide trace.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::path::PathBuf;
 

@@ -1,4 +1,7 @@
 //! `asperity slide`: the onset of sliding with elastic interaction between the contact points.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -12,9 +15,9 @@ use asperity::contact::{
     self, Boundary, ContactSolver, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
 };
 use asperity::friction::{
-    check_peak_tolerance, elastic_onset, element_stiffness, ramp_force, slip_curve_file, spring_slider_onset,
-    ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw, Snapshot, Weakening,
-    DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
+    check_curve_unit, check_partial_slip_force, check_peak_tolerance, elastic_onset, element_stiffness, ramp_force,
+    slip_curve_file, spring_slider_onset, ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw,
+    Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -221,11 +224,8 @@ pub fn run(args: SlideArgs) -> Result<()> {
         }
         // The normal solve carries the load exactly: N = --load (a contact directory's load
         // is checked once read, and the ramp checks the N it sums).
-        if let Some(load) = args.load.filter(|n| q >= law.mu_s * n) {
-            return Err(Error::invalid(
-                "--tangential-force",
-                format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {q:e} N", law.mu_s * load),
-            ));
+        if let Some(load) = args.load {
+            check_partial_slip_force(q, law.mu_s, load, "--tangential-force")?;
         }
     }
     // Before the normal solve: an --out that cannot be written is said at once.
@@ -252,7 +252,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
     let contact_points = solver.points().len();
     if let Some(q) = args.tangential_force {
         let (state, work) = ramp_force(&mut solver, law.mu_s, q)?;
-        write_maps(&out, &solver, &normal, &state)?;
+        write_maps(&out, &solver, &state)?;
         let report = RampReport {
             input,
             boundary: normal.boundary.name(),
@@ -308,7 +308,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
         });
         bar.finish_and_clear();
         let onset = onset?;
-        write_maps(&out, &solver, &normal, &onset.peak)?;
+        write_maps(&out, &solver, &onset.peak)?;
         write_curve(&out.path("curve.csv"), &onset.curve)?;
         let (ny, nx) = normal.shape;
         let pressure = Array2::from_shape_vec((ny, nx), normal.pressure.clone()).expect("grid shape");
@@ -385,21 +385,15 @@ fn law(args: &SlideArgs) -> Result<SlipLaw> {
     let weakening = match (&args.curve, args.slip_distance) {
         (Some(path), _) => {
             let unit = args.curve_unit.expect("clap requires --curve-unit with --curve");
-            if !(unit > 0.0 && unit.is_finite()) {
-                return Err(Error::invalid("--curve-unit", format!("must be a positive length, got {unit} m")));
-            }
+            check_curve_unit(unit, "--curve-unit")?;
             Weakening::Curve(slip_curve_file(path, unit)?)
         }
-        (None, Some(0.0)) => Weakening::Instant,
         (None, Some(dc)) => {
-            if !(dc > 0.0 && dc.is_finite()) {
-                return Err(Error::invalid(
-                    "--slip-distance",
-                    format!("must be positive and finite, or 0 for the instant drop, got {dc:e} m"),
-                ));
+            let weakening = Weakening::of_slip_distance(dc, "--slip-distance")?;
+            if dc != 0.0 {
+                super::judge("--slip-distance", plausible::slip_distance(dc, Spelling::CommandLine))?;
             }
-            super::judge("--slip-distance", plausible::slip_distance(dc, Spelling::CommandLine))?;
-            Weakening::Linear(dc)
+            weakening
         }
         // A Coulomb ramp at mu_s has no weakening.
         (None, None) if args.tangential_force.is_some() => Weakening::Instant,
@@ -522,16 +516,8 @@ fn read_contact_dir(dir: &Path, load: Option<f64>, e_star: f64, free: bool, limi
 }
 
 /// shear_x.npy, shear_y.npy \[Pa] and classes.npy of a state.
-fn write_maps(out: &StagedDir, solver: &TangentialSolver, normal: &Normal, state: &Snapshot) -> Result<()> {
-    let (ny, nx) = normal.shape;
-    let (mut sx, mut sy) = (Array2::<f64>::zeros((ny, nx)), Array2::<f64>::zeros((ny, nx)));
-    let mut classes = Array2::<i8>::zeros((ny, nx));
-    for ((&i, q), c) in solver.points().iter().zip(&state.traction).zip(&state.classes) {
-        let at = (i / nx, i % nx);
-        sx[at] = q[0];
-        sy[at] = q[1];
-        classes[at] = *c as i8;
-    }
+fn write_maps(out: &StagedDir, solver: &TangentialSolver, state: &Snapshot) -> Result<()> {
+    let (sx, sy, classes) = state.maps(solver);
     output::write_npy(&out.path("shear_x.npy"), &sx)?;
     output::write_npy(&out.path("shear_y.npy"), &sy)?;
     output::write_npy(&out.path("classes.npy"), &classes)

@@ -1,4 +1,7 @@
 //! `asperity slurm`: a study as a Slurm job array of shards and a job that assembles them.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,4 +1,7 @@
 //! `asperity topo …`: topography files. `info` tells what a file holds.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::path::PathBuf;
 

@@ -1,5 +1,8 @@
 //! `asperity topo convert | generate | psd`: prepare a measured topography for the contact
 //! solver, synthesise one, or print its power spectral density.
+//!
+//! Must not hold physics or a check that Python needs too (those are the library's); it uses the
+//! library through `asperity::…` only.
 
 use std::path::{Path, PathBuf};
 

@@ -22,6 +22,8 @@
 //! before the slips, F_k, and its peak is max_k F_k = F_S at s* = mu_s · n_(k*). Equal load
 //! sharing visits only the s where F(s) is a record (a plateau bridges each dip of F(s) at
 //! constant force): the running maximum of F(s), whose peak is the same max_k F_k.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use std::path::Path;
 

@@ -17,10 +17,13 @@
 //! as δ grows and F tends to the sliding force Σ μ p a (μ_d N for the instant drop): F_S is
 //! never below it, though the path stops at total sliding with tractions still turned by the
 //! elastic coupling.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
+use ndarray::Array2;
 use serde::Serialize;
 
-use super::{stuck_stiffness, ClassShare};
+use super::{stuck_stiffness, ClassShare, SlipLaw, Weakening};
 use crate::contact::tangential::magnitude;
 use crate::contact::{Proceed, TangentialReport, TangentialSolver};
 use crate::error::{Error, Result};
@@ -29,13 +32,6 @@ use crate::error::{Error, Result};
 /// longer first steps aside). The march only brackets the largest settled force, which the
 /// search then locates.
 const STEPS: usize = 64;
-/// The slip-weakening distance d_c \[m] of elastic sharing when none is given (`slide`, the
-/// study, Python): μ falls linearly from mu_s to mu_d over 2 nm of slip. With the instant drop
-/// the onset under elastic sharing has no length of its own and its drop falls with the pixel;
-/// with d_c = 2 nm the nucleation length G d_c / ((mu_s − mu_d) p) is resolved on the default
-/// study's pixel and the drop converges (`tools/sharing-convergence.sh`; its figure in
-/// docs/results.md). A d_c of 0 is the instant drop.
-pub const DEFAULT_SLIP_DISTANCE_M: f64 = 2e-9;
 
 /// The default fraction of F_S within which the forces of the search's bracket agree when it
 /// ends ([`elastic_onset`]'s `peak_tolerance`).
@@ -83,149 +79,6 @@ const LARGEST: f64 = 1e140;
 /// F_S / N may leave [mu_d, mu_s] by this relative amount, from rounding alone.
 const ROUNDING: f64 = 1e-9;
 
-/// How a point's friction coefficient falls from mu_s to mu_d as it slips.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Weakening {
-    /// At once on the first slip (the paper's law).
-    Instant,
-    /// Linearly over an accumulated slip d_c \[m].
-    Linear(f64),
-    /// A measured μ(slip): (slip \[m] from the onset of slip, μ) pairs, slip increasing from 0;
-    /// beyond the last point μ stays at its last value.
-    Curve(Vec<(f64, f64)>),
-}
-
-/// The local law of the sliding onset.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SlipLaw {
-    /// Static coefficient mu_s: the bound of a point that has never slipped.
-    pub mu_s: f64,
-    /// Dynamic coefficient mu_d: the bound once weakened.
-    pub mu_d: f64,
-    /// How the bound falls from mu_s to mu_d once a point slips.
-    pub weakening: Weakening,
-}
-
-impl SlipLaw {
-    /// The slip-weakening distance d_c \[m]: 0 for the instant drop, none for a measured
-    /// μ(slip) curve.
-    pub fn slip_distance(&self) -> Option<f64> {
-        match self.weakening {
-            Weakening::Instant => Some(0.0),
-            Weakening::Linear(dc) => Some(dc),
-            Weakening::Curve(_) => None,
-        }
-    }
-
-    /// The coefficient of a point that has slipped `slip` \[m] in all (path length), `slipped`
-    /// whether it has slipped at all.
-    pub fn mu(&self, slip: f64, slipped: bool) -> f64 {
-        match &self.weakening {
-            Weakening::Instant => {
-                if slipped {
-                    self.mu_d
-                } else {
-                    self.mu_s
-                }
-            }
-            Weakening::Linear(dc) => self.mu_s - (self.mu_s - self.mu_d) * (slip / dc).min(1.0),
-            Weakening::Curve(points) => {
-                let i = points.partition_point(|(s, _)| *s <= slip);
-                if i == 0 {
-                    points[0].1
-                } else if i == points.len() {
-                    points[i - 1].1
-                } else {
-                    let ((s0, m0), (s1, m1)) = (points[i - 1], points[i]);
-                    m0 + (m1 - m0) * (slip - s0) / (s1 - s0)
-                }
-            }
-        }
-    }
-
-    /// The largest coefficient a point can have from now on, having slipped `slip` [m]
-    /// (`slipped` whether at all): no later force exceeds the sum of these bounds.
-    fn ceiling(&self, slip: f64, slipped: bool) -> f64 {
-        match &self.weakening {
-            Weakening::Instant | Weakening::Linear(_) => self.mu(slip, slipped),
-            Weakening::Curve(points) => {
-                let later = points.iter().filter(|(s, _)| *s > slip).map(|p| p.1);
-                later.fold(self.mu(slip, slipped), f64::max)
-            }
-        }
-    }
-
-    /// |dμ/ds| at an accumulated slip `slip` [1/m]: how fast the bound moves with the slip.
-    fn slope(&self, slip: f64) -> f64 {
-        match &self.weakening {
-            Weakening::Instant => 0.0,
-            Weakening::Linear(dc) => {
-                if slip < *dc {
-                    (self.mu_s - self.mu_d) / dc
-                } else {
-                    0.0
-                }
-            }
-            Weakening::Curve(points) => {
-                let i = points.partition_point(|(s, _)| *s <= slip);
-                if i == 0 || i == points.len() {
-                    0.0
-                } else {
-                    let ((s0, m0), (s1, m1)) = (points[i - 1], points[i]);
-                    ((m1 - m0) / (s1 - s0)).abs()
-                }
-            }
-        }
-    }
-
-    /// The bound [Pa] that a point on its bound `bound` [Pa], under pressure `pressure` [Pa],
-    /// settles at, having slipped `slip` [m] in all: lowering its bound by Δ lets it slip about
-    /// `compliance` Δ more (its own compliance [m/Pa], K's diagonal; the others' response is
-    /// left to the next solve), so the bound solves g = μ(slip + compliance (bound − g)) p.
-    /// Taking μ(slip) p instead lowers a steep weakening's bounds a little at each solve.
-    fn settling_bound(&self, slip: f64, bound: f64, pressure: f64, compliance: f64) -> f64 {
-        let after = |g: f64| self.mu(slip + compliance * (bound - g), true) * pressure;
-        let first = after(bound);
-        if first >= bound || self.weakening == Weakening::Instant {
-            return first;
-        }
-        // after(g) − g is negative at the bound and not negative at the law's lowest μ.
-        let (mut lo, mut hi) = (self.lowest() * pressure, bound);
-        for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            if after(mid) >= mid {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        lo
-    }
-
-    /// The lowest coefficient a point can ever have: no path ends below Σ lowest · p a.
-    fn lowest(&self) -> f64 {
-        match &self.weakening {
-            Weakening::Curve(points) => points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
-            _ => self.mu_d,
-        }
-    }
-
-    /// Whether a point's coefficient never rises as it slips, so that a cascade only lowers the
-    /// force (a measured μ(slip) may rise again).
-    fn only_falls(&self) -> bool {
-        !matches!(self.weakening, Weakening::Curve(_))
-    }
-
-    /// Whether nothing changes once every point has slipped this far [m].
-    fn settled(&self, slip: f64) -> bool {
-        match &self.weakening {
-            Weakening::Instant => true,
-            Weakening::Linear(dc) => slip >= *dc,
-            Weakening::Curve(points) => slip >= points.last().map_or(0.0, |p| p.0),
-        }
-    }
-}
-
 /// What a contact point is in a state of the path.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[repr(i8)]
@@ -271,6 +124,23 @@ pub struct Snapshot {
     pub traction: Vec<[f64; 2]>,
     /// Class of each contact point.
     pub classes: Vec<SlideClass>,
+}
+
+impl Snapshot {
+    /// The state as maps on the solver's grid: shear traction along x and along y \[Pa], and
+    /// the class of every pixel (int8: 0 no contact, else its [`SlideClass`]).
+    pub fn maps(&self, solver: &TangentialSolver) -> (Array2<f64>, Array2<f64>, Array2<i8>) {
+        let (ny, nx) = solver.shape();
+        let (mut sx, mut sy) = (Array2::<f64>::zeros((ny, nx)), Array2::<f64>::zeros((ny, nx)));
+        let mut classes = Array2::<i8>::zeros((ny, nx));
+        for ((&i, q), c) in solver.points().iter().zip(&self.traction).zip(&self.classes) {
+            let at = (i / nx, i % nx);
+            sx[at] = q[0];
+            sy[at] = q[1];
+            classes[at] = *c as i8;
+        }
+        (sx, sy, classes)
+    }
 }
 
 /// Work done by the path's solves.
@@ -884,16 +754,24 @@ pub fn check_peak_tolerance(peak_tolerance: f64) -> Result<()> {
     }
 }
 
+/// An error unless the tangential force `force` \[N] of a partial-slip state (as `option`)
+/// lies in (0, μN), for the Coulomb coefficient `mu` and the normal force `normal_force` \[N].
+pub fn check_partial_slip_force(force: f64, mu: f64, normal_force: f64, option: &str) -> Result<()> {
+    if force > 0.0 && force < mu * normal_force {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            option,
+            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force:e} N", mu * normal_force),
+        ))
+    }
+}
+
 /// A partial-slip state under Coulomb friction (coefficient `mu`): the tangential force ramped
 /// to `force` \[N] by increasing δ, located to a relative 1e-6.
 pub fn ramp_force(solver: &mut TangentialSolver, mu: f64, force: f64) -> Result<(Snapshot, SlideWork)> {
     let normal_force = solver.normal_force();
-    if !(force > 0.0 && force < mu * normal_force) {
-        return Err(Error::invalid(
-            "--tangential-force",
-            format!("must lie in (0, μN) = (0, {:.6e}) N for a partial-slip state, got {force:e} N", mu * normal_force),
-        ));
-    }
+    check_partial_slip_force(force, mu, normal_force, "--tangential-force")?;
     let law = SlipLaw { mu_s: mu, mu_d: mu, weakening: Weakening::Instant };
     check_scales("--mu-s", &traction_scales(mu, mu, solver.pressure(), normal_force))?;
     let mut path = Path::new(solver, &law);

@@ -1,5 +1,7 @@
 //! The local friction law of one contact element: it stays stuck while its shear force is
 //! below `mu_s · n`, and carries `mu_d · n` once it has slipped.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use std::path::Path;
 
@@ -120,6 +122,16 @@ impl FrictionLaw {
         Ok(FrictionLaw::new(mu_s, mu_d)
             .map_err(|e| Error::file(path, e.to_string()))?
             .named(path.display().to_string()))
+    }
+}
+
+/// An error unless `unit`, the displacement unit \[m] of a friction curve that a user gave (as
+/// `option`), is a positive finite length.
+pub fn check_curve_unit(unit: f64, option: &str) -> Result<()> {
+    if unit > 0.0 && unit.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(option, format!("must be a positive length, got {unit} m")))
     }
 }
 

@@ -9,20 +9,24 @@
 //! friction–displacement [`Curve`]. [`elastic_onset`] replaces equal sharing by the elastic
 //! interaction of the contact points through the half-space (the tangential solve);
 //! [`spring_slider_onset`] keeps equal sharing but gives it the same slip weakening.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 mod curve;
 mod elastic;
 mod law;
 mod onset;
+mod slip_law;
 mod spring_slider;
 mod stiffness;
 
 pub use curve::{displacement, write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
-    check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint, SlideProgress, SlideStage,
-    SlideWork, SlipLaw, Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
+    check_partial_slip_force, check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint,
+    SlideProgress, SlideStage, SlideWork, Snapshot, PEAK_TOLERANCE,
 };
-pub use law::{law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
+pub use law::{check_curve_unit, law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
+pub use slip_law::{SlipLaw, Weakening, DEFAULT_SLIP_DISTANCE_M};
 pub use spring_slider::{spring_slider_onset, WeakeningOnset};
 pub use stiffness::{element_stiffness, stuck_stiffness};

@@ -1,5 +1,7 @@
 //! The onset of sliding: static friction force and coefficient, friction drop, and the
 //! classes of the elements at the critical state, exactly, in O(M log M).
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use ndarray::{Array2, ArrayBase, Data, Ix2};
 use rayon::slice::ParallelSliceMut;

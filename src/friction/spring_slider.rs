@@ -8,6 +8,8 @@
 //! jumps at the snaps: its largest value is F_S, found exactly at the elements' breakpoints in
 //! O(M log M). Beside elastic sharing with the same law, it separates what the elastic
 //! interaction does from what the weakening does.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use serde::Serialize;
 

@@ -7,6 +7,8 @@
 //! Cerruti operator on the contact set ([`stuck_stiffness`]). Shared equally by the n
 //! elements, k_t = K_t / n ([`element_stiffness`]), so that while all are stuck the model's
 //! force n s = K_t δ rises with the elastic contact's own slope, and δ_peak = n s* / K_t.
+//!
+//! Must not import study, shs, plot or report: friction builds on contact and the base row.
 
 use crate::contact::{TangentialReport, TangentialSolver};
 use crate::error::{Error, Result};

@@ -3,6 +3,8 @@
 //! sharing), the static and dynamic
 //! coefficients against the load (Fig. S1), the friction drop at coarser pixels (resolution)
 //! and against the AFM hold time (aging).
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use super::maps::load_label;
 use super::shared::{by_load, signed, spread, FigureInput, LOAD_COLOURS};

@@ -1,8 +1,11 @@
 //! The convergence of the elastic-sharing onset with the pixel size: the friction drop (and so
 //! the static coefficient μ_S = μ_d · drop) of one surface resampled to several pixel sizes, per
 //! load and slip weakening, as `tools/sharing-convergence.sh` measures it.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
-use super::figure::{tick_label, Axis, Grid, Marker, Panel, Series};
+use super::figure::{Axis, Grid, Marker, Panel, Series};
+use super::ticks::tick_label;
 use super::{style, LegendPosition};
 
 /// One onset under elastic sharing, with equal sharing's on the same pressure.

@@ -1,15 +1,16 @@
 //! A figure as plain data — panels of axes and series — drawn on any plotters backend.
+//!
+//! Must not import report, study, friction, contact or shs: a figure knows only its series.
 
-use plotters::chart::SeriesAnno;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
-use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
-use plotters::style::{FontDesc, FontTransform};
-use plotters_backend::DrawingErrorKind;
+use plotters::style::text_anchor::HPos;
 
+use super::legend::{add_legend, hidden, legend_glyph, triangle};
 use super::style;
+use super::ticks::{linear_ticks, log_ticks, mixed_notation, power_label, tick_label};
+use super::typeset::{typeset, typeset_width};
 
 /// What drawing on a plotters area returns, for the backend `DB`: `T`, or the backend's error.
 pub type DrawResult<DB, T = ()> = Result<T, DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
@@ -583,167 +584,6 @@ fn title_size<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str) ->
     Ok(if width > room { style::TITLE_SIZE * 0.98 * room / width } else { style::TITLE_SIZE })
 }
 
-/// How much of series `s` a legend box `rect` (left, top, right, bottom) would hide, in
-/// pixels of its area over 10 (a marker counts as its disc): `to_px` maps the axes' units to
-/// pixels, `shown` tells the points the axes can draw.
-fn hidden(
-    s: &Series,
-    rect: (f64, f64, f64, f64),
-    to_px: impl Fn((f64, f64)) -> (f64, f64),
-    shown: impl Fn(&(f64, f64)) -> bool,
-) -> f64 {
-    const STEP: f64 = 2.0;
-    let inside = |(x, y): (f64, f64)| x >= rect.0 && x <= rect.2 && y >= rect.1 && y <= rect.3;
-    let pixels = |points: &[(f64, f64)]| -> Vec<(f64, f64)> {
-        points.iter().copied().filter(|p| shown(p)).map(&to_px).collect()
-    };
-    let covered = match &s.shape {
-        Shape::Line { points, width, .. } => {
-            let px = pixels(points);
-            // Samples every STEP px along each segment, each standing for STEP px of the line.
-            let mut n = 0usize;
-            for seg in px.windows(2) {
-                let (a, b) = (seg[0], seg[1]);
-                let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) / STEP).ceil().max(1.0) as usize;
-                n += (0..steps)
-                    .filter(|&i| {
-                        let t = i as f64 / steps as f64;
-                        inside((a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t))
-                    })
-                    .count();
-            }
-            // The samples start each segment: the line's final endpoint is its own sample.
-            n += px.last().is_some_and(|p| inside(*p)) as usize;
-            n as f64 * STEP * *width as f64
-        }
-        Shape::Scatter { points, .. } => {
-            let r = style::MARKER_SIZE as f64;
-            pixels(points).iter().filter(|p| inside(**p)).count() as f64 * std::f64::consts::PI * r * r
-        }
-        Shape::Band { x, lower, upper } => {
-            let edge =
-                |y: &[f64]| -> Vec<(f64, f64)> { x.iter().copied().zip(y.iter().copied()).map(&to_px).collect() };
-            let (lo, hi) = (edge(lower), edge(upper));
-            let mut area = 0.0;
-            for i in 1..lo.len() {
-                let (x0, x1) = (lo[i - 1].0, lo[i].0);
-                if !(x0.is_finite() && x1.is_finite()) || x1 <= x0 {
-                    continue;
-                }
-                let mut xs = x0.max(rect.0);
-                while xs < x1.min(rect.2) {
-                    let t = (xs - x0) / (x1 - x0);
-                    let (a, b) = (hi[i - 1].1 + (hi[i].1 - hi[i - 1].1) * t, lo[i - 1].1 + (lo[i].1 - lo[i - 1].1) * t);
-                    area += (b.max(a).min(rect.3) - a.min(b).max(rect.1)).max(0.0) * STEP;
-                    xs += STEP;
-                }
-            }
-            // Translucent: a legend over a band hides less than over a line.
-            area * s.opacity
-        }
-        Shape::Span { .. } => 0.0,
-    };
-    covered / 10.0
-}
-
-/// Pieces of typeset text: base line, subscript or superscript.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Level {
-    Base,
-    Sub,
-    Super,
-}
-
-/// `text` cut into pieces at `_x` and `^x` (one character) or `_{…}` and `^{…}`, as TeX
-/// writes sub- and superscripts: "μ_S", "N^μ/N", "n^{tot}".
-fn pieces(text: &str) -> Vec<(String, Level)> {
-    let mut out = Vec::new();
-    let mut base = String::new();
-    let mut chars = text.chars();
-    while let Some(c) = chars.next() {
-        let level = match c {
-            '_' => Level::Sub,
-            '^' => Level::Super,
-            _ => {
-                base.push(c);
-                continue;
-            }
-        };
-        let mut script = String::new();
-        match chars.next() {
-            Some('{') => script.extend(chars.by_ref().take_while(|d| *d != '}')),
-            Some(d) => script.push(d),
-            None => {
-                base.push(c);
-                continue;
-            }
-        }
-        if !base.is_empty() {
-            out.push((std::mem::take(&mut base), Level::Base));
-        }
-        out.push((script, level));
-    }
-    if !base.is_empty() {
-        out.push((base, Level::Base));
-    }
-    out
-}
-
-fn piece_font(level: Level, size: f64) -> FontDesc<'static> {
-    let size = if level == Level::Base { size } else { size * 0.72 };
-    (style::FONT, size).into_font()
-}
-
-/// The width [px] of `text` typeset at `size`.
-pub(super) fn typeset_width<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    text: &str,
-    size: f64,
-) -> DrawResult<DB, i32> {
-    let mut width = 0;
-    for (t, level) in pieces(text) {
-        width += area.estimate_text_size(&t, &piece_font(level, size).into_text_style(area))?.0 as i32;
-    }
-    Ok(width)
-}
-
-/// Draw `text` with its sub- and superscripts typeset (see [`pieces`]) at `pos` [px] on
-/// `area`, centred across the line and anchored along it by `along`; reading upwards when
-/// `vertical` (an axis name on the left).
-pub(super) fn typeset<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    text: &str,
-    pos: (i32, i32),
-    size: f64,
-    along: HPos,
-    vertical: bool,
-) -> DrawResult<DB> {
-    let total = typeset_width(area, text, size)?;
-    let mut advance = match along {
-        HPos::Left => 0,
-        HPos::Center => -total / 2,
-        HPos::Right => -total,
-    };
-    for (t, level) in pieces(text) {
-        let shift = match level {
-            Level::Base => 0,
-            Level::Sub => (size * 0.28) as i32,
-            Level::Super => -(size * 0.38) as i32,
-        };
-        let font = piece_font(level, size);
-        let width = area.estimate_text_size(&t, &font.clone().into_text_style(area))?.0 as i32;
-        let style = font.into_text_style(area).pos(Pos::new(HPos::Left, VPos::Center));
-        if vertical {
-            let style = style.transform(FontTransform::Rotate270);
-            area.draw_text(&t, &style, (pos.0 + shift, pos.1 - advance))?;
-        } else {
-            area.draw_text(&t, &style, (pos.0 + advance, pos.1 + shift))?;
-        }
-        advance += width;
-    }
-    Ok(())
-}
-
 impl Draw for Panel {
     fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
         let (x0, x1) = self.x.resolve(self.series.iter().flat_map(|s| s.xs()));
@@ -762,37 +602,6 @@ impl Draw for Panel {
             (true, true) => self.draw_on(area, (log_x(), log_y()), r, powers),
         }
     }
-}
-
-/// Ticks for a log axis from `lo` to `hi`: decades, or 1-2-5 or 1…9 per decade when the range
-/// is short, or evenly spaced round values when it spans less than one decade.
-fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    const MANTISSAS: [&[f64]; 3] = [&[1.0], &[1.0, 2.0, 5.0], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]];
-    let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
-    for mantissas in MANTISSAS {
-        let ticks: Vec<f64> = (d0..=d1)
-            .flat_map(|d| mantissas.iter().map(move |m| m * 10f64.powi(d)))
-            .filter(|v| (lo..=hi).contains(v))
-            .collect();
-        if ticks.len() >= 3 {
-            // Keep at most about a dozen labels on very wide ranges.
-            let every = ticks.len().div_ceil(12);
-            return ticks.into_iter().step_by(every).collect();
-        }
-    }
-    linear_ticks(lo, hi)
-}
-
-/// About six round-valued ticks (steps of 1, 2 or 5 × 10^k) between `lo` and `hi`.
-fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let k0 = (hi - lo).log10().floor() as i32;
-    let count = |step: f64| (hi / step).floor() - (lo / step).ceil() + 1.0;
-    let step = (k0 - 2..=k0)
-        .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
-        .min_by(|a, b| (count(*a) - 6.0).abs().total_cmp(&(count(*b) - 6.0).abs()))
-        .expect("candidate steps");
-    let (first, last) = ((lo / step).ceil() as i64, (hi / step).floor() as i64);
-    (first..=last).map(|k| k as f64 * step).collect()
 }
 
 /// Panels stacked top to bottom, each given a share of the height proportional to its weight.
@@ -876,153 +685,9 @@ impl Draw for Grid {
     }
 }
 
-fn add_legend<'a, DB: DrawingBackend + 'a>(anno: &mut SeriesAnno<'a, DB>, s: &Series, colour: RGBAColor) {
-    if let Some(label) = &s.label {
-        let shape = s.shape.clone();
-        anno.label(label.as_str()).legend(move |(lx, ly)| legend_glyph(&shape, colour, lx, ly));
-    }
-}
-
-fn legend_glyph<DB: DrawingBackend>(
-    shape: &Shape,
-    colour: RGBAColor,
-    x: i32,
-    y: i32,
-) -> DynElement<'static, DB, (i32, i32)> {
-    let r = style::MARKER_SIZE as i32;
-    match shape {
-        Shape::Line { width, dash, .. } => {
-            // Pieces of a 24 px sample, so that dashed and dotted lines read as such.
-            let (on, off) = match dash {
-                Dash::Solid => (24, 0),
-                Dash::Dashed => (9, 6),
-                Dash::Dotted => (*width as i32, 2 * *width as i32 + 2),
-            };
-            let ends = (0..24).step_by((on + off) as usize).flat_map(|a| [(x + a, y), (x + (a + on).min(24), y)]);
-            Segments { ends: ends.collect(), style: colour.stroke_width(*width) }.into_dyn()
-        }
-        Shape::Scatter { marker, filled, .. } => {
-            let style = if *filled { colour.filled() } else { colour.stroke_width(style::LINE_WIDTH) };
-            let c = (x + 12, y);
-            match marker {
-                Marker::Circle => Circle::new(c, r, style).into_dyn(),
-                Marker::Square => Rectangle::new([(c.0 - r, y - r), (c.0 + r, y + r)], style).into_dyn(),
-                Marker::Triangle if *filled => Polygon::new(triangle(c, r + 2, false), style).into_dyn(),
-                Marker::Triangle => PathElement::new(triangle(c, r + 2, true), style).into_dyn(),
-                Marker::Cross => Cross::new(c, r, style).into_dyn(),
-            }
-        }
-        Shape::Band { .. } | Shape::Span { .. } => {
-            Rectangle::new([(x, y - 8), (x + 24, y + 8)], colour.filled()).into_dyn()
-        }
-    }
-}
-
-/// Straight segments between consecutive pairs of `ends` [px]: a dashed line in a legend.
-struct Segments {
-    ends: Vec<(i32, i32)>,
-    style: ShapeStyle,
-}
-
-impl<'a> PointCollection<'a, (i32, i32)> for &'a Segments {
-    type Point = &'a (i32, i32);
-    type IntoIter = &'a [(i32, i32)];
-    fn point_iter(self) -> Self::IntoIter {
-        &self.ends
-    }
-}
-
-impl<DB: DrawingBackend> Drawable<DB> for Segments {
-    fn draw<I: Iterator<Item = (i32, i32)>>(
-        &self,
-        points: I,
-        backend: &mut DB,
-        _: (u32, u32),
-    ) -> Result<(), DrawingErrorKind<DB::ErrorType>> {
-        let ends: Vec<_> = points.collect();
-        for pair in ends.chunks_exact(2) {
-            backend.draw_line(pair[0], pair[1], &self.style)?;
-        }
-        Ok(())
-    }
-}
-
-/// The outline of an upward triangle of circumradius `r` [px] around `c`, closed (first corner
-/// repeated) when `closed`. Plotters' own triangle marker is always filled.
-fn triangle(c: (i32, i32), r: i32, closed: bool) -> Vec<(i32, i32)> {
-    let (dx, dy) = ((f64::from(r) * 0.866).round() as i32, r / 2);
-    let mut corners = vec![(c.0, c.1 - r), (c.0 + dx, c.1 + dy), (c.0 - dx, c.1 + dy)];
-    if closed {
-        corners.push(corners[0]);
-    }
-    corners
-}
-
-/// Tick labels with at most four significant digits, in scientific notation for very large or
-/// very small magnitudes ("0.3", "250", "1e-4", "2.5e6").
-pub fn tick_label(v: &f64) -> String {
-    let v = *v;
-    if v == 0.0 || !v.is_finite() {
-        return if v == 0.0 { "0".into() } else { v.to_string() };
-    }
-    let a = v.abs();
-    if !(1e-3..1e5).contains(&a) {
-        let s = format!("{v:.3e}");
-        let (mantissa, exp) = s.split_once('e').expect("{:e} output has an exponent");
-        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
-        return format!("{mantissa}e{exp}");
-    }
-    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
-
-/// Whether the plain labels of `ticks` mix notations ("1e-4" beside "0.001").
-fn mixed_notation(ticks: &[f64]) -> bool {
-    let scientific = ticks.iter().filter(|t| tick_label(t).contains('e')).count();
-    scientific > 0 && scientific < ticks.len()
-}
-
-/// A tick label as a power of ten with a superscript exponent: "10⁻⁴", "2×10⁻³", "10²".
-fn power_label(v: &f64) -> String {
-    let v = *v;
-    if v == 0.0 || !v.is_finite() {
-        return tick_label(&v);
-    }
-    let mut e = v.abs().log10().floor() as i32;
-    let mut m = ((v / 10f64.powi(e)) * 1e3).round() / 1e3;
-    if m.abs() >= 10.0 {
-        (e, m) = (e + 1, m / 10.0);
-    }
-    const DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
-    let exponent: String = e.to_string().chars().map(|c| c.to_digit(10).map_or('⁻', |d| DIGITS[d as usize])).collect();
-    if m == 1.0 {
-        format!("10{exponent}")
-    } else {
-        format!("{}×10{exponent}", tick_label(&m))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Fig. 2's loads read "1e-4, 0.001, 0.01 … 100": one axis in two notations.
-    #[test]
-    fn log_ticks_are_written_one_way() {
-        let loads = log_ticks(6e-5, 150.0);
-        assert!(mixed_notation(&loads), "{loads:?}");
-        let labels: Vec<String> = loads.iter().map(power_label).collect();
-        assert_eq!(labels, ["10⁻⁴", "10⁻³", "10⁻²", "10⁻¹", "10⁰", "10¹", "10²"]);
-        assert_eq!(power_label(&2e-3), "2×10⁻³");
-        assert_eq!(power_label(&-5e4), "-5×10⁴");
-        // Hold times of 1 s to 10⁴ s read plainly: no change there.
-        assert!(!mixed_notation(&log_ticks(0.8, 1.2e4)));
-    }
 
     /// A legend beside the axes widens its column to its longest entry: a study's long law
     /// names were cut at the figure's right edge.
@@ -1085,36 +750,5 @@ mod tests {
             let case = format!("top axis {top}, legend beside {beside}");
             assert!(drawn.0 >= 0.0 && drawn.1 <= 1000.0, "{case}: the title spans {drawn:?} px");
         }
-    }
-
-    #[test]
-    fn a_legend_box_hides_what_lies_under_it() {
-        let id = |p: (f64, f64)| p;
-        let all = |_: &(f64, f64)| true;
-        let rect = (0.0, 0.0, 100.0, 50.0);
-        // A 2 px line across the box: 100 px of it hidden, 200 px² over 10.
-        let across = Series::line(vec![(-50.0, 25.0), (150.0, 25.0)], BLACK).width(2);
-        let h = hidden(&across, rect, id, all);
-        assert!((h - 20.0).abs() <= 1.0, "{h}");
-        assert_eq!(hidden(&Series::line(vec![(0.0, 80.0), (100.0, 90.0)], BLACK), rect, id, all), 0.0);
-        // A band from y = 40 to 60 under the whole box: 100 × 10 px at a quarter's opacity.
-        let band = Series::band(vec![-10.0, 200.0], vec![40.0, 40.0], vec![60.0, 60.0], BLACK);
-        let h = hidden(&band, rect, id, all);
-        assert!((h - 25.0).abs() <= 1.0, "{h}");
-        // Markers count inside the box only.
-        let dots = Series::scatter(vec![(10.0, 10.0), (20.0, 20.0), (300.0, 20.0)], Marker::Circle, BLACK);
-        let disc = std::f64::consts::PI * (style::MARKER_SIZE as f64).powi(2) / 10.0;
-        assert!((hidden(&dots, rect, id, all) - 2.0 * disc).abs() < 1e-9);
-    }
-
-    #[test]
-    fn log_ticks_adapt_to_the_range() {
-        assert_eq!(log_ticks(5e-5, 2.0), vec![1e-4, 1e-3, 1e-2, 1e-1, 1.0]);
-        assert_eq!(log_ticks(0.8, 12.0), vec![1.0, 2.0, 5.0, 10.0]);
-        let short = log_ticks(1.15, 2.25);
-        assert_eq!(short.len(), 6, "{short:?}");
-        assert!((short[0] - 1.2).abs() < 1e-12 && (short[5] - 2.2).abs() < 1e-12, "{short:?}");
-        let wide = log_ticks(1e-30, 1e30).len();
-        assert!((10..=12).contains(&wide), "{wide} ticks over 60 decades");
     }
 }

@@ -1,6 +1,8 @@
 //! Fig. 4b–e: the distribution of the local stress ratio over the elements at the critical
 //! state, for one element, for the paper's two two-element scenarios, and for the interface at
 //! the load nearest 10 mN.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use super::maps::load_label;
 use super::{style, tick_label, Axis, Grid, LegendPosition, Marker, Panel, RGBColor, Series};

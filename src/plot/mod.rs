@@ -6,28 +6,35 @@
 //!
 //! [`study::render`] draws a numerical study's figures, movies and report; [`trace_figure`] a
 //! slide-hold-slide trace with what [`crate::shs`] found in it.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 mod coefficients;
 mod convergence;
 mod figure;
 mod histograms;
+mod inset;
+mod legend;
 mod maps;
 mod movie;
 mod report;
 mod shared;
 pub mod study;
 pub mod style;
+mod ticks;
 mod trace;
+mod typeset;
 
 use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
 pub use convergence::{sharing_convergence, ConvergencePoint};
-pub use figure::{tick_label, Axis, Dash, Draw, DrawResult, Figure, Grid, Marker, Panel, Series, Shape};
+pub use figure::{Axis, Dash, Draw, DrawResult, Figure, Grid, Marker, Panel, Series, Shape};
 pub use plotters::chart::SeriesLabelPosition as LegendPosition;
 pub use plotters::style::RGBColor;
 pub use shared::FigureInput;
+pub use ticks::tick_label;
 pub use trace::trace_figure;
 
 use crate::error::{Error, Result};

@@ -5,6 +5,8 @@
 //! (the map's colour scale, the class colours and greys for the text) and written with the
 //! `gif` crate; each frame after the first stores only the rectangle that changed, with
 //! unchanged pixels inside it transparent, which keeps a movie small.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use std::path::Path;
 

@@ -1,6 +1,8 @@
 //! The study's report: one self-contained HTML page (inline style, relative links to the
 //! images, nothing fetched from elsewhere) with the parameters, the friction laws, a table of
 //! the friction drop per law and load, and every figure drawn with its caption.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use std::fmt::Write as _;
 use std::path::Path;

@@ -1,6 +1,8 @@
 //! What the study's figures and report share: their input, the names and colours of the
 //! figures, and the grouping of the result rows. The figure modules and the report import it;
 //! it imports none of them.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use super::RGBColor;
 use crate::friction::FrictionLaw;

@@ -6,6 +6,8 @@
 //! `plot::movie`, the page in `plot::report`. Data a figure needs but the study lacks (no
 //! snapshot near a load, no measured points) is said in the figure or in the report; it is
 //! never an error.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use std::path::{Path, PathBuf};
 

@@ -1,5 +1,7 @@
 //! The look shared by every figure: one embedded font, sizes in pixels for the default
 //! canvas, and the colours that carry meaning across figures.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use std::sync::Once;
 

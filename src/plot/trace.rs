@@ -1,4 +1,6 @@
 //! A slide-hold-slide trace as a figure, with what the analysis found marked on it.
+//!
+//! Must not import report: plot draws what study, friction, contact and shs hand it.
 
 use super::{prefixed, style, tick_label, Axis, Figure, Marker, Panel, Series};
 use crate::shs::{Analysis, Cycle, Group, ShsOptions, Trace};

@@ -29,6 +29,8 @@
 //!    stops.
 //! 4. A coefficient F_S/N or F_D/N that is not finite, or above `MAX_COEFFICIENT`, is no
 //!    friction coefficient (a unit or column mistake): the trace is refused, naming the row.
+//!
+//! Must not import topography, contact, friction, study, plot or report: a trace is its own input.
 
 use super::{Analysis, Cycle, ShsOptions, Skipped, Trace};
 use crate::error::{Error, Result};

@@ -16,6 +16,8 @@
 //! so the force must be released during them, and a hold is the time the friction spends near
 //! zero (shorter than the stage's hold by the time the force takes to relax). The `detect`
 //! module describes both.
+//!
+//! Must not import topography, contact, friction, study, plot or report: a trace is its own input.
 
 mod detect;
 mod points;

@@ -12,6 +12,8 @@
 //! single restart. `hold_s` [s] matches a point to the friction law of the same hold time.
 //! Files from several traces (loads) may be concatenated below one header. Readers need only
 //! `load_n`, `friction_drop`, `hold_s` and `n_restarts`; other columns may be absent.
+//!
+//! Must not import topography, contact, friction, study, plot or report: a trace is its own input.
 
 use std::path::Path;
 

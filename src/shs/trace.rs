@@ -1,5 +1,7 @@
 //! Slide-hold-slide traces: time series of friction force, normal force and, if the instrument
 //! records it, sliding displacement, as exported to CSV.
+//!
+//! Must not import topography, contact, friction, study, plot or report: a trace is its own input.
 
 use std::path::{Path, PathBuf};
 
