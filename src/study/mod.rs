@@ -7,7 +7,11 @@
 //! kept for the maps, distributions, curves and movies).
 
 pub mod config;
+mod plan;
+mod progress;
+mod records;
 pub mod run;
+mod schedule;
 pub mod shard;
 pub mod slurm;
 
