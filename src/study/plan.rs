@@ -1,18 +1,42 @@
-//! What a prepared study computes, from its config alone: its sweeps (a topography or a coarser
-//! copy, elastic or plastic) and the pieces of their load chains a run takes, the rows of each
-//! solve (sharings × laws, [`Slot`]), the elastic onsets each solve runs, the estimated work
-//! of a solve, the loads whose maps the figures keep, and the figures' other counterface.
+//! The prepared study, [`Study`] (every topography built, every law resolved), and what it
+//! computes from its config alone: its sweeps (a topography or a coarser copy, elastic or
+//! plastic) and the pieces of their load chains a run takes, the rows of each solve
+//! (sharings × laws, [`Slot`]), the elastic onsets each solve runs, the estimated work of a
+//! solve, the loads whose maps the figures keep, and the figures' other counterface.
 //!
-//! Nothing here touches the disk. It must not import the runner's other rooms (`run` aside,
-//! whose [`Study`] it reads), nor `plot`, `report`, `cli` or `python`.
+//! Nothing here touches the disk. The runner's other rooms build on it; it must import none of
+//! them, nor `plot`, `report`, `cli` or `python`.
 
-use super::config::Counterface;
-use super::run::Study;
+use super::config::{Counterface, StudyConfig};
 use super::shard::{self, Piece, Shard};
 use super::{Sharing, FIGURE_LOADS_N};
-use crate::friction::{SlipLaw, Weakening};
+use crate::friction::{FrictionLaw, SlipLaw, Weakening};
 use crate::quantity::{show, PRESSURE};
 use crate::topography::Topography;
+
+/// A study ready to run: every topography built, every law resolved.
+pub struct Study {
+    /// Names the study in errors (its file, or "default study").
+    pub(super) origin: String,
+    /// The study as run.
+    pub(super) config: StudyConfig,
+    pub(super) topographies: Vec<(String, Topography)>,
+    /// (topography index, coarsening, the topography resampled) for the resolution figure.
+    pub(super) coarse: Vec<(usize, usize, Topography)>,
+    pub(super) laws: Vec<FrictionLaw>,
+    /// Each law's slip weakening under elastic sharing ([`super::config::ModelSpec::weakening`]).
+    pub(super) weakenings: Vec<Weakening>,
+    /// The hold time [s] of each law, where known.
+    pub(super) hold_times: Vec<Option<f64>>,
+    /// Loads [N], ascending.
+    pub(super) loads: Vec<f64>,
+    /// Wait for work another process holds, instead of refusing it.
+    pub(super) wait: bool,
+    /// Solve only this shard's share, and write no table or figures.
+    pub(super) shard: Option<Shard>,
+    /// Loads that press a read topography's window unusually hard ([`Study::warnings`]).
+    pub(super) warnings: Vec<String>,
+}
 
 /// One row of each solve: its sharing, the index of its law, and its slip-weakening distance
 /// d_c [m] (0: the instant drop; none: the law's measured curve).

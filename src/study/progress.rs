@@ -1,12 +1,12 @@
 //! What a run reports as it goes: the [`Progress`] events its callback receives, what its
 //! workers count ([`Tally`]), and the error of a run the callback stopped.
 //!
-//! It names the study's other rooms only for its links; it must not import `plot`, `report`,
-//! `cli` or `python`.
+//! Of the runner's rooms it imports the [plan](super::plan) only; it must not import `plot`,
+//! `report`, `cli` or `python`.
 
 use std::sync::atomic::AtomicUsize;
 
-use super::run::Study;
+use super::plan::Study;
 use crate::error::Error;
 use crate::friction::SlideStage;
 

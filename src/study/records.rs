@@ -15,7 +15,7 @@ use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
 use super::config::StudyConfig;
-use super::run::Study;
+use super::plan::Study;
 use super::shard::Piece;
 use super::{ResolutionRow, Row, Sharing, SolveFacts, COARSENING};
 use crate::error::{Error, Result};

@@ -54,17 +54,18 @@
 //!
 //! Every file is written atomically. The library prints nothing: progress goes to a callback.
 //!
-//! The runner is in rooms: this file tells the story ([`Study::prepare`], [`Study::run`]);
-//! [`plan`](super::plan) says what a study computes, [`schedule`](super::schedule) spreads its
-//! solves and onsets over the threads, [`records`](super::records) keeps them on disk and
-//! resumes from them, [`progress`](super::progress) reports. None of them imports `plot`,
-//! `report`, `cli` or `python`: the figures and the report are drawn by the layer above.
+//! The runner is in rooms, each importing only those before it: `plan.rs` holds the prepared
+//! [`Study`] and what it computes, `progress.rs` the reports, `records.rs` what a run keeps in
+//! DIR and resumes from, `schedule.rs` the solves and onsets over the threads; this file tells
+//! the story ([`Study::prepare`], [`Study::run`]) and imports them all. None of them imports
+//! `plot`, `report`, `cli` or `python`: the figures and the report are drawn by the layer above.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
+pub use super::plan::Study;
 pub use super::progress::Progress;
 use super::progress::Tally;
 use super::records::{onset_name, record_name, Claim, RESULTS_LOCK, SOLVES};
@@ -73,7 +74,7 @@ use super::shard::{Piece, Shard};
 use super::{FigureKind, MapSnapshot, Records, Row, Sharing, COARSENING};
 use crate::contact::{self, Proceed};
 use crate::error::{Error, Result};
-use crate::friction::{FrictionLaw, Weakening};
+use crate::friction::FrictionLaw;
 use crate::limits::Limits;
 use crate::output::{self, Access, Lock};
 use crate::plausible::{self, Spelling};
@@ -81,30 +82,6 @@ use crate::topography::io::{self, ReadOptions};
 use crate::topography::prepare::compound_with;
 use crate::topography::resample::resample;
 use crate::topography::Topography;
-
-/// A study ready to run: every topography built, every law resolved.
-pub struct Study {
-    /// Names the study in errors (its file, or "default study").
-    pub(super) origin: String,
-    /// The study as run.
-    pub(super) config: StudyConfig,
-    pub(super) topographies: Vec<(String, Topography)>,
-    /// (topography index, coarsening, the topography resampled) for the resolution figure.
-    pub(super) coarse: Vec<(usize, usize, Topography)>,
-    pub(super) laws: Vec<FrictionLaw>,
-    /// Each law's slip weakening under elastic sharing ([`super::config::ModelSpec::weakening`]).
-    pub(super) weakenings: Vec<Weakening>,
-    /// The hold time [s] of each law, where known.
-    pub(super) hold_times: Vec<Option<f64>>,
-    /// Loads [N], ascending.
-    pub(super) loads: Vec<f64>,
-    /// Wait for work another process holds, instead of refusing it.
-    pub(super) wait: bool,
-    /// Solve only this shard's share, and write no table or figures.
-    pub(super) shard: Option<Shard>,
-    /// Loads that press a read topography's window unusually hard ([`Study::warnings`]).
-    pub(super) warnings: Vec<String>,
-}
 
 /// What a run did.
 #[derive(Debug)]

@@ -16,12 +16,12 @@ use std::sync::{Arc, Mutex};
 
 use ndarray::Array2;
 
+use super::plan::Study;
 use super::progress::{Progress, Tally};
 use super::records::{
     normal_name, onset_name, plastic_dir, read_map, read_normal, read_onset, record_name, remove_if_present, warm_name,
     NormalRecord, SolveRecord,
 };
-use super::run::Study;
 use super::{MapSnapshot, Row, Sharing, SolveFacts, FIGURE_LOADS_N, NEAR_DECADES};
 use crate::contact::{
     self, ContactSolver, Convergence, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
