@@ -1,7 +1,9 @@
 //! `[contact]`: the normal contact solver — boundary, convergence, grid, elastic or plastic
 //! solves, device — with its defaults and checks.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use serde::de::{self, Deserializer};
 use serde::{Deserialize, Serialize};
@@ -18,14 +20,14 @@ use crate::error::Error;
 pub struct ContactSpec {
     /// `"periodic"` (the window repeats, as the paper's computation; the default) or `"free"`
     /// (an isolated window on an infinite half-space).
-    #[serde(with = "boundary", default = "defaults::boundary")]
+    #[serde(with = "boundary", default = "default_boundary")]
     pub boundary: Boundary,
     /// Relative residual at which a normal solve has converged (default 1e-8; see
     /// [`crate::contact`]'s solver).
-    #[serde(default = "defaults::tolerance")]
+    #[serde(default = "default_tolerance")]
     pub tolerance: f64,
     /// Iterations after which a solve that has not converged is an error (default 20 000).
-    #[serde(default = "defaults::max_iterations")]
+    #[serde(default = "default_max_iterations")]
     pub max_iterations: usize,
     /// Solve every topography on this grid (nx, ny) over the same physical window.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -37,6 +39,20 @@ pub struct ContactSpec {
     /// Where the normal solves run: "cpu" or "gpu" (a build with the `gpu` feature).
     #[serde(default, skip_serializing_if = "is_cpu")]
     pub device: Device,
+}
+
+// Keys a file leaves out take the default study's: called only for a key left out, so the
+// default study itself, which gives every one, never recurses into them.
+fn default_boundary() -> Boundary {
+    defaults::section::<ContactSpec>("contact").boundary
+}
+
+fn default_tolerance() -> f64 {
+    defaults::section::<ContactSpec>("contact").tolerance
+}
+
+fn default_max_iterations() -> usize {
+    defaults::section::<ContactSpec>("contact").max_iterations
 }
 
 fn is_cpu(device: &Device) -> bool {

@@ -1,7 +1,9 @@
 //! `[[law]]`: the local (element-scale) friction laws — a pair of coefficients, a preset, a
 //! measured curve, or an aging law over hold times — their names and checks.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use std::path::PathBuf;
 

@@ -1,10 +1,11 @@
 //! `[limits]`: how large the study's inputs and grids may be.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use serde::{Deserialize, Serialize};
 
-use super::defaults;
 use super::places::{key, reason_of, Checked};
 use crate::limits::{Limits, DEFAULT_MAX_POINTS};
 
@@ -13,8 +14,12 @@ use crate::limits::{Limits, DEFAULT_MAX_POINTS};
 #[serde(deny_unknown_fields)]
 pub struct LimitsSpec {
     /// The largest grid read from a file, generated, resampled or solved \[points].
-    #[serde(default = "defaults::max_points")]
+    #[serde(default = "default_max_points")]
     pub max_points: usize,
+}
+
+fn default_max_points() -> usize {
+    DEFAULT_MAX_POINTS
 }
 
 impl Default for LimitsSpec {

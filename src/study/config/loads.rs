@@ -1,12 +1,13 @@
 //! `[loads]`: the normal loads \[N], listed or log-spaced, and their checks.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use serde::{Deserialize, Serialize};
 
 use super::places::{at, key, Checked, Segment};
 use super::quantities::Force;
-use super::StudyConfig;
 
 /// The most loads a study takes: each is a contact solve of every topography.
 pub const MAX_LOADS: usize = 1000;
@@ -27,19 +28,6 @@ pub struct LoadsSpec {
     /// The number of loads of a log-spaced range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub count: Option<usize>,
-}
-
-impl StudyConfig {
-    /// The loads \[N], ascending.
-    pub fn load_values(&self) -> Vec<f64> {
-        let mut loads: Vec<f64> = match (&self.loads.values, self.loads.min, self.loads.max, self.loads.count) {
-            (Some(values), ..) => values.iter().map(|f| f.0).collect(),
-            (None, Some(min), Some(max), Some(count)) => log_spaced(min.0, max.0, count),
-            _ => unreachable!("checked by StudyConfig::check"),
-        };
-        loads.sort_by(f64::total_cmp);
-        loads
-    }
 }
 
 /// `count` loads from `min` to `max` \[N], evenly spaced in log scale, rounded to 12

@@ -1,7 +1,9 @@
 //! `[material]`: the elastic body (E, ν), what it presses on (`counterface`), its hardness
 //! and the uncertainty of E; the effective modulus E* the contact follows from them.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use std::fmt;
 
@@ -11,7 +13,6 @@ use serde::{Deserialize, Serialize};
 use super::defaults;
 use super::places::{at, key, reason_of, Checked};
 use super::quantities::Stress;
-use super::StudyConfig;
 use crate::contact::Material;
 use crate::plausible::{self, Spelling};
 use crate::quantity::{self, PRESSURE};
@@ -21,10 +22,10 @@ use crate::quantity::{self, PRESSURE};
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     /// Young's modulus E \[Pa].
-    #[serde(default = "defaults::youngs")]
+    #[serde(default = "default_youngs")]
     pub youngs: Stress,
     /// Poisson's ratio ν.
-    #[serde(default = "defaults::poisson")]
+    #[serde(default = "default_poisson")]
     pub poisson: f64,
     /// The counter-body: rigid (the paper's, by default), of the same material, or an elastic
     /// body of its own.
@@ -37,6 +38,16 @@ pub struct MaterialSpec {
     /// Uncertainty ΔE of `youngs` \[Pa]: the friction-drop figure's band also covers E ± ΔE.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub youngs_uncertainty: Option<Stress>,
+}
+
+// Keys a file leaves out take the default study's: called only for a key left out, so the
+// default study itself, which gives every one, never recurses into them.
+fn default_youngs() -> Stress {
+    defaults::section::<MaterialSpec>("material").youngs
+}
+
+fn default_poisson() -> f64 {
+    defaults::section::<MaterialSpec>("material").poisson
 }
 
 /// `counterface = "rigid" | "same" | { youngs, poisson }`: what the elastic body presses on.
@@ -102,33 +113,6 @@ impl<'de> Deserialize<'de> for Counterface {
             }
         }
         d.deserialize_any(CounterfaceVisitor)
-    }
-}
-
-impl StudyConfig {
-    /// The material's hardness \[Pa], if given.
-    pub fn hardness(&self) -> Option<f64> {
-        self.material.hardness.map(|h| h.0)
-    }
-
-    /// The elastic bodies: the body, and the counter-body when it is elastic.
-    pub fn bodies(&self) -> Vec<Material> {
-        let m = &self.material;
-        let body = Material { youngs: m.youngs.0, poisson: m.poisson };
-        match m.counterface {
-            Counterface::Rigid => vec![body],
-            Counterface::Same => vec![body, body],
-            Counterface::Body { youngs, poisson } => vec![body, Material { youngs: youngs.0, poisson }],
-        }
-    }
-
-    /// The effective modulus E* \[Pa].
-    pub fn effective_modulus(&self) -> f64 {
-        match self.bodies()[..] {
-            [body, counter] => crate::contact::combined_modulus(&body, &counter),
-            [body] => body.plane_strain_modulus(),
-            _ => unreachable!("one or two bodies"),
-        }
     }
 }
 

@@ -48,13 +48,15 @@
 //! says (checked here, before anything is read or solved), `study.toml: topography "ball-1":
 //! …` for what building the study finds (files, see [`super::run`]).
 //!
-//! One file per section holds its keys, their defaults, units and checks: [`surfaces`]
-//! (`[[topography]]`), [`material`], [`contact`], [`loads`], [`laws`] (`[[law]]`), [`model`],
-//! [`output`], [`limits`]; the quantities with units in [`quantities`], the places of errors
-//! in [`places`]. This file ties them: [`StudyConfig`], the default study, and the parse.
-//! Nothing here imports the study's runner, nor `plot`, `report`, `cli` or `python`.
+//! One file per section holds its keys, their defaults, units and checks: `surfaces.rs`
+//! (`[[topography]]`), `material.rs`, `contact.rs`, `loads.rs`, `laws.rs` (`[[law]]`),
+//! `model.rs`, `output.rs`, `limits.rs`. They build on `defaults.rs` (the default study),
+//! `quantities.rs` (numbers with units) and `places.rs` (where in the file an error is), and
+//! never on this file, which ties them: [`StudyConfig`] and the parse. Nothing here imports the
+//! study's runner, nor `plot`, `report`, `cli` or `python`.
 
 mod contact;
+mod defaults;
 mod laws;
 mod limits;
 mod loads;
@@ -72,6 +74,7 @@ use serde::{Deserialize, Serialize};
 use toml::de::DeTable;
 
 pub use self::contact::{ContactSpec, Plastic};
+pub use self::defaults::DEFAULT_STUDY;
 use self::laws::check_laws;
 pub use self::laws::LawSpec;
 pub use self::limits::LimitsSpec;
@@ -84,15 +87,10 @@ pub use self::quantities::{Force, Length, Size, Stress, Time};
 use self::surfaces::check_topographies;
 pub use self::surfaces::{CropSpec, SurfaceSpec};
 use super::{FigureKind, Sharing};
-use crate::contact::Boundary;
+use crate::contact::{Boundary, Material};
 use crate::error::{Error, Result};
-use crate::limits::DEFAULT_MAX_POINTS;
 use crate::plausible::{self, Spelling};
 use crate::topography::detrend::Detrend;
-
-/// The default study, as `asperity run --print-default` prints it: three synthetic silicon
-/// balls against synthetic wafers, silicon, 13 loads from 0.1 to 100 mN, two placeholder laws.
-pub const DEFAULT_STUDY: &str = include_str!("../default.toml");
 
 /// The grid of `asperity run --quick` \[points].
 pub const QUICK_GRID: (usize, usize) = (256, 256);
@@ -108,80 +106,55 @@ pub use crate::friction::DEFAULT_SLIP_DISTANCE_M;
 #[serde(deny_unknown_fields)]
 pub struct StudyConfig {
     /// The `[[topography]]` tables: each surface is solved at every load with every law.
-    #[serde(rename = "topography", default = "defaults::topographies")]
+    #[serde(rename = "topography", default = "default_topographies")]
     pub topographies: Vec<SurfaceSpec>,
     /// `[material]`: the elastic body and counter-body.
-    #[serde(default = "defaults::material")]
+    #[serde(default = "default_material")]
     pub material: MaterialSpec,
     /// `[contact]`: the normal contact solver.
-    #[serde(default = "defaults::contact")]
+    #[serde(default = "default_contact")]
     pub contact: ContactSpec,
     /// `[loads]`: the normal loads \[N].
-    #[serde(default = "defaults::loads")]
+    #[serde(default = "default_loads")]
     pub loads: LoadsSpec,
     /// The `[[law]]` tables: the local (element-scale) friction laws.
-    #[serde(rename = "law", default = "defaults::laws")]
+    #[serde(rename = "law", default = "default_laws")]
     pub laws: Vec<LawSpec>,
     /// `[model]`: how the tangential force is shared among the contact elements.
     #[serde(default, skip_serializing_if = "ModelSpec::is_default")]
     pub model: ModelSpec,
     /// `[output]`: what is written besides the results table.
-    #[serde(default = "defaults::output")]
+    #[serde(default = "default_output")]
     pub output: OutputSpec,
     /// `[limits]`: how large inputs and grids may be.
     #[serde(default, skip_serializing_if = "LimitsSpec::is_default")]
     pub limits: LimitsSpec,
 }
 
-/// The sections of the default study, and the keys of its sections, for a study file that
-/// leaves some out: a key left out of a section takes the default study's value (keys the
-/// default study leaves unset stay unset).
-mod defaults {
-    use super::*;
+/// The sections of the default study, for a study file that leaves some out (keys the default
+/// study leaves unset stay unset).
+fn default_topographies() -> Vec<SurfaceSpec> {
+    defaults::section("topography")
+}
 
-    // Keys: called only for a key a file leaves out, so the default study itself, which gives
-    // every one, never recurses into them.
-    pub fn youngs() -> Stress {
-        material().youngs
-    }
-    pub fn poisson() -> f64 {
-        material().poisson
-    }
-    pub fn boundary() -> Boundary {
-        contact().boundary
-    }
-    pub fn tolerance() -> f64 {
-        contact().tolerance
-    }
-    pub fn max_iterations() -> usize {
-        contact().max_iterations
-    }
-    pub fn max_points() -> usize {
-        DEFAULT_MAX_POINTS
-    }
+fn default_material() -> MaterialSpec {
+    defaults::section("material")
+}
 
-    fn default_study() -> StudyConfig {
-        toml::from_str(DEFAULT_STUDY).expect("the default study parses")
-    }
+fn default_contact() -> ContactSpec {
+    defaults::section("contact")
+}
 
-    pub fn topographies() -> Vec<SurfaceSpec> {
-        default_study().topographies
-    }
-    pub fn material() -> MaterialSpec {
-        default_study().material
-    }
-    pub fn contact() -> ContactSpec {
-        default_study().contact
-    }
-    pub fn loads() -> LoadsSpec {
-        default_study().loads
-    }
-    pub fn laws() -> Vec<LawSpec> {
-        default_study().laws
-    }
-    pub fn output() -> OutputSpec {
-        default_study().output
-    }
+fn default_loads() -> LoadsSpec {
+    defaults::section("loads")
+}
+
+fn default_laws() -> Vec<LawSpec> {
+    defaults::section("law")
+}
+
+fn default_output() -> OutputSpec {
+    defaults::section("output")
 }
 
 impl StudyConfig {
@@ -211,7 +184,7 @@ impl StudyConfig {
         // A sweep keeps the default's bounds and count for those it leaves out; a list of
         // `values` replaces the sweep.
         if config.loads.values.is_none() {
-            let default = defaults::loads();
+            let default = default_loads();
             let l = &mut config.loads;
             l.min = l.min.or(default.min);
             l.max = l.max.or(default.max);
@@ -267,6 +240,17 @@ impl StudyConfig {
         self
     }
 
+    /// The loads \[N], ascending.
+    pub fn load_values(&self) -> Vec<f64> {
+        let mut loads: Vec<f64> = match (&self.loads.values, self.loads.min, self.loads.max, self.loads.count) {
+            (Some(values), ..) => values.iter().map(|f| f.0).collect(),
+            (None, Some(min), Some(max), Some(count)) => log_spaced(min.0, max.0, count),
+            _ => unreachable!("checked by StudyConfig::check"),
+        };
+        loads.sort_by(f64::total_cmp);
+        loads
+    }
+
     /// Relative paths made relative to `base` (the study file's folder).
     pub fn with_paths_from(mut self, base: &Path) -> StudyConfig {
         fn surface(s: &mut SurfaceSpec, base: &Path) {
@@ -305,6 +289,31 @@ impl StudyConfig {
         found.extend(self.laws.iter().filter_map(|l| l.curve.as_deref()));
         found.extend(self.output.experiments.as_deref());
         found
+    }
+
+    /// The material's hardness \[Pa], if given.
+    pub fn hardness(&self) -> Option<f64> {
+        self.material.hardness.map(|h| h.0)
+    }
+
+    /// The elastic bodies: the body, and the counter-body when it is elastic.
+    pub fn bodies(&self) -> Vec<Material> {
+        let m = &self.material;
+        let body = Material { youngs: m.youngs.0, poisson: m.poisson };
+        match m.counterface {
+            Counterface::Rigid => vec![body],
+            Counterface::Same => vec![body, body],
+            Counterface::Body { youngs, poisson } => vec![body, Material { youngs: youngs.0, poisson }],
+        }
+    }
+
+    /// The effective modulus E* \[Pa].
+    pub fn effective_modulus(&self) -> f64 {
+        match self.bodies()[..] {
+            [body, counter] => crate::contact::combined_modulus(&body, &counter),
+            [body] => body.plane_strain_modulus(),
+            _ => unreachable!("one or two bodies"),
+        }
     }
 
     /// The values the file gives that are possible but unusual (a 5 MPa modulus, a friction

@@ -1,13 +1,15 @@
 //! `[model]`: how the tangential force is shared among the contact elements, and elastic
 //! sharing's slip weakening.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities`, `places` and `laws`; it must
+//! not import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`,
+//! `report`, `cli` or `python`.
 
 use serde::{Deserialize, Serialize};
 
+use super::laws::LawSpec;
 use super::places::{at, key, Checked, Segment};
 use super::quantities::Length;
-use super::LawSpec;
 use crate::error::Result;
 use crate::friction::{slip_curve_file, Weakening, DEFAULT_SLIP_DISTANCE_M};
 use crate::plausible::{self, Spelling};

@@ -2,7 +2,8 @@
 //! (`"0.1 mN"`, `"31.13 µm"`); a unit of the wrong kind for its key is refused. Lengths,
 //! forces, stresses, times, and a window's size.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! It must not import the study file's sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use std::fmt;
 

@@ -2,7 +2,9 @@
 //! `file` and prepared (crop, filling, levelling, resampling, a cap), with an optional
 //! `wafer` as counter-surface; their keys, how they are read, and their checks.
 //!
-//! It must not import the study's runner (`run` and its rooms), nor `plot`, `report`, `cli` or `python`.
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
 
 use std::fmt;
 use std::path::PathBuf;
