@@ -1,5 +1,5 @@
-//! `[model]`: how the tangential force is shared among the contact elements, and elastic
-//! sharing's slip weakening.
+//! `[model]`: how the tangential force is shared among the contact elements ([`Sharing`]), and
+//! elastic sharing's slip weakening.
 //!
 //! Of the study file it may import only `defaults`, `quantities`, `places` and `laws`; it must
 //! not import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`,
@@ -13,7 +13,28 @@ use super::quantities::Length;
 use crate::error::Result;
 use crate::friction::{slip_curve_file, Weakening, DEFAULT_SLIP_DISTANCE_M};
 use crate::plausible::{self, Spelling};
-use crate::study::Sharing;
+
+/// How the tangential force is shared among the contact elements at the onset of sliding.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sharing {
+    /// Equally among the stuck elements: the paper's model ([`Onset`](crate::friction::Onset)).
+    #[default]
+    Equal,
+    /// Through the elastic half-space, each element's shear following from the constrained
+    /// tangential solve ([`crate::friction::elastic_onset`]).
+    Elastic,
+}
+
+impl Sharing {
+    /// The name of the sharing in the study file and the results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sharing::Equal => "equal",
+            Sharing::Elastic => "elastic",
+        }
+    }
+}
 
 /// The friction model's settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

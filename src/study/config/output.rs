@@ -1,5 +1,5 @@
 //! `[output]`: what a run writes besides the results table — pressure maps, measured points,
-//! the figures and their settings.
+//! the figures ([`FigureKind`]) and their settings.
 //!
 //! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
 //! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
@@ -11,11 +11,64 @@ use serde::{Deserialize, Serialize};
 
 use super::places::{at, key, Checked, Segment};
 use super::quantities::Force;
-use crate::study::FigureKind;
 
 /// The most `[output] snapshot_fractions`: each is a row of 400 pixels in the stress-ratio
 /// snapshot figure.
 pub const MAX_SNAPSHOT_FRACTIONS: usize = 12;
+
+/// The figures a study can draw, as the config file and the report name them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FigureKind {
+    /// Friction drop vs load, a band over the topographies (and E ± ΔE) per law, measured
+    /// points (Fig. 2).
+    FrictionDrop,
+    /// Friction drop vs load under equal and elastic sharing, per law, a band over the
+    /// topographies each (the limit the paper names).
+    FrictionDropSharing,
+    /// Static and dynamic friction coefficients vs load, measured points (Fig. S1).
+    StaticDynamicCoefficients,
+    /// Friction drop vs load at the study's pixel size and 2× and 4× coarser.
+    Resolution,
+    /// Friction drop vs hold time at chosen loads, for the laws with a hold time.
+    HoldTime,
+    /// p(σ) of the local normal stress at 0.1, 1 and 10 mN (Fig. 3).
+    PressureDistribution,
+    /// Contact maps at 0.1, 1, 10 and 100 mN (Fig. S4).
+    ContactMaps,
+    /// Element classes at the critical state at 10 mN (Fig. 4f).
+    ClassMap,
+    /// Fractions of N and of F_S carried by each class vs load (Fig. 4g).
+    ClassFractions,
+    /// Friction coefficient vs imposed displacement at 0.1 mN (Fig. 4a).
+    FrictionCurve,
+    /// Histograms of the local stress ratio at the critical state: one element, the two
+    /// two-element scenarios, the interface at 10 mN (Fig. 4b–e).
+    StressRatioHistograms,
+    /// Stress-ratio maps at δ/δ_peak = 0.25 … 1 for 0.1, 1 and 10 mN (Fig. S6).
+    StressRatioSnapshots,
+    /// Animated GIFs of the stress-ratio map as δ grows, at 0.1, 1 and 10 mN (the movies).
+    Movies,
+}
+
+impl FigureKind {
+    /// Every figure, in the report's order.
+    pub const ALL: [FigureKind; 13] = [
+        FigureKind::FrictionDrop,
+        FigureKind::FrictionDropSharing,
+        FigureKind::StaticDynamicCoefficients,
+        FigureKind::Resolution,
+        FigureKind::HoldTime,
+        FigureKind::PressureDistribution,
+        FigureKind::ContactMaps,
+        FigureKind::ClassMap,
+        FigureKind::ClassFractions,
+        FigureKind::FrictionCurve,
+        FigureKind::StressRatioHistograms,
+        FigureKind::StressRatioSnapshots,
+        FigureKind::Movies,
+    ];
+}
 
 /// What to write besides the results table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
