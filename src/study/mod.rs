@@ -4,10 +4,15 @@
 //!
 //! This file holds the data that the study's runner produces and its figures consume:
 //! [`Row`] (one line of `results.csv`) and [`MapSnapshot`] (the contact region of one solve,
-//! kept for the maps, distributions, curves and movies).
+//! kept for the maps, distributions, curves and movies). It imports, of the study, the study
+//! file (`config`) only, never the runner's rooms, nor `plot`, `report`, `cli` or `python`.
 
 pub mod config;
+mod plan;
+mod progress;
+mod records;
 pub mod run;
+mod schedule;
 pub mod shard;
 pub mod slurm;
 
@@ -20,27 +25,7 @@ use crate::contact::{ContactSummary, SolveReport};
 use crate::error::{Error, Result};
 use crate::friction::{ClassShare, ElasticOnset, FrictionLaw, Onset, SlipLaw, WeakeningOnset};
 
-/// How the tangential force is shared among the contact elements at the onset of sliding.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Sharing {
-    /// Equally among the stuck elements: the paper's model ([`Onset`]).
-    #[default]
-    Equal,
-    /// Through the elastic half-space, each element's shear following from the constrained
-    /// tangential solve ([`crate::friction::elastic_onset`]).
-    Elastic,
-}
-
-impl Sharing {
-    /// The name of the sharing in the study file and the results.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sharing::Equal => "equal",
-            Sharing::Elastic => "elastic",
-        }
-    }
-}
+pub use config::{FigureKind, Sharing};
 
 /// What `results.json` holds: the rows, and which asperity computed them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -474,60 +459,6 @@ impl MapSnapshot {
             stuck_stiffness: meta.stuck_stiffness_n_per_m,
         })
     }
-}
-
-/// The figures a study can draw, as the config file and the report name them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FigureKind {
-    /// Friction drop vs load, a band over the topographies (and E ± ΔE) per law, measured
-    /// points (Fig. 2).
-    FrictionDrop,
-    /// Friction drop vs load under equal and elastic sharing, per law, a band over the
-    /// topographies each (the limit the paper names).
-    FrictionDropSharing,
-    /// Static and dynamic friction coefficients vs load, measured points (Fig. S1).
-    StaticDynamicCoefficients,
-    /// Friction drop vs load at the study's pixel size and 2× and 4× coarser.
-    Resolution,
-    /// Friction drop vs hold time at chosen loads, for the laws with a hold time.
-    HoldTime,
-    /// p(σ) of the local normal stress at 0.1, 1 and 10 mN (Fig. 3).
-    PressureDistribution,
-    /// Contact maps at 0.1, 1, 10 and 100 mN (Fig. S4).
-    ContactMaps,
-    /// Element classes at the critical state at 10 mN (Fig. 4f).
-    ClassMap,
-    /// Fractions of N and of F_S carried by each class vs load (Fig. 4g).
-    ClassFractions,
-    /// Friction coefficient vs imposed displacement at 0.1 mN (Fig. 4a).
-    FrictionCurve,
-    /// Histograms of the local stress ratio at the critical state: one element, the two
-    /// two-element scenarios, the interface at 10 mN (Fig. 4b–e).
-    StressRatioHistograms,
-    /// Stress-ratio maps at δ/δ_peak = 0.25 … 1 for 0.1, 1 and 10 mN (Fig. S6).
-    StressRatioSnapshots,
-    /// Animated GIFs of the stress-ratio map as δ grows, at 0.1, 1 and 10 mN (the movies).
-    Movies,
-}
-
-impl FigureKind {
-    /// Every figure, in the report's order.
-    pub const ALL: [FigureKind; 13] = [
-        FigureKind::FrictionDrop,
-        FigureKind::FrictionDropSharing,
-        FigureKind::StaticDynamicCoefficients,
-        FigureKind::Resolution,
-        FigureKind::HoldTime,
-        FigureKind::PressureDistribution,
-        FigureKind::ContactMaps,
-        FigureKind::ClassMap,
-        FigureKind::ClassFractions,
-        FigureKind::FrictionCurve,
-        FigureKind::StressRatioHistograms,
-        FigureKind::StressRatioSnapshots,
-        FigureKind::Movies,
-    ];
 }
 
 /// The pixel sizes of the resolution figure, as multiples of the study's.

@@ -8,6 +8,9 @@
 //! and the assignment depends on nothing but the study and N. A shard's stretch is one or more
 //! [`Piece`]s: contiguous parts of load chains, each started cold (no warm start from a load
 //! another shard solves).
+//!
+//! It depends on nothing of the study but grid sizes and load counts: it must not import the
+//! study file, the runner's rooms, `plot`, `report`, `cli` or `python`.
 
 use std::fmt;
 use std::ops::Range;

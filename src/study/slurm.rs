@@ -2,6 +2,9 @@
 //! whose task I runs `asperity run … --shard I/N`, and a job that assembles the results once
 //! they are all done (`asperity run …` without a shard, which solves nothing twice). Only the
 //! scripts' text and their writing are here; submitting them is the command line's.
+//!
+//! It must not import the study file or the runner (the scripts only name the command), nor
+//! `plot`, `report`, `cli` or `python`.
 
 use std::path::{Path, PathBuf};
 

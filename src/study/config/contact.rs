@@ -1,0 +1,145 @@
+//! `[contact]`: the normal contact solver — boundary, convergence, grid, elastic or plastic
+//! solves, device — with its defaults and checks.
+//!
+//! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
+//! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
+//! `cli` or `python`.
+
+use serde::de::{self, Deserializer};
+use serde::{Deserialize, Serialize};
+
+use super::defaults;
+use super::places::{at, key, reason_of, Checked};
+use super::quantities::Stress;
+use crate::contact::{Boundary, Convergence, Device};
+use crate::error::Error;
+
+/// Contact solver settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// `"periodic"` (the window repeats, as the paper's computation; the default) or `"free"`
+    /// (an isolated window on an infinite half-space).
+    #[serde(with = "boundary", default = "default_boundary")]
+    pub boundary: Boundary,
+    /// Relative residual at which a normal solve has converged (default 1e-8; see
+    /// [`crate::contact`]'s solver).
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// Iterations after which a solve that has not converged is an error (default 20 000).
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: usize,
+    /// Solve every topography on this grid (nx, ny) over the same physical window.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<(usize, usize)>,
+    /// Elastic (false), elastic–perfectly-plastic with p ≤ `material.hardness` (true), or a
+    /// list of both: each its own load sweep, told apart by the results' `plastic` column.
+    #[serde(default, skip_serializing_if = "Plastic::is_elastic")]
+    pub plastic: Plastic,
+    /// Where the normal solves run: "cpu" or "gpu" (a build with the `gpu` feature).
+    #[serde(default, skip_serializing_if = "is_cpu")]
+    pub device: Device,
+}
+
+// Keys a file leaves out take the default study's: called only for a key left out, so the
+// default study itself, which gives every one, never recurses into them.
+fn default_boundary() -> Boundary {
+    defaults::section::<ContactSpec>("contact").boundary
+}
+
+fn default_tolerance() -> f64 {
+    defaults::section::<ContactSpec>("contact").tolerance
+}
+
+fn default_max_iterations() -> usize {
+    defaults::section::<ContactSpec>("contact").max_iterations
+}
+
+fn is_cpu(device: &Device) -> bool {
+    *device == Device::Cpu
+}
+
+/// `plastic = false | true | [false, true]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Plastic {
+    /// One sweep: elastic (`false`) or elastic–perfectly-plastic (`true`).
+    One(bool),
+    /// One sweep per entry, in this order.
+    Each(Vec<bool>),
+}
+
+impl Default for Plastic {
+    fn default() -> Self {
+        Plastic::One(false)
+    }
+}
+
+impl Plastic {
+    fn is_elastic(&self) -> bool {
+        *self == Plastic::One(false)
+    }
+
+    /// The solves to run, in the order given: plastic or not.
+    pub fn modes(&self) -> Vec<bool> {
+        match self {
+            Plastic::One(p) => vec![*p],
+            Plastic::Each(list) => list.clone(),
+        }
+    }
+}
+
+/// `boundary = "periodic" | "free"`.
+mod boundary {
+    use super::*;
+
+    pub fn serialize<S: serde::Serializer>(b: &Boundary, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(b.name())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Boundary, D::Error> {
+        match String::deserialize(d)?.as_str() {
+            "periodic" => Ok(Boundary::Periodic),
+            "free" => Ok(Boundary::Free),
+            other => Err(de::Error::custom(format!("'{other}' is not \"periodic\" or \"free\""))),
+        }
+    }
+}
+
+impl ContactSpec {
+    /// The solver's convergence, device and grid, and the kinds of solve (a plastic one needs
+    /// the material's `hardness`).
+    pub(super) fn check(&self, hardness: Option<Stress>) -> Checked {
+        if let Err(e) = (Convergence { tolerance: self.tolerance, max_iterations: self.max_iterations }).check() {
+            let field = if matches!(&e, Error::Invalid { option, .. } if option == "--max-iter") {
+                "max_iterations"
+            } else {
+                "tolerance"
+            };
+            return at(&[key("contact"), key(field)], reason_of(e));
+        }
+        if self.device == Device::Gpu && !Device::GPU_BUILT {
+            return at(&[key("contact"), key("device")], Device::UNAVAILABLE.into());
+        }
+        if let Some((nx, ny)) = self.grid {
+            if nx < 2 || ny < 2 {
+                return at(&[key("contact"), key("grid")], format!("{nx}×{ny} is too small: at least 2×2 points"));
+            }
+        }
+        let modes = self.plastic.modes();
+        let plastic = [key("contact"), key("plastic")];
+        if modes.is_empty() || (1..modes.len()).any(|i| modes[..i].contains(&modes[i])) {
+            return at(&plastic, "give true, false, or a list of both, each once".into());
+        }
+        match hardness {
+            Some(h) if !(h.0 > 0.0 && h.0.is_finite()) => {
+                return at(&[key("material"), key("hardness")], format!("must be positive, got {} Pa", h.0));
+            }
+            None if modes.contains(&true) => {
+                return at(&plastic, "a plastic solve needs `hardness` in [material]".into());
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,205 @@
+//! The prepared study, [`Study`] (every topography built, every law resolved), and what it
+//! computes from its config alone: its sweeps (a topography or a coarser copy, elastic or
+//! plastic) and the pieces of their load chains a run takes, the rows of each solve
+//! (sharings × laws, [`Slot`]), the elastic onsets each solve runs, the estimated work of a
+//! solve, the loads whose maps the figures keep, and the figures' other counterface.
+//!
+//! Nothing here touches the disk. The runner's other rooms build on it; it must import none of
+//! them, nor `plot`, `report`, `cli` or `python`.
+
+use super::config::{Counterface, StudyConfig};
+use super::shard::{self, Piece, Shard};
+use super::{Sharing, FIGURE_LOADS_N};
+use crate::friction::{FrictionLaw, SlipLaw, Weakening};
+use crate::quantity::{show, PRESSURE};
+use crate::topography::Topography;
+
+/// A study ready to run: every topography built, every law resolved.
+pub struct Study {
+    /// Names the study in errors (its file, or "default study").
+    pub(super) origin: String,
+    /// The study as run.
+    pub(super) config: StudyConfig,
+    pub(super) topographies: Vec<(String, Topography)>,
+    /// (topography index, coarsening, the topography resampled) for the resolution figure.
+    pub(super) coarse: Vec<(usize, usize, Topography)>,
+    pub(super) laws: Vec<FrictionLaw>,
+    /// Each law's slip weakening under elastic sharing ([`super::config::ModelSpec::weakening`]).
+    pub(super) weakenings: Vec<Weakening>,
+    /// The hold time [s] of each law, where known.
+    pub(super) hold_times: Vec<Option<f64>>,
+    /// Loads [N], ascending.
+    pub(super) loads: Vec<f64>,
+    /// Wait for work another process holds, instead of refusing it.
+    pub(super) wait: bool,
+    /// Solve only this shard's share, and write no table or figures.
+    pub(super) shard: Option<Shard>,
+    /// Loads that press a read topography's window unusually hard ([`Study::warnings`]).
+    pub(super) warnings: Vec<String>,
+}
+
+/// One row of each solve: its sharing, the index of its law, and its slip-weakening distance
+/// d_c [m] (0: the instant drop; none: the law's measured curve).
+#[derive(Clone, Copy, PartialEq)]
+pub(super) struct Slot {
+    pub(super) sharing: Sharing,
+    pub(super) law: usize,
+    pub(super) slip_distance: Option<f64>,
+}
+
+impl Study {
+    /// How many sweeps the study runs: one per topography, and for the resolution figure one
+    /// per topography and coarsening.
+    fn units(&self) -> usize {
+        self.topographies.len() + self.coarse.len()
+    }
+
+    /// Sweep `u`'s name in progress reports, folder under `solves/`, topography, and the name
+    /// of its rows.
+    pub(super) fn unit(&self, u: usize) -> (String, String, &Topography, &str) {
+        match u.checked_sub(self.topographies.len()) {
+            None => {
+                let (name, topo) = &self.topographies[u];
+                (name.clone(), name.clone(), topo, name)
+            }
+            Some(c) => {
+                let (t, factor, topo) = &self.coarse[c];
+                let name = &self.topographies[*t].0;
+                (format!("{name} ({factor}× coarser)"), format!("{name}@{factor}x"), topo, name)
+            }
+        }
+    }
+
+    /// E*₀/E* for E − ΔE and E + ΔE of `material.youngs_uncertainty` (none without it).
+    pub(super) fn modulus_ratios(&self) -> Vec<f64> {
+        let Some(delta) = self.config.material.youngs_uncertainty else { return Vec::new() };
+        let e0 = self.config.effective_modulus();
+        [-1.0, 1.0]
+            .iter()
+            .filter_map(|sign| {
+                let mut config = self.config.clone();
+                config.material.youngs.0 += sign * delta.0;
+                (config.material.youngs.0 > 0.0).then(|| e0 / config.effective_modulus())
+            })
+            .collect()
+    }
+
+    /// The estimated work of sweep `u`'s solve at load `k`, for the time left: its grid points
+    /// times 1 + the decades its load lies above the study's lowest. A solve's time grows with
+    /// its grid, and its iterations with its load (on the default study, 20–40 from 1 to
+    /// 100 µN, 99 at 100 mN, warm-started).
+    pub(super) fn solve_work(&self, u: usize, k: usize) -> u64 {
+        let lowest = self.loads.iter().copied().fold(f64::INFINITY, f64::min);
+        let decades = (self.loads[k] / lowest).log10().max(0.0);
+        (self.unit(u).2.heights.len() as f64 * (1.0 + decades)).round() as u64
+    }
+
+    /// The other counterface of the friction-drop figure: the same material when the study's
+    /// is the paper's rigid flat, the rigid flat when it is the same material; its
+    /// description and E*₀/E*.
+    pub(super) fn other_counterface(&self) -> Option<(String, f64)> {
+        let mut other = self.config.clone();
+        let name = match self.config.material.counterface {
+            Counterface::Rigid => {
+                other.material.counterface = Counterface::Same;
+                "the same material"
+            }
+            Counterface::Same => {
+                other.material.counterface = Counterface::Rigid;
+                "a rigid flat"
+            }
+            Counterface::Body { .. } => return None,
+        };
+        let e = other.effective_modulus();
+        Some((format!("{name}, E* = {}", show(e, &PRESSURE)), self.config.effective_modulus() / e))
+    }
+
+    /// This run's pieces of work ([`shard::assign`]): every sweep's whole chain, or a shard's
+    /// share. Indices into [`Study::sweeps`].
+    pub(super) fn pieces(&self) -> Vec<Piece> {
+        let points: Vec<usize> = self.sweeps().iter().map(|&(u, _)| self.unit(u).2.heights.len()).collect();
+        let shard = self.shard.unwrap_or(Shard { index: 1, count: 1 });
+        shard::assign(&points, self.loads.len(), shard.count).swap_remove(shard.index - 1)
+    }
+
+    /// The sweeps of the run, (unit, plastic): every topography in each kind of solve listed,
+    /// the coarser copies of the resolution figure in the first kind only.
+    pub(super) fn sweeps(&self) -> Vec<(usize, bool)> {
+        let modes = self.config.contact.plastic.modes();
+        let main =
+            (0..self.topographies.len()).flat_map(|t| modes.clone().into_iter().map(move |plastic| (t, plastic)));
+        main.chain((self.topographies.len()..self.units()).map(|u| (u, modes[0]))).collect()
+    }
+
+    /// The sharings of sweep `u`'s rows: the study's, or for a coarser copy of the resolution
+    /// figure equal sharing only.
+    pub(super) fn sharings(&self, u: usize) -> &[Sharing] {
+        if u < self.topographies.len() {
+            &self.config.model.sharing
+        } else {
+            &[Sharing::Equal]
+        }
+    }
+
+    /// The elastic-sharing onsets of each solve of sweep `u`: one per law, or none.
+    pub(super) fn onsets_per_solve(&self, u: usize) -> usize {
+        if self.sharings(u).contains(&Sharing::Elastic) {
+            self.laws.len()
+        } else {
+            0
+        }
+    }
+
+    /// Rows of a solve of the study's own grid ([`Study::layout`]).
+    pub(super) fn rows_per_solve(&self) -> usize {
+        self.layout(0).len()
+    }
+
+    /// The rows of each solve of sweep `u`, in order: per sharing listed, one per law; before
+    /// the elastic ones, per law with a slip-weakening distance, equal sharing under the same
+    /// weakening, so that the interaction and the weakening show apart.
+    pub(super) fn layout(&self, u: usize) -> Vec<Slot> {
+        let laws = 0..self.laws.len();
+        let mut slots = Vec::new();
+        for &sharing in self.sharings(u) {
+            if sharing == Sharing::Elastic {
+                let weakening = laws.clone().filter_map(|l| match self.weakenings[l] {
+                    Weakening::Linear(dc) => Some(Slot { sharing: Sharing::Equal, law: l, slip_distance: Some(dc) }),
+                    _ => None,
+                });
+                slots.extend(weakening);
+            }
+            let slip_distance = |l: usize| match sharing {
+                Sharing::Equal => Some(0.0),
+                Sharing::Elastic => self.slip_law(l).slip_distance(),
+            };
+            slots.extend(laws.clone().map(|l| Slot { sharing, law: l, slip_distance: slip_distance(l) }));
+        }
+        slots
+    }
+
+    /// The local law of elastic sharing for law `l`: mu_s to mu_d over the model's
+    /// slip-weakening distance, or along the law's measured curve.
+    pub(super) fn slip_law(&self, l: usize) -> SlipLaw {
+        let law = &self.laws[l];
+        SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() }
+    }
+
+    /// Indices of the swept loads nearest (in log scale) to [`FIGURE_LOADS_N`], ascending.
+    pub(super) fn snapshot_indices(&self) -> Vec<usize> {
+        let mut indices: Vec<usize> = FIGURE_LOADS_N
+            .iter()
+            .map(|target| {
+                let distance = |l: f64| (l / target).ln().abs();
+                (0..self.loads.len()).min_by(|&a, &b| distance(self.loads[a]).total_cmp(&distance(self.loads[b])))
+            })
+            .map(|k| k.expect("at least one load"))
+            .collect();
+        indices.dedup();
+        indices
+    }
+
+    pub(super) fn snapshot_stem(&self, k: usize) -> String {
+        format!("{}-{k:02}", self.topographies[0].0)
+    }
+}
