@@ -54,6 +54,9 @@
 //!
 //! The parts: `operator` K on the contact points and its near inverse; `mprgp` the solve;
 //! `local` the solves near a few changed bounds; `disk` the bound at one point.
+//!
+//! Imports `influence` and `options` inside `contact`, never the normal solvers; must not import
+//! friction, study, report, plot, shs, cli.
 
 mod disk;
 mod local;
@@ -61,15 +64,12 @@ mod mprgp;
 mod operator;
 
 use super::influence::{Boundary, ShearCompliance};
-use super::solver::Convergence;
+use super::options::Convergence;
 use crate::error::{Error, Result};
 use crate::limits::{check_memory, grid_memory, TANGENTIAL_BYTES_PER_POINT};
 use disk::cut_onto_disks;
 pub(crate) use disk::magnitude;
 use operator::{dense_bytes_at_most, dense_is_cheaper, NearInverse, ShearOperator};
-
-/// Contact points per parallel task: below this, threads cost more than they save.
-const CHUNK: usize = 4096;
 
 /// Settings of the tangential solve: its convergence alone, the type the normal solve's
 /// [`SolverOptions`](super::SolverOptions) hold theirs in.

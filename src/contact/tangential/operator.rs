@@ -1,9 +1,12 @@
 //! K, the Cerruti operator on the contact points (through the transforms or as a dense
 //! matrix), and its near inverse, the solve's preconditioner.
+//!
+//! Imports `disk` and `influence` inside `contact`; must not import friction, study, report, plot,
+//! shs, cli.
 
 use rayon::prelude::*;
 
-use super::CHUNK;
+use super::disk::CHUNK;
 use crate::contact::influence::{Boundary, Offsets, ShearCompliance, TangentialInfluence};
 
 /// Changes at k points are added pair by pair ([`ShearOperator::add_changes`]) while k times
