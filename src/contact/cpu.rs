@@ -1,19 +1,4 @@
-//! Load-controlled normal contact: the constrained conjugate gradient of Polonsky & Keer
-//! (Wear 231, 1999, 206–219) with the imposed mean pressure p̄ = N / (Lx·Ly).
-//!
-//! Unknown: the pressure p ≥ 0 on the window's pixels with mean p̄. Gap: g = u(p) − h − ḡ, the
-//! displacement minus the rigid surface heights, shifted by its mean ḡ over the contact set (the
-//! rigid-body approach). Solution: g = 0 where p > 0, g ≥ 0 where p = 0.
-//!
-//! Convergence criterion: the residual
-//!
-//! ```text
-//!     r = ( Σ_{p>0} p_i |g_i|  +  p̄ Σ_{p=0} max(−g_i, 0) ) / ( n p̄ h_rms )
-//! ```
-//!
-//! (complementarity violation on the contact set plus penetration outside it, relative to the
-//! mean pressure times the RMS height h_rms of the surface, n pixels) must fall to the
-//! tolerance. It is checked on a displacement recomputed from scratch, with the load exact.
+//! The CPU engine of the normal solve (the problem and its residual: see [`super::solver`]).
 //!
 //! One iteration is one application of the influence operator: the forward FFT of the search
 //! direction t and one inverse FFT. Polonsky & Keer's projection (clipping negative pressures,

@@ -2,8 +2,8 @@
 //!
 //! The iteration is the CPU's capped one ([`super::cpu`]'s `saturated` module): Polonsky &
 //! Keer's constrained conjugate gradient on the free points, projected at 0 and at the hardness
-//! H (H = +∞ without a cap), the load restored by p ← min(λp, H), the residual of the module
-//! documentation checked on u = K p recomputed every iteration. Each iteration is two FFT
+//! H (H = +∞ without a cap), the load restored by p ← min(λp, H), the residual of
+//! [`super::solver`] checked on u = K p recomputed every iteration. Each iteration is two FFT
 //! pairs (K p and K t) and five passes over the window, each pass fused with its reductions.
 //! Every field stays on the GPU; what crosses to the host per iteration is a few scalars: the
 //! residual and gap norm (for the convergence test, the progress callback and the stall

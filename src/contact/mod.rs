@@ -1,7 +1,7 @@
 //! Elastic normal contact of a rigid rough surface on an elastic half-space, by the boundary
 //! integral method on an FFT grid (the pipeline's second stage).
 //!
-//! - [`material`]: elastic materials and the effective modulus;
+//! - `material`: elastic materials and the effective modulus;
 //! - [`influence`]: the half-space operators u = K p (periodic, free boundary);
 //! - [`options`]: what every solve shares: settings, checks, iteration count, report, and the
 //!   interface of a normal-solve backend;
@@ -15,9 +15,11 @@
 //! - here: the contact state, the distribution of local pressure, and the memory of a normal
 //!   and a tangential solve together.
 //!
-//! Inside `contact` imports go one way: `material`, `patches` → `influence` → `options` →
-//! `cpu`, `gpu` → `solver`; `options` → `adhesion`, `tangential`; nothing imports this file.
-//! Imports topography; must not import friction, study, report, plot, shs, cli.
+//! Inside `contact` imports go one way (`python3 tools/file-imports.py src/contact`): `influence`
+//! imports `material`; `options` imports `influence`; `cpu`, `gpu`, `adhesion` and `tangential`
+//! import `options`; `solver` imports `cpu` and `gpu`; no file imports this one, and `patches`
+//! and `material` import nothing of `contact`. Imports topography; must not import friction,
+//! study, report, plot, shs, cli.
 
 pub mod adhesion;
 mod cpu;

@@ -96,8 +96,8 @@ impl Proceed for ControlFlow<()> {
 /// share. The default is the tangential solve's; the normal solve's is [`SolverOptions`]'s.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Convergence {
-    /// Residual at which a solve has converged: for the normal solve see the module
-    /// documentation, for the tangential one the relative norm of its projected gradient.
+    /// Residual at which a solve has converged: for the normal solve see [`super::solver`], for
+    /// the tangential one the relative norm of its projected gradient.
     pub tolerance: f64,
     /// Iterations after which a solve that has not converged is an error.
     pub max_iterations: usize,
@@ -343,7 +343,7 @@ impl Scales {
 
 /// A backend of the normal solve ([`super::ContactSolver`] holds one): the problem as
 /// [`super::ContactSolver::new`] checked it, solved for one load after another.
-pub(crate) trait Engine: Send {
+pub(crate) trait Engine: Send + Sync {
     /// Grid shape (ny, nx).
     fn shape(&self) -> (usize, usize);
     /// Physical size (lx, ly) \[m].

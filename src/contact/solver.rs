@@ -1,7 +1,23 @@
-//! The normal contact solve at imposed load, [`ContactSolver`]: one problem solved for one load
-//! after another, on the engine its [`Device`] names: the CPU ([`super::cpu`]) or, in a build
-//! with the `gpu` feature, an NVIDIA GPU ([`super::gpu`]). Both implement [`Engine`], defined
-//! below them in [`super::options`].
+//! Load-controlled normal contact: the constrained conjugate gradient of Polonsky & Keer
+//! (Wear 231, 1999, 206–219) with the imposed mean pressure p̄ = N / (Lx·Ly).
+//!
+//! Unknown: the pressure p ≥ 0 on the window's pixels with mean p̄. Gap: g = u(p) − h − ḡ, the
+//! displacement minus the rigid surface heights, shifted by its mean ḡ over the contact set (the
+//! rigid-body approach). Solution: g = 0 where p > 0, g ≥ 0 where p = 0.
+//!
+//! Convergence criterion: the residual
+//!
+//! ```text
+//!     r = ( Σ_{p>0} p_i |g_i|  +  p̄ Σ_{p=0} max(−g_i, 0) ) / ( n p̄ h_rms )
+//! ```
+//!
+//! (complementarity violation on the contact set plus penetration outside it, relative to the
+//! mean pressure times the RMS height h_rms of the surface, n pixels) must fall to the
+//! tolerance. It is checked on a displacement recomputed from scratch, with the load exact.
+//!
+//! [`ContactSolver`] solves one problem for one load after another, on the engine its
+//! [`Device`] names: the CPU (`cpu`) or, in a build with the `gpu` feature, an NVIDIA GPU
+//! (`gpu`). Both implement `Engine`, defined below them in [`super::options`].
 //!
 //! Imports `options`, `influence`, `cpu` and `gpu` inside `contact`; must not import friction,
 //! study, report, plot, shs, cli.

@@ -215,7 +215,7 @@ impl CpuSolver {
         Shifts { gap_mean, gap_norm, direction_mean }
     }
 
-    /// The residual of the module documentation for the current state, on a full pass.
+    /// The residual of [`crate::contact::solver`] for the current state, on a full pass.
     fn residual(&mut self, s: &Shifts, p_mean: f64, norm: f64) -> f64 {
         let (nx, sigma, gap_mean) = (self.nx, self.scale, s.gap_mean);
         let (u, h, c, uniform) = (&self.displacement, &self.heights, &self.contact, self.uniform);
