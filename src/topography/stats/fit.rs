@@ -1,13 +1,12 @@
 //! The fit of a power spectral density: the Hurst exponent of its power law and the roll-off
 //! below which it is flat, over a window of wavevectors.
 //!
-//! Imports within `topography` only (psd); must not import contact,
-//! friction, study, report, plot, shs, cli.
+//! Imports `psd` inside `stats`, nothing else of `topography`; must not import contact, friction,
+//! study, report, plot, shs, cli.
 
 use std::f64::consts::PI;
 
-use super::psd::Psd;
-use super::Window;
+use super::psd::{Psd, Window};
 
 /// Whose spectrum a [`Psd`] is, which fixes how its power-law slope gives the Hurst exponent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,10 +1,8 @@
 //! Height statistics of a map and of a line profile: moments, RMS slope and curvature, by the
 //! finite differences SurfaceTopography uses.
 //!
-//! Imports within `topography` only (missing, profile, the map type; never psd or fit); must not import contact,
-//! friction, study, report, plot, shs, cli.
-
-use std::f64::consts::PI;
+//! Imports `missing`, `profile` and the map type of `topography`, never `psd` or `fit`; must not
+//! import contact, friction, study, report, plot, shs, cli.
 
 use super::super::missing::refuse_missing;
 use super::super::profile::Profile;
@@ -253,6 +251,8 @@ fn refuse_missing_nonuniform(p: &Profile) -> Result<()> {
 
 #[cfg(test)]
 pub(super) mod tests {
+    use std::f64::consts::PI;
+
     use super::*;
     use crate::topography::Provenance;
     use ndarray::Array2;
@@ -279,7 +279,7 @@ pub(super) mod tests {
         assert!(g.rms_curvature_from_area_per_m.abs() < 1e-3, "{g:?}");
     }
 
-    pub(in crate::topography::stats) fn map(heights: Array2<f64>, size: (f64, f64), periodic: bool) -> Topography {
+    pub(crate) fn map(heights: Array2<f64>, size: (f64, f64), periodic: bool) -> Topography {
         Topography {
             heights,
             physical_size: Some(size),

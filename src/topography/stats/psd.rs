@@ -1,14 +1,8 @@
 //! The power spectral density of a map (isotropic) and of a line profile, with the window
-//! applied before the transform.
+//! applied before the transform, normalised as the parent module states.
 //!
-//! PSD normalisation (as Jacobs, Junge & Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
-//! (2017), and SurfaceTopography): C(q) = |h̃(q)|² / A with h̃(q) = Σ h(x) e^(−iq·x) dx dy the
-//! Fourier transform over the window of area A = lx·ly, so C is in m⁴ and
-//! `h_rms² = ∫ C(q) d²q / (2π)²`, i.e. `h_rms² = (1/A) Σ_q C(q)` over the discrete wavevectors
-//! q = 2π (kx/lx, ky/ly). The isotropic C(q) averages the modes in annuli of width 2π/min(lx, ly).
-//!
-//! Imports within `topography` only (missing, profile, the map type); must not import contact,
-//! friction, study, report, plot, shs, cli.
+//! Imports `missing`, `profile` and the map type of `topography`, never `fit`; must not import
+//! contact, friction, study, report, plot, shs, cli.
 
 use std::f64::consts::PI;
 
