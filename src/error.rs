@@ -2,6 +2,9 @@
 //! file or option at fault and the reason, as the CLI prints it. Messages echo file contents,
 //! names and option values: [`one_line`] and [`escaped`] are the one way to print them, with
 //! every character that a terminal would act on escaped.
+//!
+//! Imports nothing of the crate; must not import topography, contact, friction, study, report,
+//! plot, shs, cli.
 
 use std::borrow::Cow;
 use std::fmt::Write;

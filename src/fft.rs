@@ -17,6 +17,9 @@
 //! Transforms are unnormalised (`inverse(forward(f)) = nx·ny·f`); kernels fold the 1/(nx·ny) in.
 //! Inputs may be smaller than the grid (zero-padded, for the free half-space) and outputs
 //! cropped, which skips the rows that are known to be zero or not wanted.
+//!
+//! Imports nothing of the crate; must not import topography, contact, friction, study, report,
+//! plot, shs, cli.
 
 use std::ops::Range;
 use std::sync::Arc;

@@ -16,6 +16,9 @@
 //!
 //! The worker threads are bounded too ([`start_threads`]): at most [`MAX_THREADS`], and
 //! [`THREADS_PER_CORE`] per available core.
+//!
+//! Imports only `error` and `quantity`; must not import topography, contact, friction, study,
+//! report, plot, shs, cli.
 
 use std::io::Read;
 use std::path::Path;

@@ -4,6 +4,9 @@
 //! merely unusual one warned about, each in one line that says which unit was likely meant, in
 //! the language of where it was given ([`Spelling`]): the command line, the study file or Python.
 //! Every front end calls these functions; they never name an option (the caller does).
+//!
+//! Imports only `quantity`; must not import topography, contact, friction, study, report, plot,
+//! shs, cli.
 
 use crate::quantity::{self, human, Dimension, FORCE, LENGTH, PRESSURE, SURFACE_ENERGY};
 

@@ -1,8 +1,10 @@
 //! Physical quantities written by people: a number in SI units, or a number with its unit
 //! ("0.1 mN", "31.13 µm", "130 GPa"). One parser serves the study file and the command line;
-//! [`human`] prints numbers back the way people write them.
-
-use crate::topography::units;
+//! [`human`] prints numbers back the way people write them; [`metres_per`] reads length units
+//! as instruments write them (the file readers of `topography` use it too).
+//!
+//! Imports only `error`; must not import topography, contact, friction, study, report, plot, shs,
+//! cli.
 
 /// What a quantity measures: its SI unit, the units a string may carry and their factors.
 #[derive(Debug)]
@@ -23,7 +25,7 @@ pub const LENGTH: Dimension = Dimension {
     name: "length",
     si: "m",
     units: "m, mm, µm (um), nm, Å",
-    per_unit: units::metres_per,
+    per_unit: metres_per,
     shown: &[("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12)],
 };
 /// A force \[N].
@@ -103,7 +105,7 @@ pub fn seconds_per(unit: &str) -> Option<f64> {
 fn square_metres_per(unit: &str) -> Option<f64> {
     let u = unit.trim();
     let base = u.strip_suffix('²').or_else(|| u.strip_suffix("^2")).or_else(|| u.strip_suffix('2'))?;
-    units::metres_per(base).map(|m| m * m)
+    metres_per(base).map(|m| m * m)
 }
 
 /// `numerator` per `denominator` units of a ratio written "a/b".
@@ -113,11 +115,11 @@ fn ratio(unit: &str, numerator: fn(&str) -> Option<f64>, denominator: fn(&str) -
 }
 
 fn metres_per_second_per(unit: &str) -> Option<f64> {
-    ratio(unit, units::metres_per, seconds_per)
+    ratio(unit, metres_per, seconds_per)
 }
 
 fn newtons_per_metre_per(unit: &str) -> Option<f64> {
-    ratio(unit, newtons_per, units::metres_per)
+    ratio(unit, newtons_per, metres_per)
 }
 
 /// Joules per square metre in `unit` ("J/m²", "mJ/m2"), or in a force per length ("N/m").
@@ -131,6 +133,23 @@ fn joules_per_square_metre_per(unit: &str) -> Option<f64> {
         })
     };
     ratio(unit, joules_per, square_metres_per).or_else(|| newtons_per_metre_per(unit))
+}
+
+/// Metres per `unit`, for the spellings instruments use (`"nm"`, `"um"`, `"µm"`, `"Å"`, …).
+/// `None` for anything that is not a length unit.
+pub fn metres_per(unit: &str) -> Option<f64> {
+    let u = unit.trim();
+    Some(match u {
+        "m" | "metre" | "meter" | "metres" | "meters" => 1.0,
+        "cm" => 1e-2,
+        "mm" => 1e-3,
+        "um" | "µm" | "μm" | "micron" | "microns" | "micrometre" | "micrometer" => 1e-6,
+        "nm" | "nanometre" | "nanometer" => 1e-9,
+        "A" | "Å" | "\u{212B}" | "angstrom" | "Angstrom" => 1e-10,
+        "pm" => 1e-12,
+        "km" => 1e3,
+        _ => return None,
+    })
 }
 
 /// Newtons per `unit` ("kN", "N", "mN", "µN"/"uN", "nN"), `None` for anything else.
@@ -392,5 +411,13 @@ mod tests {
         assert!(e.len() < 200, "{} characters", e.len());
         let junk = "[".repeat(100_000);
         assert!(parse(&junk, &LENGTH, true).unwrap_err().len() < 200);
+    }
+
+    #[test]
+    fn length_units_as_instruments_write_them() {
+        assert_eq!(metres_per("nm"), Some(1e-9));
+        assert_eq!(metres_per("µm"), Some(1e-6));
+        assert_eq!(metres_per(" um "), Some(1e-6));
+        assert_eq!(metres_per("V"), None);
     }
 }

@@ -113,7 +113,7 @@ pub fn run(args: Args) -> asperity::Result<()> {
         displacement_unit: unit(
             "--displacement-unit",
             &args.displacement_unit,
-            asperity::topography::units::metres_per,
+            asperity::quantity::metres_per,
             "m, mm, um, nm",
         )?,
     };

@@ -37,6 +37,12 @@
 //! when the projection moved points (the change's traction); the traction is carried along
 //! and recomputed from scratch before convergence is accepted. Sums are taken per grid row and
 //! added in row order, so results do not depend on the number of threads.
+//!
+//! The cohesive laws are in `law`, load control and the pull-off search in `search`; here the
+//! solver's state and its iteration at imposed separation.
+//!
+//! Imports `influence` and `options` inside `contact`; must not import friction, study, report,
+//! plot, shs, cli.
 
 use std::time::Instant;
 
@@ -44,142 +50,15 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
 use super::influence::{Boundary, Influence};
-use super::solver::{Convergence, Iterations, STALL};
+use super::options::{check_problem, Convergence, Iterations, STALL};
 use crate::error::{Error, Result};
 use crate::fft::{Fft2, Fft2Work};
 use crate::limits::{check_memory, grid_memory};
 
-/// The cohesive law between the surfaces: its tension t(g) \[Pa] at gap g \[m], of work of
-/// adhesion w = ∫₀^∞ t(g) dg \[J/m²].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(tag = "law", rename_all = "lowercase")]
-pub enum CohesiveLaw {
-    /// Maugis–Dugdale: t = σ₀ for g < h₀ = w/σ₀, 0 beyond.
-    Maugis {
-        /// Work of adhesion w \[J/m²].
-        work: f64,
-        /// Cohesive stress σ₀ \[Pa].
-        stress: f64,
-    },
-    /// Exponential: t = (w/ρ)·e^(−g/ρ).
-    Exponential {
-        /// Work of adhesion w \[J/m²].
-        work: f64,
-        /// Range ρ \[m].
-        range: f64,
-    },
-}
+mod law;
+mod search;
 
-impl CohesiveLaw {
-    /// A Maugis–Dugdale law of work `work` \[J/m²] and stress `stress` \[Pa].
-    pub fn maugis(work: f64, stress: f64) -> Result<Self> {
-        positive("--adhesion-work", work, "J/m²")?;
-        positive("--adhesion-stress", stress, "Pa")?;
-        Ok(CohesiveLaw::Maugis { work, stress })
-    }
-
-    /// An exponential law of work `work` \[J/m²] and range `range` \[m].
-    pub fn exponential(work: f64, range: f64) -> Result<Self> {
-        positive("--adhesion-work", work, "J/m²")?;
-        positive("--adhesion-range", range, "m")?;
-        Ok(CohesiveLaw::Exponential { work, range })
-    }
-
-    /// The law named `name` (`"maugis"` or `"exponential"`) of work `work` \[J/m²], given by
-    /// its strength `stress` \[Pa] (σ₀, or the exponential law's peak tension w/ρ) or its range
-    /// `range` \[m] (h₀ = w/σ₀, or ρ): exactly one of the two. Errors name the command line's
-    /// options.
-    pub fn from_options(name: &str, work: f64, stress: Option<f64>, range: Option<f64>) -> Result<Self> {
-        positive("--adhesion-work", work, "J/m²")?;
-        let exponential = match name {
-            "maugis" => false,
-            "exponential" => true,
-            other => {
-                return Err(Error::invalid("--adhesion-law", format!("'{other}' is not maugis or exponential")));
-            }
-        };
-        match (stress, range) {
-            (Some(stress), None) => {
-                positive("--adhesion-stress", stress, "Pa")?;
-                if exponential {
-                    Self::exponential(work, work / stress)
-                } else {
-                    Self::maugis(work, stress)
-                }
-            }
-            (None, Some(range)) => {
-                positive("--adhesion-range", range, "m")?;
-                if exponential {
-                    Self::exponential(work, range)
-                } else {
-                    Self::maugis(work, work / range)
-                }
-            }
-            (Some(_), Some(_)) => Err(Error::invalid(
-                "--adhesion-stress",
-                "give the cohesive law's strength or its range (--adhesion-range), not both",
-            )),
-            (None, None) => Err(Error::invalid(
-                "--adhesion-work",
-                "needs --adhesion-stress S or --adhesion-range R: the cohesive law's strength or range",
-            )),
-        }
-    }
-
-    /// Name as written in options and outputs: `"maugis"` or `"exponential"`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            CohesiveLaw::Maugis { .. } => "maugis",
-            CohesiveLaw::Exponential { .. } => "exponential",
-        }
-    }
-
-    /// Work of adhesion w \[J/m²].
-    pub fn work(&self) -> f64 {
-        match *self {
-            CohesiveLaw::Maugis { work, .. } | CohesiveLaw::Exponential { work, .. } => work,
-        }
-    }
-
-    /// The largest tension, at contact: σ₀ or w/ρ \[Pa].
-    pub fn strength(&self) -> f64 {
-        match *self {
-            CohesiveLaw::Maugis { stress, .. } => stress,
-            CohesiveLaw::Exponential { work, range } => work / range,
-        }
-    }
-
-    /// The gap over which the tension acts: h₀ = w/σ₀ or ρ \[m].
-    pub fn range(&self) -> f64 {
-        match *self {
-            CohesiveLaw::Maugis { work, stress } => work / stress,
-            CohesiveLaw::Exponential { range, .. } => range,
-        }
-    }
-
-    /// Tension t(g) \[Pa] at gap `gap` ≥ 0 \[m].
-    #[inline]
-    pub fn tension(&self, gap: f64) -> f64 {
-        match *self {
-            CohesiveLaw::Maugis { work, stress } => {
-                if gap < work / stress {
-                    stress
-                } else {
-                    0.0
-                }
-            }
-            CohesiveLaw::Exponential { work, range } => work / range * (-gap / range).exp(),
-        }
-    }
-}
-
-fn positive(option: &str, v: f64, unit: &str) -> Result<()> {
-    if v > 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::invalid(option, format!("must be positive and finite, got {v} {unit}")))
-    }
-}
+pub use law::CohesiveLaw;
 
 /// What an adhesive solve reports besides its fields.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -238,22 +117,6 @@ pub struct PullOff {
     pub contact_points: usize,
     /// Solves at imposed separation the sweep took.
     pub solves: usize,
-}
-
-/// The loosest tolerance of load control's steps far from the load sought.
-const LOOSE: f64 = 1e-4;
-
-/// Steps of the load control's secant before it gives up.
-const MAX_SECANT: usize = 100;
-
-/// Steps of the pull-off sweep, or of load control's march, before it gives up.
-const MAX_SWEEP: usize = 400;
-
-/// Iterations and solves at imposed separation, summed over a load-controlled solve or a sweep.
-#[derive(Default)]
-struct Tally {
-    iterations: usize,
-    solves: usize,
 }
 
 /// Partial sums kept per grid row.
@@ -328,7 +191,7 @@ impl AdhesiveSolver {
         law: CohesiveLaw,
         convergence: Convergence,
     ) -> Result<Self> {
-        super::solver::check_problem(heights, (ny, nx), (lx, ly), e_star)?;
+        check_problem(heights, (ny, nx), (lx, ly), e_star)?;
         match law {
             CohesiveLaw::Maugis { work, stress } => CohesiveLaw::maugis(work, stress)?,
             CohesiveLaw::Exponential { work, range } => CohesiveLaw::exponential(work, range)?,
@@ -628,254 +491,6 @@ impl AdhesiveSolver {
         }
         let (iterations, residual) = self.relax(s)?;
         Ok(AdhesiveReport { iterations, solves: 1, residual, seconds: start.elapsed().as_secs_f64(), ..self.forces() })
-    }
-
-    /// Solve for the normal load `load` \[N] (compressive positive, tensile negative), from
-    /// the last state, or cold from a compressive one. A load below the pull-off force is
-    /// refused with the pull-off force in the message.
-    pub fn solve(&mut self, load: f64) -> Result<AdhesiveReport> {
-        let start = Instant::now();
-        if !load.is_finite() {
-            return Err(Error::invalid("--load", format!("must be finite, got {load} N")));
-        }
-        let mut tally = Tally::default();
-        self.pressure_scale = load.abs() / (self.size.0 * self.size.1);
-        let last = self.reach_load(load, &mut tally)?;
-        Ok(AdhesiveReport {
-            iterations: tally.iterations,
-            solves: tally.solves,
-            seconds: start.elapsed().as_secs_f64(),
-            ..last
-        })
-    }
-
-    /// The pull-off force: the least load along the branch that unloads from the equilibrium
-    /// at zero load as the separation grows. A sweep with steps that keep each change of the
-    /// load near 5 % of the adhesive force at zero load, until the load rises, refined twice by
-    /// eight steps around the least load. Where the load jumps with the separation (a cohesive
-    /// zone of a few pixels or less), a lower load may lie past the first rise: the pull-off
-    /// is that of the branch up to it. The solver is left at the pull-off.
-    pub fn pull_off(&mut self) -> Result<PullOff> {
-        let mut tally = Tally::default();
-        self.pressure_scale = 0.0;
-        let (_, pull_off) = self.sweep_to_pull_off(&mut tally)?;
-        Ok(pull_off)
-    }
-
-    /// One solve at separation `s`, counted, to the tolerance set.
-    fn at(&mut self, s: f64, tally: &mut Tally) -> Result<AdhesiveReport> {
-        let report = self.at_separation(s)?;
-        tally.iterations += report.iterations;
-        tally.solves += 1;
-        Ok(report)
-    }
-
-    /// A separation `step` \[m] closer than `s`: periodic, the mean gap stays positive.
-    fn closer(&self, s: f64, step: f64) -> f64 {
-        match self.boundary {
-            Boundary::Periodic => (s - step).max(0.25 * s),
-            Boundary::Free => s - step,
-        }
-    }
-
-    /// See [`solve`](Self::solve): the last solve's report.
-    fn reach_load(&mut self, target: f64, tally: &mut Tally) -> Result<AdhesiveReport> {
-        // Far from the load sought a step needs no more than a rough solve: the tolerance of
-        // each is a hundredth of the last relative load error, between the convergence's and
-        // LOOSE, so that the solve that is accepted has the convergence's.
-        let tight = self.convergence.tolerance;
-        self.tolerance = LOOSE.max(tight);
-        // A state held in contact is the start; one apart (past a pull-off) carries no load to
-        // start a branch from, and a cold start presses first.
-        let held_state = if self.warm { Some(self.forces()).filter(|r| r.contact_points > 0) } else { None };
-        let held = held_state.is_some();
-        let mut current = match held_state {
-            Some(state) => state,
-            None => {
-                self.warm = false;
-                let s = match self.boundary {
-                    Boundary::Periodic => self.touching,
-                    Boundary::Free => 0.0,
-                };
-                let mut r = self.at(s, tally)?;
-                // Pressed first, so that a tensile load is reached unloading.
-                let mut step = self.law.range();
-                while r.load < target.max(0.0) {
-                    r = self.at(self.closer(r.separation, step), tally)?;
-                    step *= 2.0;
-                }
-                r
-            }
-        };
-        let tolerance = |r: &AdhesiveReport, c: &Convergence| {
-            (100.0 * c.tolerance).max(1e-13) * (r.compressive_force + r.adhesive_force)
-        };
-        let loosen = |this: &mut Self, r: &AdhesiveReport| {
-            let error = (r.load - target).abs() / (r.compressive_force + r.adhesive_force).max(f64::MIN_POSITIVE);
-            this.tolerance = (0.01 * error).clamp(tight, LOOSE.max(tight));
-        };
-        if held && (current.load - target).abs() <= tolerance(&current, &self.convergence) {
-            // The state held (at the tolerance its solve had) already carries the load.
-            return Ok(current);
-        }
-        loosen(self, &current);
-        // March towards the target, each step the secant's estimate of the distance left
-        // (at first the law's range), at most twice the last and at least a thousandth of the
-        // range, until the load crosses it: the first crossing from the state held. Bracket:
-        // (separation, load) closer, with the load above the target, and farther, at or below.
-        let outward = current.load > target;
-        let range = self.law.range();
-        let mut step = range;
-        let mut last_step = f64::INFINITY;
-        let mut slope: Option<f64> = None;
-        let mut marched = 0;
-        let (mut near, mut far) = loop {
-            marched += 1;
-            if marched > MAX_SWEEP {
-                return Err(Error::NotConverged {
-                    solver: "adhesive load control",
-                    iterations: MAX_SWEEP,
-                    residual: (current.load - target).abs() / target.abs().max(f64::MIN_POSITIVE),
-                    tolerance: 100.0 * self.convergence.tolerance,
-                });
-            }
-            if let Some(k) = slope {
-                step = (1.2 * (current.load - target).abs() / k).min(2.0 * last_step).max(1e-3 * range);
-            }
-            let s = if outward { current.separation + step } else { self.closer(current.separation, step) };
-            let next = self.at(s, tally)?;
-            if outward && next.load <= target {
-                break ((current.separation, current.load), (next.separation, next.load));
-            }
-            if !outward && next.load >= target {
-                break ((next.separation, next.load), (current.separation, current.load));
-            }
-            if outward && target < 0.0 && next.load >= current.load {
-                // Past the least load of the branch, or apart, or a jump of the load: the
-                // pull-off decides (a load of zero or more lies above it: no sweep, whose own
-                // first step is the load zero).
-                let (zero, pull_off) = self.sweep_to_pull_off(tally)?;
-                if target < pull_off.load {
-                    return Err(Error::invalid(
-                        "--load",
-                        format!(
-                            "{} N is below the pull-off force {} N: no equilibrium holds the surfaces together",
-                            crate::quantity::human(target),
-                            crate::quantity::human(pull_off.load)
-                        ),
-                    ));
-                }
-                break ((zero, 0.0), (pull_off.separation, pull_off.load));
-            }
-            loosen(self, &next);
-            let k = ((next.load - current.load) / (next.separation - current.separation)).abs();
-            slope = Some(k).filter(|k| *k > 0.0);
-            last_step = (next.separation - current.separation).abs();
-            current = next;
-        };
-        // Regula falsi, Illinois: the end that stays has its load difference halved. A solve
-        // that meets the load loosely is done again at the convergence's tolerance; a bracket
-        // narrower than a billionth of the law's range ends it (the Maugis–Dugdale law's load
-        // jumps where a pixel leaves its zone: the load nearest the target is returned).
-        let (mut f_near, mut f_far) = (near.1 - target, far.1 - target);
-        let mut side = 0;
-        for _ in 0..MAX_SECANT {
-            let s = far.0 - f_far * (far.0 - near.0) / (f_far - f_near);
-            let mut r = self.at(s, tally)?;
-            let narrow = (far.0 - near.0).abs() <= 1e-9 * self.law.range();
-            if ((r.load - target).abs() <= tolerance(&r, &self.convergence) || narrow) && self.tolerance > tight {
-                self.tolerance = tight;
-                r = self.at(s, tally)?;
-            }
-            if (r.load - target).abs() <= tolerance(&r, &self.convergence) || narrow {
-                return Ok(r);
-            }
-            loosen(self, &r);
-            let f = r.load - target;
-            if f > 0.0 {
-                (near, f_near) = ((s, r.load), f);
-                if side == 1 {
-                    f_far *= 0.5;
-                }
-                side = 1;
-            } else {
-                (far, f_far) = ((s, r.load), f);
-                if side == -1 {
-                    f_near *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        Err(Error::NotConverged {
-            solver: "adhesive load control",
-            iterations: MAX_SECANT,
-            residual: (near.1 - target).abs().min((far.1 - target).abs()) / target.abs().max(f64::MIN_POSITIVE),
-            tolerance: 100.0 * self.convergence.tolerance,
-        })
-    }
-
-    /// The sweep of [`pull_off`](Self::pull_off): (the separation at zero load, the pull-off).
-    fn sweep_to_pull_off(&mut self, tally: &mut Tally) -> Result<(f64, PullOff)> {
-        let zero = self.reach_load(0.0, tally)?;
-        self.tolerance = self.convergence.tolerance;
-        let scale = zero.adhesive_force.max(f64::MIN_POSITIVE);
-        // States kept: the sample before the least load, and the last sample.
-        let mut before = self.x.clone();
-        let mut last = self.x.clone();
-        let (mut s_before, mut s_last, mut load_last) = (zero.separation, zero.separation, zero.load);
-        let mut best = (zero.separation, zero.load, zero.contact_points);
-        let mut step = self.law.range();
-        let mut after = None;
-        for _ in 0..MAX_SWEEP {
-            let r = self.at(s_last + step, tally)?;
-            if r.load < best.1 {
-                best = (r.separation, r.load, r.contact_points);
-                before.copy_from_slice(&last);
-                s_before = s_last;
-            } else if r.load > best.1 {
-                after = Some(r.separation);
-                break;
-            }
-            step *= (0.05 * scale / (r.load - load_last).abs().max(f64::MIN_POSITIVE)).clamp(0.5, 2.0);
-            last.copy_from_slice(&self.x);
-            (s_last, load_last) = (r.separation, r.load);
-        }
-        let mut end = after.ok_or_else(|| Error::NotConverged {
-            solver: "pull-off sweep",
-            iterations: MAX_SWEEP,
-            residual: 1.0,
-            tolerance: 0.0,
-        })?;
-        // Refine: from the state before the least load, eight steps to the sample after it.
-        for _ in 0..2 {
-            self.x.copy_from_slice(&before);
-            (self.separation, self.warm) = (s_before, true);
-            let (start, width) = (s_before, (end - s_before) / 8.0);
-            let mut previous = (s_before, before.clone());
-            end = start + 8.0 * width;
-            for k in 1..=8 {
-                let s = start + k as f64 * width;
-                let r = self.at(s, tally)?;
-                if r.load < best.1 {
-                    best = (s, r.load, r.contact_points);
-                    before.copy_from_slice(&previous.1);
-                    s_before = previous.0;
-                    end = s + width;
-                } else if r.load > best.1 && s > best.0 {
-                    end = end.min(s);
-                    break;
-                }
-                previous.0 = s;
-                previous.1.copy_from_slice(&self.x);
-            }
-        }
-        self.x.copy_from_slice(&before);
-        (self.separation, self.warm) = (s_before, true);
-        self.at(best.0, tally)?;
-        Ok((
-            zero.separation,
-            PullOff { load: best.1, separation: best.0, contact_points: best.2, solves: tally.solves },
-        ))
     }
 
     /// The forces of the current state, with the separation and the contact points.

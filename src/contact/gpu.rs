@@ -1,9 +1,9 @@
 //! The normal contact solve on an NVIDIA GPU (the `gpu` feature; [`super::Device::Gpu`]).
 //!
-//! The iteration is the CPU's capped one ([`super::solver`]'s `saturated` module): Polonsky &
+//! The iteration is the CPU's capped one ([`super::cpu`]'s `saturated` module): Polonsky &
 //! Keer's constrained conjugate gradient on the free points, projected at 0 and at the hardness
-//! H (H = +∞ without a cap), the load restored by p ← min(λp, H), the residual of the module
-//! documentation checked on u = K p recomputed every iteration. Each iteration is two FFT
+//! H (H = +∞ without a cap), the load restored by p ← min(λp, H), the residual of
+//! [`super::solver`] checked on u = K p recomputed every iteration. Each iteration is two FFT
 //! pairs (K p and K t) and five passes over the window, each pass fused with its reductions.
 //! Every field stays on the GPU; what crosses to the host per iteration is a few scalars: the
 //! residual and gap norm (for the convergence test, the progress callback and the stall
@@ -16,6 +16,9 @@
 //! Reductions add per-block partial sums in a fixed order, so a solve gives the same result on
 //! every run; it differs from the CPU's by rounding and by the CPU elastic solve's one-pair
 //! iteration, within the tolerance (the tests compare the two).
+//!
+//! Imports `options` and `influence` inside `contact`, never `solver` or `cpu`; must not import
+//! friction, study, report, plot, shs, cli.
 
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
@@ -25,7 +28,7 @@ use cudarc::driver::{CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr
 use cudarc::nvrtc::{compile_ptx_with_opts, CompileOptions, Ptx};
 
 use super::influence::{free_coefficients, Boundary};
-use super::solver::{Iterations, Scales, SolveReport, SolverOptions, STALL};
+use super::options::{Engine, Iterations, Scales, SolveReport, SolverOptions, STALL};
 use crate::error::{Error, Result};
 use crate::limits::{check_memory, gib, grid_memory};
 
@@ -111,7 +114,8 @@ impl Plans {
             let (pointer, _sync) = work.device_ptr(stream);
             for plan in [&forward, &inverse] {
                 // SAFETY: the work area outlives the plans (dropped after them).
-                unsafe { fft::set_work_area(plan.0, pointer as *mut _) }.map_err(|e| gpu_error("cuFFT work area", e))?;
+                unsafe { fft::set_work_area(plan.0, pointer as *mut _) }
+                    .map_err(|e| gpu_error("cuFFT work area", e))?;
             }
         }
         Ok(Plans { forward, inverse, _work: work })
@@ -299,7 +303,12 @@ impl GpuSolver {
         LaunchConfig { grid_dim: (NB, 1, 1), block_dim: (TPB, 1, 1), shared_mem_bytes: 0 }
     }
 
-    fn launched(r: std::result::Result<Option<(cudarc::driver::CudaEvent, cudarc::driver::CudaEvent)>, cudarc::driver::DriverError>) -> Result<()> {
+    fn launched(
+        r: std::result::Result<
+            Option<(cudarc::driver::CudaEvent, cudarc::driver::CudaEvent)>,
+            cudarc::driver::DriverError,
+        >,
+    ) -> Result<()> {
         r.map(|_| ()).map_err(|e| gpu_error("kernel launch", e))
     }
 
@@ -351,8 +360,10 @@ impl GpuSolver {
             let (input, _a) = x.device_ptr(&self.stream);
             let (spectrum, _b) = self.spectrum.device_ptr(&self.stream);
             // SAFETY: as in `forward_of_kt`.
-            unsafe { fft::exec_d2z(self.plans.forward.0, input as *mut f64, spectrum as *mut fft_sys::cufftDoubleComplex) }
-                .map_err(|e| gpu_error("cuFFT", e))?;
+            unsafe {
+                fft::exec_d2z(self.plans.forward.0, input as *mut f64, spectrum as *mut fft_sys::cufftDoubleComplex)
+            }
+            .map_err(|e| gpu_error("cuFFT", e))?;
         }
         let mut b = self.stream.launch_builder(&self.kernels.multiply);
         b.arg(&mut self.spectrum).arg(&self.kernel).arg(&m);
@@ -490,36 +501,38 @@ impl GpuSolver {
         // SAFETY: n compact points read, n window points written.
         Self::launched(unsafe { b.launch(Self::config(n as usize)) })
     }
+}
 
-    pub(crate) fn shape(&self) -> (usize, usize) {
+impl Engine for GpuSolver {
+    fn shape(&self) -> (usize, usize) {
         (self.ny, self.nx)
     }
 
-    pub(crate) fn size(&self) -> (f64, f64) {
+    fn size(&self) -> (f64, f64) {
         self.size
     }
 
-    pub(crate) fn boundary(&self) -> Boundary {
+    fn boundary(&self) -> Boundary {
         self.boundary
     }
 
-    pub(crate) fn e_star(&self) -> f64 {
+    fn e_star(&self) -> f64 {
         self.e_star
     }
 
-    pub(crate) fn hardness(&self) -> Option<f64> {
+    fn hardness(&self) -> Option<f64> {
         self.hardness
     }
 
-    pub(crate) fn heights(&self) -> &[f64] {
+    fn heights(&self) -> &[f64] {
         &self.heights
     }
 
-    pub(crate) fn pressure(&self) -> &[f64] {
+    fn pressure(&self) -> &[f64] {
         &self.pressure
     }
 
-    pub(crate) fn displacement(&self) -> &[f64] {
+    fn displacement(&self) -> &[f64] {
         self.displacement.get_or_init(|| {
             // The whole grid: the window is its top-left corner.
             let u = self.stream.clone_dtoh(&self.u).expect("reading back the displacement from the GPU");
@@ -528,24 +541,22 @@ impl GpuSolver {
         })
     }
 
-    pub(crate) fn reset(&mut self) {
+    fn reset(&mut self) {
         self.warm = false;
     }
 
-    pub(crate) fn set_hardness(&mut self, hardness: Option<f64>) {
+    fn set_hardness(&mut self, hardness: Option<f64>) {
         self.hardness = hardness;
     }
 
-    /// See [`super::ContactSolver::warm_start`], which checks `pressure`.
-    pub(crate) fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
+    fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
         self.upload_pressure(pressure)?;
         self.pressure.copy_from_slice(pressure);
         self.warm = true;
         Ok(())
     }
 
-    /// See [`super::ContactSolver::solve`], which checks the load.
-    pub(crate) fn solve(&mut self, load: f64, progress: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
+    fn solve(&mut self, load: f64, progress: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         let report = self.iterate(load, progress);
         match &report {
             Ok(_) => {
@@ -561,7 +572,9 @@ impl GpuSolver {
         }
         report
     }
+}
 
+impl GpuSolver {
     fn iterate(&mut self, load: f64, progress: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         let started = Instant::now();
         let (ny, nx) = (self.ny, self.nx);

@@ -9,11 +9,14 @@
 //! - free: an isolated window on an infinite half-space; the pressure is zero-padded to a
 //!   (2ny, 2nx) grid and convolved with the exact displacement of uniformly loaded rectangular
 //!   pixels (Love 1929; Johnson, *Contact Mechanics*, §3.9), so there are no periodic images.
+//!
+//! Imports `material` inside `contact`; must not import friction, study, report, plot, shs, cli.
 
 use rayon::prelude::*;
 use rustfft::num_complex::{Complex, Complex64};
 use rustfft::FftNum;
 
+use super::material::Material;
 use crate::fft::{large_buffer, split_rows, split_rows_mut, Fft2, Fft2Work};
 
 /// The boundary condition of the elastic half-space.
@@ -130,7 +133,7 @@ pub struct ShearCompliance {
 
 impl ShearCompliance {
     /// The compliance of these bodies (one for a rigid counter-body, two otherwise).
-    pub fn of(bodies: &[super::Material]) -> Self {
+    pub fn of(bodies: &[Material]) -> Self {
         bodies.iter().fold(ShearCompliance { a: 0.0, b: 0.0 }, |c, m| {
             let g = m.youngs / (2.0 * (1.0 + m.poisson));
             ShearCompliance { a: c.a + 1.0 / g, b: c.b + m.poisson / g }

@@ -1,75 +1,54 @@
 //! Elastic normal contact of a rigid rough surface on an elastic half-space, by the boundary
 //! integral method on an FFT grid (the pipeline's second stage).
 //!
+//! - `material`: elastic materials and the effective modulus;
 //! - [`influence`]: the half-space operators u = K p (periodic, free boundary);
+//! - [`options`]: what every solve shares: settings, checks, iteration count, report, and the
+//!   interface of a normal-solve backend;
 //! - [`solver`]: the Polonsky–Keer constrained conjugate gradient at imposed load, on the CPU
-//!   or (`gpu` feature) on an NVIDIA GPU (`gpu`);
+//!   (`cpu`) or (`gpu` feature) on an NVIDIA GPU (`gpu`);
 //! - [`adhesion`]: adhesive normal contact (Maugis–Dugdale or exponential cohesive zone) at
 //!   imposed load or separation, and the pull-off force;
 //! - [`patches`]: contact patches (4-connected clusters);
 //! - [`tangential`]: shear tractions on a fixed contact set under a tangential displacement,
 //!   with Coulomb bounds (the sliding onset's elastic solve);
-//! - here: materials, the contact state and the distribution of local pressure.
+//! - here: the contact state, the distribution of local pressure, and the memory of a normal
+//!   and a tangential solve together.
+//!
+//! Inside `contact` imports go one way (`python3 tools/file-imports.py src/contact`): `influence`
+//! imports `material`; `options` imports `influence`; `cpu`, `gpu`, `adhesion` and `tangential`
+//! import `options`; `solver` imports `cpu` and `gpu`; no file imports this one, and `patches`
+//! and `material` import nothing of `contact`. Imports topography; must not import friction,
+//! study, report, plot, shs, cli.
 
 pub mod adhesion;
+mod cpu;
 #[cfg(feature = "gpu")]
 mod gpu;
 pub mod influence;
+mod material;
+pub mod options;
 pub mod patches;
 pub mod solver;
 pub mod tangential;
 
 pub use adhesion::{AdhesiveReport, AdhesiveSolver, CohesiveLaw, PullOff};
 pub use influence::{Boundary, Influence, ShearCompliance, TangentialInfluence};
-pub use solver::{
-    check_load, check_solve_memory, check_solves_memory, ContactSolver, Convergence, Device, Proceed, SolveReport,
-    SolverOptions,
-};
+pub use material::{combined_modulus, Material};
+pub use options::{check_load, check_solve_memory, Convergence, Device, Proceed, SolveReport, SolverOptions};
+pub use solver::ContactSolver;
 pub use tangential::{TangentialOptions, TangentialReport, TangentialSolver};
 
 use crate::error::{Error, Result};
+use crate::limits::check_memory;
 use crate::topography::Topography;
 
-/// An isotropic linear elastic material.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Material {
-    /// Young's modulus E \[Pa].
-    pub youngs: f64,
-    /// Poisson's ratio ν, in (−1, 0.5).
-    pub poisson: f64,
-}
-
-impl Material {
-    /// Silicon as in the paper: E = 130 GPa, ν = 0.26.
-    pub const SILICON: Material = Material { youngs: 130e9, poisson: 0.26 };
-
-    /// A validated material. `option` names where the values came from, for the error.
-    pub fn new(youngs: f64, poisson: f64, option: &str) -> Result<Self> {
-        if !(youngs > 0.0 && youngs.is_finite()) {
-            return Err(Error::invalid(
-                format!("{option} Young's modulus"),
-                format!("must be positive, got {youngs} Pa"),
-            ));
-        }
-        if !(poisson > -1.0 && poisson < 0.5) {
-            return Err(Error::invalid(
-                format!("{option} Poisson's ratio"),
-                format!("must lie in (−1, 0.5), got {poisson}"),
-            ));
-        }
-        Ok(Material { youngs, poisson })
-    }
-
-    /// Plane-strain modulus E / (1 − ν²) \[Pa]: the effective modulus E* of this body pressed
-    /// by a rigid one.
-    pub fn plane_strain_modulus(&self) -> f64 {
-        self.youngs / (1.0 - self.poisson * self.poisson)
-    }
-}
-
-/// Effective modulus E* \[Pa] of two elastic bodies: 1/E* = (1 − ν1²)/E1 + (1 − ν2²)/E2.
-pub fn combined_modulus(a: &Material, b: &Material) -> f64 {
-    1.0 / (1.0 / a.plane_strain_modulus() + 1.0 / b.plane_strain_modulus())
+/// Whether a contact solve and a tangential solve on its contact (a sliding onset, a stuck
+/// contact's stiffness) on an ny × nx surface fit in the memory available together: checked
+/// before the normal solve, so that a refusal comes before its work.
+pub fn check_solves_memory((ny, nx): (usize, usize), boundary: Boundary) -> std::result::Result<(), String> {
+    let bytes = options::solve_memory((ny, nx), boundary).saturating_add(tangential::solve_memory((ny, nx), boundary));
+    check_memory(bytes, &format!("a contact solve and a tangential solve on {nx} × {ny} points"))
 }
 
 /// Every load \[N] positive and finite: checked before any long work.

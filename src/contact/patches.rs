@@ -1,5 +1,7 @@
 //! Contact patches: 4-connected clusters of contact pixels, wrapping across the edges of a
 //! periodic window.
+//!
+//! Imports nothing inside `contact`; must not import friction, study, report, plot, shs, cli.
 
 /// Label the clusters of `mask` (row-major, ny × nx). Returns one label per pixel (0 outside
 /// the mask, 1… inside, numbered in order of first appearance) and the size of each cluster

@@ -6,6 +6,9 @@
 //! named in a hand-edited line, or put where an output was, has another identity. Processes working in one folder at
 //! once append under an exclusive `flock` of the ledger (also over a shared filesystem); a line
 //! torn by a crash does not parse and is skipped.
+//!
+//! Imports only `error` and the files of `output`; must not import topography, contact, friction,
+//! study, report, plot, shs, cli.
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};

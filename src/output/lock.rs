@@ -1,5 +1,8 @@
 //! Advisory locks on lock files (`flock`): held while a process works, released by the kernel
 //! when it ends, however it ends, so a crash never leaves a stale lock.
+//!
+//! Imports only `error` and the files of `output`; must not import topography, contact, friction,
+//! study, report, plot, shs, cli.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::path::{Path, PathBuf};

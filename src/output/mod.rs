@@ -10,6 +10,9 @@
 //! - what is written into a folder shared with its user is recorded ([`Ledger`]), so that only
 //!   that is ever removed from it;
 //! - files and folders get the permissions the umask gives, as with any Unix tool.
+//!
+//! Imports only `error` and the files of `output`; must not import topography, contact, friction,
+//! study, report, plot, shs, cli.
 
 mod aside;
 mod ledger;

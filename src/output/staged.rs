@@ -1,6 +1,9 @@
 //! A command's output folder, built aside and moved into place once complete, with a manifest
 //! of the files it holds: the manifest is how a later run of the same command recognises the
 //! folder as its own, the only kind of folder it replaces.
+//!
+//! Imports only `error` and the files of `output`; must not import topography, contact, friction,
+//! study, report, plot, shs, cli.
 
 use std::collections::BTreeSet;
 use std::fs;

@@ -4,6 +4,9 @@
 //! carries its owner (host, boot, process id and start time), so that what a killed process
 //! left is recognised as such and removed ([`remove_orphaned_temporaries`]), and never what a
 //! living one works on.
+//!
+//! Imports only `error` and the files of `output`; must not import topography, contact, friction,
+//! study, report, plot, shs, cli.
 
 use std::fs::Permissions;
 use std::io;

@@ -4,6 +4,8 @@
 //! Fits run over the defined points only (missing points are skipped and stay missing).
 //! Sums are taken in fixed blocks of rows and added in order, so results do not depend on
 //! the number of threads.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::str::FromStr;
 

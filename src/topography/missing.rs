@@ -1,4 +1,6 @@
 //! Missing points (`NaN` heights): refuse them, or fill them harmonically.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::Topography;
 use crate::error::{Error, Result};

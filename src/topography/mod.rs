@@ -5,6 +5,9 @@
 //! preparing them in [`detrend`], [`missing`] and [`resample`] (crop, resample, compound), in
 //! the one order [`prepare`] applies for contact;
 //! synthetic surfaces in [`synth`]; statistics and the power spectrum in [`stats`].
+//!
+//! Imports the base row (error, fft, limits, output, plausible, quantity); must not import contact,
+//! friction, study, report, plot, shs, cli.
 
 pub mod detrend;
 pub mod io;
@@ -14,7 +17,6 @@ pub mod profile;
 pub mod resample;
 pub mod stats;
 pub mod synth;
-pub mod units;
 
 use std::path::PathBuf;
 

@@ -6,6 +6,8 @@
 //! and a spherical cap added last, for a ball scanned after its curvature was levelled away.
 //! The counter-surface, when there is one, is prepared the same way and compounded
 //! (h = h_ball − h_wafer) on the ball's grid by [`compound_with`].
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::detrend::Detrend;
 use super::missing::{fill_missing, refuse_missing};

@@ -7,6 +7,8 @@
 //! uniform when its positions lie on an equally spaced grid, and its length is then the number of
 //! points times the step (each point stands for one step), otherwise the distance from the first
 //! point to the last.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::{Provenance, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::Error;

@@ -15,6 +15,8 @@
 //! edge and 3·10⁻² in the extrapolated strip (tested). It is point sampling:
 //! coarsening by a large factor aliases the wavelengths below the new pixel size, as a coarser
 //! scan would.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::ops::Range;
 

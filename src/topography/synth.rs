@@ -21,6 +21,8 @@
 //! same on every machine. The result is bit-identical for the same parameters, seed and build
 //! on the same kind of CPU; across CPUs it may differ in the last bits through the FFT's
 //! SIMD paths and the amplitudes' `powf`.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::f64::consts::PI;
 
@@ -495,7 +497,7 @@ impl SyntheticSurface {
 mod tests {
     use super::*;
     use crate::topography::resample::compound;
-    use crate::topography::stats::tests::log_slope;
+    use crate::topography::stats::log_slope;
     use crate::topography::stats::{height_stats, psd, rms_slope, Window};
 
     fn rough(hurst: f64, amplitude: Amplitude) -> SelfAffine {

@@ -1,9 +1,12 @@
 //! The Coulomb bound at one point, the disk |q_i| ≤ g_i: projections onto it and the
 //! gradient's parts on it.
+//!
+//! Imports nothing inside `contact`; must not import friction, study, report, plot, shs, cli.
 
 use rayon::prelude::*;
 
-use super::CHUNK;
+/// Contact points per parallel task: below this, threads cost more than they save.
+pub(super) const CHUNK: usize = 4096;
 
 /// Cut every traction onto its disk |q_i| ≤ g_i; the cuts (point, change) the displacement
 /// must follow, round-off left out.

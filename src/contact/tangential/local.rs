@@ -1,5 +1,8 @@
 //! The local solves after a change of a few bounds: the tractions near them first, as small
 //! dense problems of their own.
+//!
+//! Imports its parent (`tangential`), `disk` and `operator` inside `contact`; must not import
+//! friction, study, report, plot, shs, cli.
 
 use super::disk::cut_onto_disks;
 use super::operator::ShearOperator;

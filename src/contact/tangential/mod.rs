@@ -54,6 +54,9 @@
 //!
 //! The parts: `operator` K on the contact points and its near inverse; `mprgp` the solve;
 //! `local` the solves near a few changed bounds; `disk` the bound at one point.
+//!
+//! Imports `influence` and `options` inside `contact`, never the normal solvers; must not import
+//! friction, study, report, plot, shs, cli.
 
 mod disk;
 mod local;
@@ -61,15 +64,12 @@ mod mprgp;
 mod operator;
 
 use super::influence::{Boundary, ShearCompliance};
-use super::solver::Convergence;
+use super::options::Convergence;
 use crate::error::{Error, Result};
 use crate::limits::{check_memory, grid_memory, TANGENTIAL_BYTES_PER_POINT};
 use disk::cut_onto_disks;
 pub(crate) use disk::magnitude;
 use operator::{dense_bytes_at_most, dense_is_cheaper, NearInverse, ShearOperator};
-
-/// Contact points per parallel task: below this, threads cost more than they save.
-const CHUNK: usize = 4096;
 
 /// Settings of the tangential solve: its convergence alone, the type the normal solve's
 /// [`SolverOptions`](super::SolverOptions) hold theirs in.
@@ -300,6 +300,53 @@ impl TangentialSolver {
         } else {
             self.refresh();
             *applications += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The dense operator equals the grid operator it is made from, on scattered points of
+    /// both boundaries, with and without padding of the box.
+    #[test]
+    fn dense_operator_is_the_grid_operator() {
+        let c = ShearCompliance { a: 1.0 / 50e9, b: 0.26 / 50e9 };
+        for boundary in [Boundary::Periodic, Boundary::Free] {
+            for (n, spread) in [(64, 20), (32, 32)] {
+                let mut pressure = vec![0.0; n * n];
+                for k in 0..40 {
+                    let (y, x) = ((k * 7) % spread + 3 * (spread < n) as usize, (k * 13 + k / 5) % spread);
+                    pressure[y * n + x] = 1e9 * (1.0 + k as f64 / 40.0);
+                }
+                let mut solver = TangentialSolver::new(
+                    &pressure,
+                    (n, n),
+                    (6.4e-6, 6.4e-6),
+                    c,
+                    boundary,
+                    TangentialOptions::default(),
+                )
+                .unwrap();
+                let ShearOperator::Dense { .. } = solver.operator else { panic!("40 points: dense") };
+                let m = solver.points.len();
+                let v: Vec<[f64; 2]> =
+                    (0..m).map(|i| [((i * 37) % 11) as f64 - 5.0, ((i * 17) % 7) as f64 - 3.0]).collect();
+                let mut dense = vec![[0.0; 2]; m];
+                solver.operator.apply(&v, &mut dense);
+                // The grid operator of the same box, as the solver made it before choosing.
+                let mut grid = ShearOperator::grid(&solver.points, (n, n), (6.4e-6, 6.4e-6), c, boundary);
+                let mut want = vec![[0.0; 2]; m];
+                grid.apply(&v, &mut want);
+                let scale = want.iter().map(|w| w[0].abs().max(w[1].abs())).fold(0.0, f64::max);
+                for (d, w) in dense.iter().zip(&want) {
+                    assert!(
+                        (d[0] - w[0]).abs() <= 1e-12 * scale && (d[1] - w[1]).abs() <= 1e-12 * scale,
+                        "{boundary:?} {n}: {d:?} vs {w:?}"
+                    );
+                }
+            }
         }
     }
 }

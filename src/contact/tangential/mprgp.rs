@@ -1,14 +1,17 @@
 //! The MPRGP solve of the whole problem and its fallback, the accelerated projected gradient
 //! (see the module above).
+//!
+//! Imports its parent (`tangential`), `disk` and `options` inside `contact`; must not import
+//! friction, study, report, plot, shs, cli.
 
 use rayon::prelude::*;
 
 use super::disk::{
     cut_onto_disks, dot, feasible_step, gradient_parts, magnitude, onto_disk, project, reduced_free_gradient,
-    tangent_if_held, turning, ON_BOUND,
+    tangent_if_held, turning, CHUNK, ON_BOUND,
 };
-use super::{TangentialOptions, TangentialReport, TangentialSolver, CHUNK};
-use crate::contact::solver::Iterations;
+use super::{TangentialOptions, TangentialReport, TangentialSolver};
+use crate::contact::options::Iterations;
 use crate::error::Result;
 
 /// Iterations without a new best residual after which the solve changes method.

@@ -1,9 +1,12 @@
 //! K, the Cerruti operator on the contact points (through the transforms or as a dense
 //! matrix), and its near inverse, the solve's preconditioner.
+//!
+//! Imports `disk` and `influence` inside `contact`; must not import friction, study, report, plot,
+//! shs, cli.
 
 use rayon::prelude::*;
 
-use super::CHUNK;
+use super::disk::CHUNK;
 use crate::contact::influence::{Boundary, Offsets, ShearCompliance, TangentialInfluence};
 
 /// Changes at k points are added pair by pair ([`ShearOperator::add_changes`]) while k times
@@ -379,7 +382,6 @@ fn positive(taps: &[((i64, i64), [f64; 3])]) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{TangentialOptions, TangentialSolver};
     use super::*;
 
     /// Skipping the rows without contact points changes no bit of K v on the points, in
@@ -461,48 +463,6 @@ mod tests {
             .collect();
         assert!(!positive(&heavy));
         assert!(positive(&heavy[..1]));
-    }
-
-    /// The dense operator equals the grid operator it is made from, on scattered points of
-    /// both boundaries, with and without padding of the box.
-    #[test]
-    fn dense_operator_is_the_grid_operator() {
-        let c = ShearCompliance { a: 1.0 / 50e9, b: 0.26 / 50e9 };
-        for boundary in [Boundary::Periodic, Boundary::Free] {
-            for (n, spread) in [(64, 20), (32, 32)] {
-                let mut pressure = vec![0.0; n * n];
-                for k in 0..40 {
-                    let (y, x) = ((k * 7) % spread + 3 * (spread < n) as usize, (k * 13 + k / 5) % spread);
-                    pressure[y * n + x] = 1e9 * (1.0 + k as f64 / 40.0);
-                }
-                let mut solver = TangentialSolver::new(
-                    &pressure,
-                    (n, n),
-                    (6.4e-6, 6.4e-6),
-                    c,
-                    boundary,
-                    TangentialOptions::default(),
-                )
-                .unwrap();
-                let ShearOperator::Dense { .. } = solver.operator else { panic!("40 points: dense") };
-                let m = solver.points.len();
-                let v: Vec<[f64; 2]> =
-                    (0..m).map(|i| [((i * 37) % 11) as f64 - 5.0, ((i * 17) % 7) as f64 - 3.0]).collect();
-                let mut dense = vec![[0.0; 2]; m];
-                solver.operator.apply(&v, &mut dense);
-                // The grid operator of the same box, as the solver made it before choosing.
-                let mut grid = ShearOperator::grid(&solver.points, (n, n), (6.4e-6, 6.4e-6), c, boundary);
-                let mut want = vec![[0.0; 2]; m];
-                grid.apply(&v, &mut want);
-                let scale = want.iter().map(|w| w[0].abs().max(w[1].abs())).fold(0.0, f64::max);
-                for (d, w) in dense.iter().zip(&want) {
-                    assert!(
-                        (d[0] - w[0]).abs() <= 1e-12 * scale && (d[1] - w[1]).abs() <= 1e-12 * scale,
-                        "{boundary:?} {n}: {d:?} vs {w:?}"
-                    );
-                }
-            }
-        }
     }
 
     /// The dense product in partial sums is the row-by-row sum, with a row length that leaves

@@ -140,7 +140,7 @@ impl SurfaceSpec {
                     }
                 }
                 if let Some(unit) = &self.height_unit {
-                    if crate::topography::units::metres_per(unit).is_none() {
+                    if crate::quantity::metres_per(unit).is_none() {
                         return at("height_unit", format!("'{unit}' is not a length unit"));
                     }
                 }

@@ -6,6 +6,8 @@
 //! image is `Rows` rows of little-endian 32-bit floats in metres, each row padded to a multiple
 //! of 8 bytes, at `DepthImageOffset`. A NaN or the `InvalidPixelValue` marks a point not
 //! measured.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 

@@ -8,13 +8,15 @@
 //! `xunit`, `yunit`; heights in `zunit` (all three default to nm), integers times `bit2nm`
 //! (which, despite its name, converts to `zunit`). Missing points are the integer 32767 and
 //! floats above 1.7e38 or NaN (as Gwyddion and SurfaceTopography mark them).
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::plausible;
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Bcr;
 

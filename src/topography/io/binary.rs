@@ -4,6 +4,8 @@
 //! wrong ones. Every reader goes through these helpers, which check each declared extent
 //! against the bytes actually present, with checked arithmetic, before anything is sliced or
 //! allocated: a bad header gives an error, never a panic or a huge allocation.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::Array2;
 

@@ -11,10 +11,12 @@
 //! A table of two columns could also be a map two points wide. Its content decides: a header
 //! naming its columns, or at least [`DECIDED_ROWS`] rows of increasing positions, make it a
 //! profile; a shorter headless table is left to the user (`--format profile | matrix`).
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::text::{self, Separators};
 use super::ProfileData;
-use crate::topography::units;
+use crate::quantity;
 
 /// Rows of increasing positions that make a headless two-column table a profile rather than a
 /// map two points wide: fewer could be either.
@@ -56,7 +58,7 @@ fn unit_in(name: &str) -> Option<String> {
 
 /// The metres per `unit` as [`unit_in`] finds it (long names in any case: `Micrometer`).
 pub(super) fn metres_per(unit: &str) -> Option<f64> {
-    units::metres_per(unit).or_else(|| units::metres_per(&unit.to_lowercase()))
+    quantity::metres_per(unit).or_else(|| quantity::metres_per(&unit.to_lowercase()))
 }
 
 /// The profile in numbered lines: header lines, then rows of numbers (see the module's doc).

@@ -6,6 +6,8 @@
 //! Members are inflated as streams within the input limits ([`super::gzip::read_within`]), one
 //! at a time; their names are only looked up in the archive, never used as paths, and a name
 //! that would leave a folder (`../x`, `/etc/x`) is refused.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};

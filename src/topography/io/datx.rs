@@ -5,14 +5,16 @@
 //! × obliquity of height), `No Data` (the value of a point not measured) and `X Converter` /
 //! `Y Converter`, whose `Parameters[1]` is the lateral resolution [m per pixel]. Decoded by
 //! `hdf5-reader` (pure Rust), each grid within the limits before it is read.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use hdf5_reader::{Attribute, Dataset, Datatype};
 
 use super::binary::one_line;
 use super::{hdf5, Channel, Format};
 use crate::limits::Limits;
+use crate::quantity::metres_per;
 use crate::quantity::quoted;
-use crate::topography::units::metres_per;
 
 pub struct Datx;
 

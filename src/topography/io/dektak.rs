@@ -16,6 +16,8 @@
 //! Latin-1 text (`µ` is the byte 0xB5). The positions are rounded to 0.1 µm, the step
 //! `Resolution` states to 0.001 µm: the profile is uniform when they agree to that rounding
 //! ([`crate::topography::profile::Profile::adopt_stated_step`]).
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::columns;
 use super::text;

@@ -7,6 +7,8 @@
 //! the heights: unsigned 16-bit or signed 32-bit integers, row by row, bottom line first. The
 //! stored value 1 marks a point without data. Files whose heights are only in the multi-image
 //! block 0x007d (no block 0x000b) are refused: no such sample has been seen.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};

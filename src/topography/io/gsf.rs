@@ -5,6 +5,8 @@
 //! `XRes · YRes` little-endian float32 values, row by row (rows = y). `XRes`, `YRes` are
 //! required; `XReal`, `YReal` are the physical sizes in `XYUnits`, the values are in `ZUnits`,
 //! `Title` names the channel. A size without a unit is no physical size, and is left to the user.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::io::Write;
 use std::path::Path;
@@ -15,7 +17,8 @@ use super::text;
 use super::{Channel, Format};
 use crate::error::{Error, Result};
 use crate::output;
-use crate::topography::{units, Topography};
+use crate::quantity::metres_per;
+use crate::topography::Topography;
 
 pub struct Gsf;
 
@@ -93,13 +96,13 @@ impl Format for Gsf {
                 .transpose()
         };
         let (xreal, yreal) = (real("XReal")?, real("YReal")?);
-        let lateral = fields.get("XYUnits").and_then(|u| units::metres_per(u));
+        let lateral = fields.get("XYUnits").and_then(|u| metres_per(u));
         let physical_size = match (xreal, yreal, lateral) {
             (Some(lx), Some(ly), Some(s)) => Some((lx * s, ly * s)),
             _ => None,
         };
         let unit = fields.get("ZUnits").filter(|u| !u.is_empty()).map(|u| u.to_string());
-        let scale = unit.as_deref().and_then(units::metres_per);
+        let scale = unit.as_deref().and_then(metres_per);
         if let Some(s) = scale {
             data.mapv_inplace(|h| h * s);
         }

@@ -9,12 +9,14 @@
 //! their titles. Values are in base SI units; rows are stored top first.
 //!
 //! Masks (`/N/mask`) are user selections, not missing data: they are ignored.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::BTreeMap;
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Gwy;
 

@@ -14,10 +14,12 @@
 //! decimal comma writes `12,34 µm` and `1,5`. "Concatenate exports of all images" writes one
 //! such block per channel, separated by a blank line. A Gwyddion export without the header is a
 //! plain [`super::matrix`].
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::text::{self, Rows, Separators};
 use super::{Channel, Format};
-use crate::topography::units;
+use crate::quantity::metres_per;
 
 pub struct GwyddionTxt;
 
@@ -66,7 +68,7 @@ impl Format for GwyddionTxt {
                 return Err(format!("channel '{}' (line {}) has no values", text::excerpt(&header.title), head[0].0));
             }
             let mut data = rows.finish().map_err(|e| format!("channel '{}': {e}", text::excerpt(&header.title)))?;
-            let scale = header.unit.as_deref().and_then(units::metres_per);
+            let scale = header.unit.as_deref().and_then(metres_per);
             if let Some(s) = scale {
                 data.mapv_inplace(|h| h * s);
             }

@@ -1,6 +1,8 @@
 //! gzip (`.gz`): a layer in front of the registry, for any format. A compressed file (or
 //! container member) is inflated as a stream, never past what an input within the limits may
 //! hold, and the format is then detected from the inflated bytes and the name without `.gz`.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::io::Read;
 

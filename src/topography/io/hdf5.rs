@@ -3,6 +3,8 @@
 //! a `.npy`'s. The file states neither physical size nor unit: both come from the user, as for
 //! SurfaceTopography. Decoded by `hdf5-reader` (pure Rust); every dataset's grid is checked
 //! against the limits before it is read, and no read may allocate past them.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::{Array2, ArrayD, Ix2};
 

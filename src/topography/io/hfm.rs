@@ -1,6 +1,8 @@
 //! HFM line profiles: semicolon-separated text of a header `X;Y;valid`, a line of units
 //! `[mm];[mm];[1/0]`, then one point a line, `position;height;valid` (a point whose `valid` is
 //! 0 is missing).
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary;
 use super::columns;

@@ -6,6 +6,8 @@
 //! models describe (a side of at most 1 m), and the tile's latitude is only in its file name.
 //! The heights are read and their statistics shown; contact asks for `--size`, and refuses one
 //! that large.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};

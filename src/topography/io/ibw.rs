@@ -7,10 +7,12 @@
 //! small, tells it. Version 5 waves have up to four dimensions: an AFM image is
 //! `nx × ny × channels`, stored column-major (x fastest), its channels named by the labels of
 //! the third dimension. Versions 1–3 hold a single profile, read as one line.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Ibw;
 

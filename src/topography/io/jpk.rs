@@ -8,14 +8,16 @@
 //! its default slot (a height's "calibrated" or "nominal" one); the integers' extremes
 //! (−2³¹ and 2³¹ − 1) mark pixels the instrument could not measure. Rows are as stored, as
 //! SurfaceTopography reads them; unlike SurfaceTopography, the slot's offset is applied.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::Array2;
 
 use super::binary::{self, Sample, Stored};
 use super::tiff::{Directory, Tiff};
 use super::{Channel, Format};
+use crate::quantity::metres_per;
 use crate::quantity::quoted;
-use crate::topography::units::metres_per;
 
 pub struct Jpk;
 

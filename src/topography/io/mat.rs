@@ -9,6 +9,8 @@
 //! bytes of data), padded to 8 bytes. A variable is an `miMATRIX` element (array flags,
 //! dimensions, name, real part), or one inside an `miCOMPRESSED` (zlib) element, inflated as a
 //! stream within the input limits. Every length is checked against the bytes present.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::Array2;
 

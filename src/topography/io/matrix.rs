@@ -25,12 +25,14 @@
 //! gives `--size`) and no height unit (`--height-unit`). Other header lines are ignored.
 //! Gwyddion's own export, with its translated labels and several channels in one file, is
 //! [`super::gwyddion_txt`].
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::gwyddion_txt::GwyddionTxt;
 use super::text::{self, Rows, Separators};
 use super::{Channel, Format};
 use crate::plausible;
-use crate::topography::units;
+use crate::quantity::metres_per;
 
 pub struct Matrix;
 
@@ -167,7 +169,7 @@ impl Header {
             _ if lower.starts_with("height conversion factor") => {
                 // `height conversion factor (-> m)`: the unit the factor converts to.
                 let unit = key.split_once("->").map(|(_, u)| u.trim_end_matches(')').trim()).unwrap_or("");
-                if units::metres_per(unit).is_none() {
+                if metres_per(unit).is_none() {
                     return Err(format!(
                         "line {line_no}: the height conversion factor converts to '{unit}', not a length"
                     ));
@@ -194,11 +196,11 @@ impl Header {
     /// height unit when that is a length.
     fn metres(&self, (value, own): &Written, unit: &Option<String>, what: &str) -> Result<f64, String> {
         let nm = self.spip.then_some("nm");
-        let height_unit = self.unit.as_deref().filter(|u| units::metres_per(u).is_some());
+        let height_unit = self.unit.as_deref().filter(|u| metres_per(u).is_some());
         let unit = own.as_deref().or(unit.as_deref()).or(nm).or(height_unit).ok_or_else(|| {
             format!("the header states the {what} {value} without a unit, and no x-unit or height unit")
         })?;
-        let metres = units::metres_per(unit).ok_or_else(|| format!("the {what}'s unit '{unit}' is not a length"))?;
+        let metres = metres_per(unit).ok_or_else(|| format!("the {what}'s unit '{unit}' is not a length"))?;
         Ok(value * metres)
     }
 
@@ -206,12 +208,12 @@ impl Header {
     /// in (the factor's, or the values' own).
     fn heights(&self) -> Result<(Option<f64>, Option<String>), String> {
         if let Some((factor, unit)) = &self.factor {
-            let scale = factor * units::metres_per(unit).expect("checked when read");
+            let scale = factor * metres_per(unit).expect("checked when read");
             plausible::height_factor(scale, None)
                 .map_err(|e| format!("the height conversion factor {factor} {unit}: {e}"))?;
             return Ok((Some(scale), Some(unit.clone())));
         }
-        Ok((self.unit.as_deref().and_then(units::metres_per), self.unit.clone()))
+        Ok((self.unit.as_deref().and_then(metres_per), self.unit.clone()))
     }
 }
 

@@ -8,11 +8,13 @@
 //! calibrations' `scale` in theirs. Other frames (text, spectra, point clouds, older scanned
 //! frames) are skipped. A frame in a unit that is not a length (a current in nA) is a channel
 //! of its own unit, never heights.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
+use crate::quantity::metres_per;
 use crate::quantity::quoted;
-use crate::topography::units::metres_per;
 
 pub struct Mdt;
 

@@ -7,6 +7,8 @@
 //! marks a point not measured. A phase value times `intf_scale_factor · obliquity_factor ·
 //! wavelength_in / R` is a height in metres, R = 4096, 32768 or 131072 for `phase_res` 0, 1
 //! or 2, negated when `sign` is set; the pixel is `lateral_res` metres square.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};

@@ -6,11 +6,13 @@
 //! header; the channels follow as little-endian signed integers, one after the other, the
 //! full integer range spanning ±`bufferRange`. Lines are stored bottom first; they are
 //! returned top first.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::plausible;
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Mi;
 

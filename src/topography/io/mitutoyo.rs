@@ -5,6 +5,8 @@
 //! Sheet `Certificate`: cell E48 holds the cut-off length, `0.08mm`, whose unit is the
 //! positions'. The workbook (a zip) is inflated within the input limits before it is parsed
 //! ([`super::container::check_inflated`]).
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::io::Cursor;
 

@@ -11,6 +11,8 @@
 //! its element count and its compressed size), and optionally a mask of (nx + 2) × (ny + 2)
 //! bytes, a border of one point, where 9 marks a measured point. A height is
 //! `count × step + origin`.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::io::Read;
 
@@ -19,7 +21,7 @@ use ndarray::Array2;
 use super::binary::{self, Cursor, Endian};
 use super::{gzip, Channel, Format};
 use crate::limits::{reserve, Limits};
-use crate::topography::units;
+use crate::quantity::metres_per;
 
 pub struct Mnt;
 
@@ -92,7 +94,7 @@ fn surface(body: &[u8], limits: &Limits) -> Result<Option<Channel>, String> {
     let z = scale(need(z_axis, &[0xFFFF], "the height axis")?, "z")?;
     // Heights in another unit (an intensity) are no topography: SurfaceTopography skips them too.
     let display = z.display_unit.as_deref().unwrap_or(&z.unit);
-    let (Some(per_count), Some(per_display)) = (units::metres_per(&z.unit), units::metres_per(display)) else {
+    let (Some(per_count), Some(per_display)) = (metres_per(&z.unit), metres_per(display)) else {
         return Ok(None);
     };
     let name = match find(grid, &[0xFFFF, 0xFFFF, 1])?.and_then(text) {
@@ -161,7 +163,7 @@ struct Axis {
 
 fn axis(entries: &[u8], what: &str) -> Result<Axis, String> {
     let s = scale(need(entries, &[0xFFFF], &format!("the {what} axis's scale"))?, what)?;
-    let metres = units::metres_per(&s.unit)
+    let metres = metres_per(&s.unit)
         .ok_or_else(|| format!("the {what} axis's unit '{}' is not a length", binary::printable(&s.unit)))?;
     let step = s.step * metres;
     if !(step > 0.0 && step.is_finite()) {

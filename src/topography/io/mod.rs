@@ -9,6 +9,9 @@
 //! In front of the registry, two layers serve every format: gzip data are inflated
 //! (`gzip`), and a member of a zip container is named `archive.zip#member` (`container`,
 //! whose members [`container_members`] lists). Both inflate within the input limits.
+//!
+//! The registry above the formats: the formats import the reading types defined here, never the
+//! registry itself (`FORMATS`). Must not import contact, friction, study, report, plot, shs, cli.
 
 mod al3d;
 mod bcr;
@@ -61,11 +64,11 @@ use std::path::{Path, PathBuf};
 use ndarray::Array2;
 
 use super::profile::{Profile, StatedStep};
-use super::{units, AnyTopography, Provenance, Topography};
+use super::{AnyTopography, Provenance, Topography};
 use crate::error::{Error, Result};
 use crate::limits::Limits;
 use crate::plausible::{self, Spelling};
-use crate::quantity;
+use crate::quantity::{self, metres_per};
 
 /// One decoded channel of a file.
 #[derive(Debug, Clone, PartialEq)]
@@ -633,8 +636,7 @@ fn profile(path: &Path, format: &str, data: ProfileData, opts: &ReadOptions) -> 
         if stated {
             return Err(Error::invalid(option, format!("{} states the unit of its {what}", path.display())));
         }
-        let metres =
-            units::metres_per(u).ok_or_else(|| Error::invalid(option, format!("'{u}' is not a length unit")))?;
+        let metres = metres_per(u).ok_or_else(|| Error::invalid(option, format!("'{u}' is not a length unit")))?;
         Ok(Some((u.to_string(), metres)))
     };
     let (states_x, states_z) = (data.position_unit.is_some(), data.height_unit.is_some());
@@ -731,13 +733,13 @@ fn map(
         if ch.unit.is_some() {
             return Err(Error::invalid("--height-unit", format!("{} states its own height unit", path.display())));
         }
-        let scale = units::metres_per(unit)
+        let scale = metres_per(unit)
             .ok_or_else(|| Error::invalid("--height-unit", format!("'{unit}' is not a length unit")))?;
         ch.data.mapv_inplace(|h| h * scale);
         ch.unit = Some(unit.to_string());
     }
     // Readers convert a channel in a length unit to metres; any other is as stored.
-    let height_unit_known = ch.unit.as_deref().and_then(units::metres_per).is_some();
+    let height_unit_known = ch.unit.as_deref().and_then(metres_per).is_some();
     let topo = Topography {
         heights: ch.data,
         physical_size,
@@ -785,7 +787,7 @@ fn same_size(a: (f64, f64), b: (f64, f64)) -> bool {
 /// lists every channel with its unit.
 fn no_heights(default: &Channel, channels: &[Channel]) -> std::result::Result<(), String> {
     match default.unit.as_deref() {
-        Some(u) if !default.is_height && units::metres_per(u).is_none() => {
+        Some(u) if !default.is_height && metres_per(u).is_none() => {
             let list = channels
                 .iter()
                 .map(|c| {

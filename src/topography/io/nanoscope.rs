@@ -8,14 +8,16 @@
 //! names a soft scale (`\@Sens. Zsens: V 20.82646 nm/V`, elsewhere in the header) and a hard
 //! value spread over the full integer range, so one LSB is `hard / 2^(8·bytes) · soft`, here
 //! in nm. Lines are stored bottom first; they are returned top first.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::plausible;
+use crate::quantity::metres_per;
 use crate::quantity::quoted;
-use crate::topography::units::metres_per;
 
 pub struct Nanoscope;
 

@@ -8,12 +8,13 @@
 //! offsets) is parsed here; every count is checked against the bytes left before anything is
 //! allocated from it, and every variable's data against the file's length. NetCDF-4 files are
 //! HDF5 and not read here; neither are record (unlimited) variables nor line scans.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::Array2;
 
 use super::{Channel, Format};
-use crate::quantity::quoted;
-use crate::topography::units;
+use crate::quantity::{metres_per, quoted};
 
 pub struct NetCdf;
 
@@ -57,7 +58,7 @@ impl Format for NetCdf {
             }
         }
         let scale = match unit.as_deref() {
-            Some(u) => units::metres_per(u).ok_or_else(|| format!("NetCDF unit {} is not a length", quoted(u)))?,
+            Some(u) => metres_per(u).ok_or_else(|| format!("NetCDF unit {} is not a length", quoted(u)))?,
             None => 1.0,
         };
         // Lengths in the file's unit: metres only when it states one.

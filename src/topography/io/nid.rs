@@ -9,12 +9,14 @@
 //!
 //! Only the topography channels (those whose `Dim2Unit` is a length) are listed, named
 //! `Frame (Dim2Name)`, e.g. "Scan forward (Z-Axis)"; force and voltage channels are skipped.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Nid;
 

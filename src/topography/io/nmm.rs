@@ -4,6 +4,8 @@
 //! height `-Lz+Az` [m] along the stage's x position `Lx` [m], as SurfaceTopography read these
 //! files; a scan run towards −x is read from its end, so that the positions increase. Files
 //! the archiver adds (`__MACOSX/`, names starting with `.` or `_`) are ignored.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::{container, ProfileData, ProfileFormat};
 use crate::limits::Limits;

@@ -4,6 +4,8 @@
 //! (ny, nx), }`, padded with spaces. It is parsed here in one pass over its bytes (no
 //! recursion, no backtracking), and the size it declares is checked against the bytes the file
 //! holds before anything is allocated from it.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::{Array2, ShapeBuilder};
 

@@ -6,6 +6,8 @@
 //!
 //! Members are inflated as streams within the input limits, as any container's
 //! ([`super::container`]).
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::{container, npy, Channel, Format};
 use crate::limits::Limits;

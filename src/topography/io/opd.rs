@@ -9,6 +9,8 @@
 //! the last row first. A value times `Wavelength / Mult` is a height in nm; `Pixel_size` is in
 //! mm, along y times `Aspect`. Values of 32766 and up (`i16`), of 1e38 and up or not finite
 //! (`f32`) mark points not measured.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 

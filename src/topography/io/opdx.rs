@@ -8,6 +8,8 @@
 //! `DataScale` (the height per stored value, with a unit) and its `Array` of `f64` values
 //! after a 5-byte prefix. Maps (`Surface Height`) are refused: no sample of one was at hand to
 //! check a reader against.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 

@@ -7,6 +7,8 @@
 //! layer is `ny`, `nx` (`u32`), `ny` rows of `nx` `f32` heights in µm, their minimum and
 //! maximum (`f32`), then `num_images` RGB images of `nx` × `ny` pixels. The value 1000001 marks
 //! a point not measured. The format has no magic number: it is known by its extension.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};

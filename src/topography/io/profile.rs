@@ -2,6 +2,8 @@
 //! profilometers' exports, `xy` files, CSV tables), `NaN` for a missing height, read as
 //! [`columns::table`] reads such a table. Text may be UTF-8, Latin-1 or UTF-16 with a byte
 //! order mark.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::columns::{self, names_an_index};
 use super::dektak::Dektak;

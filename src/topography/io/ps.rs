@@ -5,11 +5,13 @@
 //! scale, offset and unit, and from version 2 the data type: 0 i16, 1 i32, 2 f32). A value is
 //! `(stored · scale + offset) · gain` in the data unit (µm when it states none). The TIFF's
 //! own image is a preview and is not read. Line profiles (image type 1) are refused.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::tiff::{Entry, Tiff};
 use super::{Channel, Format};
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Ps;
 

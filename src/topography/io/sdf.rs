@@ -6,6 +6,8 @@
 //! `Zscale` is a height in metres; the point spacings `Xscale`, `Yscale` are in metres, so the
 //! physical size is `NumPoints · Xscale` by `NumProfiles · Yscale`. `BAD` marks a missing point
 //! in the ASCII variant.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::Array2;
 

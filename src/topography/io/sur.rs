@@ -7,12 +7,14 @@
 //! the value `zmin − 2` marks a point not measured. `inversion` 1–3 negates the heights, 2
 //! mirrors the columns and 3 the rows (as Gwyddion and SurfaceTopography read it). Old files
 //! write the micro sign as `æ` (code page 437). Of a file of several objects the first is read.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};
 use crate::plausible;
+use crate::quantity::metres_per;
 use crate::quantity::quoted;
-use crate::topography::units::metres_per;
 
 pub struct Sur;
 

@@ -2,12 +2,14 @@
 //!
 //! Text readers allocate only in proportion to the numbers actually present in the file, never
 //! from a count a header declares.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::borrow::Cow;
 
 use ndarray::Array2;
 
-use crate::topography::units;
+use crate::quantity::metres_per;
 
 /// The file as text: UTF-16 after its byte order mark (Windows exports of CSV tables), UTF-8
 /// (a byte order mark dropped), or else Latin-1 (older Windows exports write `µ` as the single
@@ -113,7 +115,7 @@ pub(super) fn length_in_metres(text: &str) -> Option<f64> {
     let text = text.trim();
     let split = text.find(char::is_whitespace).unwrap_or(text.len());
     let value = number(&text[..split]).or_else(|| number(&text[..split].replacen(',', ".", 1)))?;
-    let metres = value * units::metres_per(text[split..].trim())?;
+    let metres = value * metres_per(text[split..].trim())?;
     (metres.is_finite() && metres > 0.0).then_some(metres)
 }
 

@@ -1,6 +1,8 @@
 //! The directories of a TIFF file (classic TIFF, either byte order): the tags of each image, as
 //! the TIFF-based formats (Park Systems, JPK) read their private tags. Only the bytes present
 //! are read: a directory, a value or a strip past the end of the file is an error.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian};
 

@@ -3,6 +3,8 @@
 //! A 32-byte magic `Binary TrueMap Data File v2.0\r\n\0`, a NUL-terminated comment, then
 //! little-endian `u32` nx, ny and `f32` x and y lengths and offsets, all lengths in
 //! millimetres; then ny rows of nx `f32` heights in millimetres.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
 use super::{Channel, Format};

@@ -9,12 +9,14 @@
 //! `[General Info]` the height range `Z Amplitude: 18.9 nm`. Floating-point values are in the
 //! unit of `Z Amplitude`; integers span `Z Amplitude` over the `[Miscellaneous]` `Minimum` to
 //! `Maximum` they take, as SurfaceTopography and WSxM scale them.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
 use super::{Channel, Format};
-use crate::topography::units::metres_per;
+use crate::quantity::metres_per;
 
 pub struct Wsxm;
 

@@ -6,6 +6,8 @@
 //! data are little-endian `I` (i16), `L` (i32), `F` (f32) or `D` (f64) values, x fastest;
 //! z = Offset + Increment · value, in metres. The optional validity file holds one bit per
 //! point, least significant bit first: 0 marks a missing point, as does NaN in float data.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use std::io::{Cursor, Read};
 

@@ -5,6 +5,8 @@
 //! is refused, never interpolated. The lines may come in any order; x runs along the columns,
 //! y along the rows. The coordinates carry no unit, so the physical size is left to the user
 //! (`--size`), as is the height unit.
+//!
+//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use ndarray::Array2;
 

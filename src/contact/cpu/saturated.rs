@@ -19,20 +19,24 @@
 //! Each iteration recomputes u = K p and applies K to the search direction from scratch: two
 //! FFT pairs. The elastic solver's one-pair iteration rests on restoring the load by a uniform
 //! rescaling, which the cap breaks; this path runs only when a hardness is set.
+//!
+//! Imports its parent (`cpu`) and `options` inside `contact`; must not import friction, study,
+//! report, plot, shs, cli.
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{sum_rows, CpuSolver, Iterations, SolveReport, STALL};
-use crate::error::{Error, Result};
+use super::{sum_rows, CpuSolver};
+use crate::contact::options::{Iterations, Scales, SolveReport, STALL};
+use crate::error::Result;
 use crate::fft::large_buffer;
 
 /// Newton steps of the load restoration at most (it is exact after a few).
 const NEWTON: usize = 64;
 
 impl CpuSolver {
-    /// [`super::ContactSolver::solve`] with the pressure capped at `hardness` [Pa].
+    /// [`Engine::solve`](crate::contact::options::Engine::solve) with the pressure capped at `hardness` [Pa].
     pub(super) fn solve_saturated(
         &mut self,
         hardness: f64,
@@ -177,51 +181,6 @@ impl CpuSolver {
             operator_applications: applications,
             seconds: start.elapsed().as_secs_f64(),
             hardness: Some(hardness),
-        })
-    }
-}
-
-/// The scales of a capped solve at one load, shared by the CPU and the GPU iteration.
-pub(crate) struct Scales {
-    /// Mean pressure N / (Lx·Ly) [Pa].
-    pub p_mean: f64,
-    /// The load as a sum of pixel pressures, p̄·n [Pa].
-    pub total: f64,
-    /// The residual's normalisation n·p̄·h_rms (h_rms taken as 1 on a flat surface).
-    pub norm: f64,
-    /// The finest mode's stiffness E*π/(2·spacing) [Pa/m]: its inverse is the step taken when
-    /// the search direction gives none.
-    pub stiffness: f64,
-}
-
-impl Scales {
-    /// An error naming `--hardness` unless `hardness` [Pa] is above the mean pressure of `load`
-    /// [N] on a window of `size` [m] and (ny, nx) points.
-    pub(crate) fn of(
-        hardness: f64,
-        load: f64,
-        size: (f64, f64),
-        (ny, nx): (usize, usize),
-        e_star: f64,
-        h_rms: f64,
-    ) -> Result<Self> {
-        let n = (ny * nx) as f64;
-        let p_mean = load / (size.0 * size.1);
-        if hardness <= p_mean {
-            return Err(Error::invalid(
-                "--hardness",
-                format!(
-                    "{hardness:.4e} Pa is not above the mean pressure N/(Lx·Ly) = {p_mean:.4e} Pa: the window cannot \
-                     carry {load:e} N"
-                ),
-            ));
-        }
-        let spacing = (size.0 / nx as f64).min(size.1 / ny as f64);
-        Ok(Scales {
-            p_mean,
-            total: p_mean * n,
-            norm: n * p_mean * if h_rms > 0.0 { h_rms } else { 1.0 },
-            stiffness: e_star * std::f64::consts::PI / (2.0 * spacing),
         })
     }
 }
