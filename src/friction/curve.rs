@@ -29,8 +29,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::onset::{groups, slip_force};
-use super::{ElementLoads, FrictionLaw};
+use super::law::FrictionLaw;
+use super::onset::{groups, slip_force, ElementLoads};
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
 
@@ -233,7 +233,7 @@ pub fn write_curves_csv(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::friction::Onset;
+    use crate::friction::onset::Onset;
 
     fn loads(forces: &[f64]) -> ElementLoads {
         ElementLoads::from_forces(forces).unwrap()

@@ -7,7 +7,7 @@ use ndarray::{Array2, ArrayBase, Data, Ix2};
 use rayon::slice::ParallelSliceMut;
 use serde::Serialize;
 
-use super::FrictionLaw;
+use super::law::FrictionLaw;
 use crate::error::{Error, Result};
 
 /// Below this many elements a serial sort beats rayon's parallel one.

@@ -13,7 +13,8 @@
 
 use serde::Serialize;
 
-use super::{ClassShare, ElementLoads, SlipLaw, Weakening};
+use super::onset::{ClassShare, ElementLoads};
+use super::slip_law::{SlipLaw, Weakening};
 use crate::error::{Error, Result};
 
 /// A stable weakening shorter than this fraction of its δ is taken as a snap.
@@ -172,7 +173,8 @@ impl Element {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::friction::{FrictionLaw, Onset};
+    use crate::friction::law::FrictionLaw;
+    use crate::friction::onset::Onset;
 
     /// One element's force at δ, from its own law: stuck, slipping stably, or weakened.
     fn element_force(n: f64, law: &SlipLaw, k: f64, delta: f64) -> f64 {

@@ -67,44 +67,4 @@ mod tests {
         // Linear in the displacement: the same stiffness from a solver that starts stuck.
         assert!((stuck_stiffness(&mut solver).unwrap().0 / k - 1.0).abs() < 1e-5);
     }
-
-    /// Four equal elements at the corners of a square share the shear equally by symmetry, as
-    /// the model's elements do: the elastic onset rises with K_t and peaks, all slipping at
-    /// once, at the model's δ_peak = n s*/K_t with k_t = K_t/n.
-    #[test]
-    fn four_equal_elements_peak_at_the_models_delta_peak() {
-        use crate::friction::{
-            displacement, elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLaw, Weakening, PEAK_TOLERANCE,
-        };
-        let si = Material { youngs: 130e9, poisson: 0.26 };
-        let (n, l) = (80, 8e-6);
-        let mut pressure = vec![0.0; n * n];
-        for (y, x) in [(20, 20), (20, 60), (60, 20), (60, 60)] {
-            pressure[y * n + x] = 1e9;
-        }
-        let mut solver = TangentialSolver::new(
-            &pressure,
-            (n, n),
-            (l, l),
-            ShearCompliance::of(&[si]),
-            Boundary::Free,
-            TangentialOptions::default(),
-        )
-        .unwrap();
-        let (k, _) = stuck_stiffness(&mut solver).unwrap();
-        let loads = ElementLoads::from_forces(&[1e9 * 1e-14; 4]).unwrap();
-        let model = Onset::new(&loads, &FrictionLaw::new(0.6, 0.4).unwrap());
-        let delta_peak = displacement(model.critical_shear(), element_stiffness(k, 4));
-        assert!((delta_peak / (4.0 * 0.6 * 1e-5 / k) - 1.0).abs() < 1e-12);
-
-        let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: Weakening::Instant };
-        let elastic = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
-        for p in elastic.curve.iter().filter(|p| p.slip_points == 0 && p.displacement_m > 0.0) {
-            assert!((p.force_n / p.displacement_m / k - 1.0).abs() < 1e-5, "stuck slope {p:?}, K_t {k} N/m");
-        }
-        let peak = elastic.peak.point;
-        eprintln!("K_t {k:.6e} N/m, δ_peak {delta_peak:.6e} m, the elastic onset's peak at {peak:?}");
-        assert!((peak.displacement_m / delta_peak - 1.0).abs() < 1e-4, "{peak:?} against δ_peak {delta_peak} m");
-        assert!((elastic.static_force / (0.6 * 4e-5) - 1.0).abs() < 1e-4);
-    }
 }
