@@ -32,7 +32,8 @@
 //!
 //! Must not import topography, contact, friction, study, plot or report: a trace is its own input.
 
-use super::{Analysis, Cycle, ShsOptions, Skipped, Trace};
+use super::analysis::{group_by_hold, Analysis, Cycle, ShsOptions, Skipped};
+use super::trace::Trace;
 use crate::error::{Error, Result};
 
 /// Half-width [samples] of the running median the hold/slide decision is made on.
@@ -182,7 +183,7 @@ pub(super) fn analyse(trace: &Trace, options: &ShsOptions) -> Result<Analysis> {
     for c in &analysis.cycles {
         check_coefficients(trace, c)?;
     }
-    analysis.groups = super::group_by_hold(&analysis.cycles, options.group_tolerance);
+    analysis.groups = group_by_hold(&analysis.cycles, options.group_tolerance);
     Ok(analysis)
 }
 

@@ -19,7 +19,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::Group;
+use super::analysis::Group;
 use crate::error::{Error, Result};
 
 /// One measured point: a group of restarts after holds of similar length.
