@@ -5,7 +5,6 @@
 //! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
 //! `cli` or `python`.
 
-use serde::de::{self, Deserializer};
 use serde::{Deserialize, Serialize};
 
 use super::defaults;
@@ -91,7 +90,10 @@ impl Plastic {
 
 /// `boundary = "periodic" | "free"`.
 mod boundary {
-    use super::*;
+    use serde::de::{self, Deserializer};
+    use serde::Deserialize;
+
+    use crate::contact::Boundary;
 
     pub fn serialize<S: serde::Serializer>(b: &Boundary, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str(b.name())
