@@ -6,14 +6,18 @@
 //!
 //! Must not import report: plot draws what study, friction, contact and shs hand it.
 
+use super::figure::{Axis, Figure, LegendPosition, Panel};
 use super::maps::load_label;
+use super::series::{Marker, Series};
 use super::shared::{by_load, signed, spread, FigureInput, LOAD_COLOURS};
-use super::{style, tick_label, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
+use super::style;
+use super::ticks::tick_label;
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::plausible::MAX_FRICTION_COEFFICIENT;
 use crate::quantity::{show, LENGTH};
 use crate::shs::ShsPoint;
 use crate::study::{law_name, ResolutionRow, Row, COARSENING};
+use plotters::style::RGBColor;
 
 /// A measured point belongs to the law of its hold time when the two agree within this factor.
 const HOLD_MATCH: f64 = 1.25;

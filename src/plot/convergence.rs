@@ -4,9 +4,11 @@
 //!
 //! Must not import report: plot draws what study, friction, contact and shs hand it.
 
-use super::figure::{Axis, Grid, Marker, Panel, Series};
+use super::figure::LegendPosition;
+use super::figure::{Axis, Grid, Panel};
+use super::series::{Marker, Series};
+use super::style;
 use super::ticks::tick_label;
-use super::{style, LegendPosition};
 
 /// One onset under elastic sharing, with equal sharing's on the same pressure.
 #[derive(Clone, Debug, PartialEq)]
@@ -98,7 +100,7 @@ fn panels(points: &[ConvergencePoint], mu_d: f64) -> Vec<Panel> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plot::Shape;
+    use crate::plot::series::Shape;
 
     fn point(pixel_nm: f64, load_n: f64, dc_nm: f64, drop: f64) -> ConvergencePoint {
         ConvergencePoint {
@@ -141,7 +143,7 @@ mod tests {
         }
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("sharing-convergence.png");
-        crate::plot::write_figure(&path, &sharing_convergence(&points, 0.4)).unwrap();
+        crate::plot::draw::write_figure(&path, &sharing_convergence(&points, 0.4)).unwrap();
         let svg = std::fs::read_to_string(path.with_extension("svg")).unwrap();
         assert!(svg.contains("pixel size [nm]") && svg.contains("0.4 mN: 400–6400 elements"));
     }

@@ -7,24 +7,14 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::HPos;
 
+pub use plotters::chart::SeriesLabelPosition as LegendPosition;
+
+use super::draw::{Draw, DrawResult};
 use super::legend::{add_legend, hidden, legend_glyph, triangle};
+use super::series::{Dash, Marker, Series, Shape};
 use super::style;
 use super::ticks::{linear_ticks, log_ticks, mixed_notation, power_label, tick_label};
 use super::typeset::{typeset, typeset_width};
-
-/// What drawing on a plotters area returns, for the backend `DB`: `T`, or the backend's error.
-pub type DrawResult<DB, T = ()> = Result<T, DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
-
-/// Anything that draws itself onto an area of any backend (bitmap, SVG, a movie frame).
-pub trait Draw {
-    /// Canvas \[px] this drawing is laid out for.
-    fn size(&self) -> (u32, u32) {
-        style::SIZE
-    }
-
-    /// Draw onto `area` (already filled with the background).
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> DrawResult<DB>;
-}
 
 /// One axis of a panel: its label (quantity and unit), linear or logarithmic, and its range
 /// (fitted to the data unless fixed).
@@ -92,202 +82,6 @@ impl Axis {
             };
             let d = (hi - lo) * PAD;
             (lo - d, hi + d)
-        }
-    }
-}
-
-/// Marker of a scatter series.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Marker {
-    /// A disc.
-    Circle,
-    /// A square.
-    Square,
-    /// An upward triangle.
-    Triangle,
-    /// A diagonal cross (×).
-    Cross,
-}
-
-/// How a line is stroked.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dash {
-    /// An unbroken line.
-    Solid,
-    /// Dashes several line widths long.
-    Dashed,
-    /// Dots one line width long (a reference level, a limit).
-    Dotted,
-}
-
-/// The geometry of a series, in the units of the panel's axes.
-#[derive(Clone, Debug)]
-pub enum Shape {
-    /// A polyline through `points`, `width` px wide.
-    Line {
-        /// The vertices (x, y), in order.
-        points: Vec<(f64, f64)>,
-        /// Stroke width \[px].
-        width: u32,
-        /// Solid, dashed or dotted.
-        dash: Dash,
-    },
-    /// Markers at `points`, with optional symmetric vertical error bars (± `y_err`).
-    Scatter {
-        /// The marker positions (x, y).
-        points: Vec<(f64, f64)>,
-        /// Half-length of each point's error bar, in the y axis' unit; none without bars.
-        y_err: Option<Vec<f64>>,
-        /// The marker's shape.
-        marker: Marker,
-        /// Filled, or outlined only.
-        filled: bool,
-    },
-    /// The area between `lower(x)` and `upper(x)`.
-    Band {
-        /// The abscissae, increasing.
-        x: Vec<f64>,
-        /// The lower edge at each `x`.
-        lower: Vec<f64>,
-        /// The upper edge at each `x`.
-        upper: Vec<f64>,
-    },
-    /// A vertical stripe from `x0` to `x1` over the whole height of the panel.
-    Span {
-        /// The stripe's left edge.
-        x0: f64,
-        /// The stripe's right edge.
-        x1: f64,
-    },
-}
-
-/// A series: a shape with its colour, opacity and legend entry.
-#[derive(Clone, Debug)]
-pub struct Series {
-    /// What is drawn: line, markers, band or stripe.
-    pub shape: Shape,
-    /// Its colour.
-    pub colour: RGBColor,
-    /// 1 opaque, 0 invisible.
-    pub opacity: f64,
-    /// Legend text; unlabelled series are left out of the legend.
-    pub label: Option<String>,
-}
-
-impl Series {
-    /// A solid line.
-    pub fn line(points: Vec<(f64, f64)>, colour: RGBColor) -> Self {
-        Series::new(Shape::Line { points, width: style::LINE_WIDTH, dash: Dash::Solid }, colour, 1.0)
-    }
-
-    /// Filled markers.
-    pub fn scatter(points: Vec<(f64, f64)>, marker: Marker, colour: RGBColor) -> Self {
-        Series::new(Shape::Scatter { points, y_err: None, marker, filled: true }, colour, 1.0)
-    }
-
-    /// A translucent band between two curves sampled at the same `x`.
-    pub fn band(x: Vec<f64>, lower: Vec<f64>, upper: Vec<f64>, colour: RGBColor) -> Self {
-        assert!(x.len() == lower.len() && x.len() == upper.len(), "a band needs x, lower and upper of one length");
-        Series::new(Shape::Band { x, lower, upper }, colour, 0.25)
-    }
-
-    /// A translucent vertical stripe from `x0` to `x1`.
-    pub fn span(x0: f64, x1: f64, colour: RGBColor) -> Self {
-        Series::new(Shape::Span { x0, x1 }, colour, 0.15)
-    }
-
-    fn new(shape: Shape, colour: RGBColor, opacity: f64) -> Self {
-        Series { shape, colour, opacity, label: None }
-    }
-
-    /// Name the series in the legend.
-    pub fn label(mut self, label: impl Into<String>) -> Self {
-        self.label = Some(label.into());
-        self
-    }
-
-    /// Opacity: 1 opaque, 0 invisible.
-    pub fn opacity(mut self, opacity: f64) -> Self {
-        self.opacity = opacity;
-        self
-    }
-
-    /// Line width \[px]; lines only.
-    pub fn width(mut self, px: u32) -> Self {
-        match &mut self.shape {
-            Shape::Line { width, .. } => *width = px,
-            _ => panic!("Series::width applies to lines"),
-        }
-        self
-    }
-
-    /// Dashed instead of solid; lines only.
-    pub fn dashed(self) -> Self {
-        self.dash(Dash::Dashed, "dashed")
-    }
-
-    /// Dotted instead of solid; lines only.
-    pub fn dotted(self) -> Self {
-        self.dash(Dash::Dotted, "dotted")
-    }
-
-    fn dash(mut self, style: Dash, name: &str) -> Self {
-        match &mut self.shape {
-            Shape::Line { dash, .. } => *dash = style,
-            _ => panic!("Series::{name} applies to lines"),
-        }
-        self
-    }
-
-    /// Outlined instead of filled markers; scatter only.
-    pub fn hollow(mut self) -> Self {
-        match &mut self.shape {
-            Shape::Scatter { filled, .. } => *filled = false,
-            _ => panic!("Series::hollow applies to scatter series"),
-        }
-        self
-    }
-
-    /// Vertical error bars of half-length `y_err[i]` on point i; scatter only.
-    pub fn errors(mut self, err: Vec<f64>) -> Self {
-        match &mut self.shape {
-            Shape::Scatter { points, y_err, .. } => {
-                assert_eq!(points.len(), err.len(), "one error bar per point");
-                *y_err = Some(err);
-            }
-            _ => panic!("Series::errors applies to scatter series"),
-        }
-        self
-    }
-
-    /// Drawing order: stripes and bands under lines under markers.
-    fn layer(&self) -> u8 {
-        match self.shape {
-            Shape::Span { .. } => 0,
-            Shape::Band { .. } => 1,
-            Shape::Line { .. } => 2,
-            Shape::Scatter { .. } => 3,
-        }
-    }
-
-    fn xs(&self) -> Box<dyn Iterator<Item = f64> + '_> {
-        match &self.shape {
-            Shape::Line { points, .. } | Shape::Scatter { points, .. } => Box::new(points.iter().map(|p| p.0)),
-            Shape::Band { x, .. } => Box::new(x.iter().copied()),
-            Shape::Span { x0, x1 } => Box::new([*x0, *x1].into_iter()),
-        }
-    }
-
-    fn ys(&self) -> Box<dyn Iterator<Item = f64> + '_> {
-        match &self.shape {
-            Shape::Line { points, .. } | Shape::Scatter { points, y_err: None, .. } => {
-                Box::new(points.iter().map(|p| p.1))
-            }
-            Shape::Scatter { points, y_err: Some(e), .. } => {
-                Box::new(points.iter().zip(e).flat_map(|(p, e)| [p.1 - e.abs(), p.1 + e.abs()]))
-            }
-            Shape::Band { lower, upper, .. } => Box::new(lower.iter().chain(upper).copied()),
-            Shape::Span { .. } => Box::new(std::iter::empty()),
         }
     }
 }
@@ -688,6 +482,7 @@ impl Draw for Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::plot::draw::write_figure;
 
     /// A legend beside the axes widens its column to its longest entry: a study's long law
     /// names were cut at the figure's right edge.
@@ -750,5 +545,63 @@ mod tests {
             let case = format!("top axis {top}, legend beside {beside}");
             assert!(drawn.0 >= 0.0 && drawn.1 <= 1000.0, "{case}: the title spans {drawn:?} px");
         }
+    }
+
+    /// Every series kind on a log-log and a linear panel: both files appear, the PNG decodes
+    /// to the canvas size and has drawn content, the SVG carries the labels.
+    #[test]
+    fn writes_png_and_svg() {
+        let x: Vec<f64> = (0..50).map(|i| 1e-4 * 10f64.powf(i as f64 / 12.0)).collect();
+        let mut top = Panel::new(Axis::new("normal load", "N").log(), Axis::dimensionless("friction drop").log())
+            .title("all series kinds")
+            .legend(LegendPosition::UpperRight);
+        top.push(Series::band(
+            x.clone(),
+            x.iter().map(|v| 1.5 - v.log10() / 20.0).collect(),
+            vec![2.2; 50],
+            style::GREY,
+        ));
+        top.push(
+            Series::line(x.iter().map(|&v| (v, 2.0 - v.log10() / 10.0)).collect(), style::PALETTE[0]).label("model"),
+        );
+        top.push(Series::line(vec![(1e-4, 1.2), (1e-1, 1.2)], style::PALETTE[1]).dashed().width(1));
+        top.push(
+            Series::scatter(vec![(1e-3, 1.8), (1e-2, 1.6)], Marker::Square, style::PALETTE[1])
+                .errors(vec![0.1, 0.05])
+                .label("measured"),
+        );
+        top.push(Series::scatter(vec![(3e-3, 1.7)], Marker::Triangle, style::PALETTE[2]).hollow());
+        top.push(Series::scatter(vec![(3e-2, 1.5)], Marker::Cross, style::PALETTE[3]));
+        top.push(Series::scatter(vec![(5e-2, 1.4)], Marker::Circle, style::PALETTE[4]));
+        let mut bottom =
+            Panel::new(Axis::new("time", "s"), Axis::new("force", "mN").range(-1.0, 5.0)).legend_beside(220);
+        bottom.push(Series::line(vec![(0.0, 1.0), (6.0, 1.0)], style::GREY).dotted().label("limit"));
+        bottom.push(Series::span(2.0, 3.0, style::CRITICAL).label("critical"));
+        bottom.push(Series::span(4.0, 5.0, style::PRE_SLIDING).opacity(0.4));
+        bottom.push(Series::line(vec![(0.0, 0.0), (6.0, 4.0)], style::SUBCRITICAL));
+        let figure = Figure::stack(vec![(top, 2), (bottom, 1)]).with_size(900, 900);
+
+        let dir = tempfile::tempdir().unwrap();
+        let png_path = dir.path().join("all.png");
+        let svg_path = write_figure(&png_path, &figure).unwrap();
+        assert_eq!(svg_path, dir.path().join("all.svg"));
+
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png_path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height), (900, 900));
+        let pixels = &buf[..info.buffer_size()];
+        let dark = pixels.chunks(3).filter(|p| p.iter().all(|&c| c < 100)).count();
+        let amber = pixels.chunks(3).filter(|p| p[0] > 200 && p[1] > 150 && p[2] < 200 && p[1] < 230).count();
+        assert!(dark > 5_000, "axes, text and lines are drawn ({dark} dark pixels)");
+        assert!(amber > 1_000, "the pre-sliding span is drawn ({amber} amber pixels)");
+
+        let svg = std::fs::read_to_string(&svg_path).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("friction drop") && svg.contains("normal load [N]"));
+        let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(names.len(), 2, "no temporary files left: {names:?}");
+        let e = write_figure(&dir.path().join("all.svg"), &figure).unwrap_err().to_string();
+        assert!(e.contains("all.svg") && e.contains(".png"), "{e}");
     }
 }

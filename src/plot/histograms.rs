@@ -4,11 +4,15 @@
 //!
 //! Must not import report: plot draws what study, friction, contact and shs hand it.
 
+use super::figure::{Axis, Grid, LegendPosition, Panel};
 use super::maps::load_label;
-use super::{style, tick_label, Axis, Grid, LegendPosition, Marker, Panel, RGBColor, Series};
+use super::series::{Marker, Series};
+use super::style;
+use super::ticks::tick_label;
 use crate::error::Result;
 use crate::friction::{ElementClass, ElementLoads, FrictionLaw, Onset};
 use crate::study::MapSnapshot;
+use plotters::style::RGBColor;
 
 /// Bins of the subcritical ratios of a many-element interface between 0 and mu_s.
 const BINS: usize = 40;
@@ -140,7 +144,8 @@ pub(super) fn stress_ratio_histograms(snap: Option<&MapSnapshot>, law: &Friction
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plot::{Draw, Figure};
+    use crate::plot::draw::Draw;
+    use crate::plot::figure::Figure;
     use plotters::prelude::*;
 
     /// The fill colour of a class as the SVG writes it.

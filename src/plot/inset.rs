@@ -7,8 +7,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
+use super::draw::DrawResult;
 use super::maps::{draw_layer, text, Layer, MapChart, View, TICK};
-use super::{prefixed, tick_label, DrawResult};
+use super::ticks::{prefixed, tick_label};
 
 /// Where an inset goes: `(left, top)` and side [px] inside the map's plotting area, where it
 /// hides no drawn pixel, or none when every place inside would hide some.

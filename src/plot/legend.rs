@@ -8,7 +8,7 @@ use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
 use plotters_backend::DrawingErrorKind;
 
-use super::figure::{Dash, Marker, Series, Shape};
+use super::series::{Dash, Marker, Series, Shape};
 use super::style;
 
 /// How much of series `s` a legend box `rect` (left, top, right, bottom) would hide, in

@@ -15,10 +15,14 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 use rayon::prelude::*;
 
+use super::draw::{Draw, DrawResult};
+use super::figure::{Axis, Panel};
 use super::maps::{
     draw_layer, map_chart, plot_size, ratio_key, ratio_layer, ratio_value_colour, text, Layer, MapAxes, View, LEVELS,
 };
-use super::{style, tick_label, Axis, Draw, DrawResult, Marker, Panel, Series};
+use super::series::{Marker, Series};
+use super::style;
+use super::ticks::tick_label;
 use crate::error::{Error, Result};
 use crate::friction::{Curve, ElementLoads, Loading, Onset};
 use crate::study::MapSnapshot;

@@ -4,10 +4,10 @@
 //!
 //! Must not import report: plot draws what study, friction, contact and shs hand it.
 
-use super::RGBColor;
 use crate::friction::FrictionLaw;
 use crate::shs::ShsPoint;
 use crate::study::{FigureKind, MapSnapshot, Records, ResolutionRow, Row};
+use plotters::style::RGBColor;
 
 /// Everything the study's figures and report are drawn from.
 pub struct FigureInput<'a> {

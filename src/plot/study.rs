@@ -13,14 +13,20 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::maps::{load_label, ClassMap, ContactMaps, RatioSnapshots};
+use super::contact_maps::{ClassMap, ContactMaps};
+use super::draw::write_figure;
+use super::figure::{Axis, Figure, LegendPosition, Panel};
+use super::maps::{load_label, RatioSnapshots};
 use super::movie::{scaled_curve, write_movie};
+use super::series::{Marker, Series};
 use super::shared::{by_load, spread, stem, Drawn, FigureInput, Image, LOAD_COLOURS};
+use super::style;
+use super::ticks::tick_label;
 use super::{coefficients, histograms};
-use super::{style, tick_label, write_figure, Axis, Figure, LegendPosition, Marker, Panel, RGBColor, Series};
 use crate::error::{Error, Result};
 use crate::friction::{displacement, element_stiffness, ElementLoads, FrictionLaw, Loading, Onset};
 use crate::study::{law_name, FigureKind, MapSnapshot, Row, FIGURE_LOADS_N, NEAR_DECADES};
+use plotters::style::RGBColor;
 
 /// Draw the figures of `input.figures` into `dir/figures/` (`<name>.png` + `.svg`, movies as
 /// `.gif`) and write `dir/index.html` showing them with the study's parameters and results.
@@ -240,7 +246,7 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
     }
     // The stress axis reaches the hardness when it is set, so that its line shows.
     let reach = max.max(input.hardness_pa.unwrap_or(0.0));
-    let (scale, unit) = super::prefixed(reach, "Pa");
+    let (scale, unit) = super::ticks::prefixed(reach, "Pa");
     let density_axis = Axis::new("probability density p(σ)", &format!("1/{unit}"));
     let mut panel = Panel::new(
         Axis::new("local normal stress σ", &unit).range(0.0, reach * scale * 1.04),
@@ -359,7 +365,7 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
     let mut length = String::new();
     if let Some((contact, element)) = stiffness {
         let peak_m = displacement(onset.critical_shear(), element);
-        let (scale, unit) = super::prefixed(peak_m * end, "m");
+        let (scale, unit) = super::ticks::prefixed(peak_m * end, "m");
         panel = panel.top_axis(Axis::new("imposed displacement δ", &unit), peak_m * scale);
         length = format!(
             "δ_peak = {} {unit} (top axis: δ in {unit}): δ = s/k_t for an element shear s, the n = {} elements \
@@ -404,7 +410,7 @@ fn friction_curve(snap: &MapSnapshot, law: &FrictionLaw) -> Result<(Figure, Stri
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plot::Draw;
+    use crate::plot::draw::Draw;
     use plotters::prelude::{IntoDrawingArea, SVGBackend};
 
     /// Fig. 4a as SVG text, and its caption, on four elements of 1, 2, 3 and 5 × 10⁻⁷ N.

@@ -1,5 +1,6 @@
 //! Axis ticks and their labels: where a linear or a logarithmic axis puts its ticks, and how
-//! a tick's value is written (plainly, or as a power of ten when an axis would mix notations).
+//! a tick's value is written (plainly, or as a power of ten when an axis would mix notations),
+//! and the SI prefix that shows a magnitude with one to three digits ([`prefixed`]).
 //!
 //! Must not import report, study, friction, contact or shs: ticks know only numbers.
 
@@ -83,9 +84,50 @@ pub(super) fn power_label(v: &f64) -> String {
     }
 }
 
+/// The SI prefix that shows values up to `magnitude` (in `unit`) with one to three digits
+/// before the decimal point: returns the factor to multiply values by and the prefixed unit,
+/// e.g. `(1e3, "mN")` for 0.024 N.
+pub fn prefixed(magnitude: f64, unit: &str) -> (f64, String) {
+    const PREFIXES: [(f64, &str); 8] =
+        [(1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p")];
+    let m = magnitude.abs();
+    if !m.is_normal() {
+        return (1.0, unit.to_string());
+    }
+    let &(p, name) = PREFIXES.iter().find(|(p, _)| m >= *p * (1.0 - 1e-12)).unwrap_or(&PREFIXES[PREFIXES.len() - 1]);
+    (1.0 / p, format!("{name}{unit}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tick_labels_are_short() {
+        let cases = [
+            (0.0, "0"),
+            (0.30000000000000004, "0.3"),
+            (250.0, "250"),
+            (1.5, "1.5"),
+            (-2.0, "-2"),
+            (12345.0, "12345"),
+            (1e-4, "1e-4"),
+            (2.5e6, "2.5e6"),
+            (0.0125, "0.0125"),
+        ];
+        for (v, s) in cases {
+            assert_eq!(tick_label(&v), s, "{v}");
+        }
+    }
+
+    #[test]
+    fn prefixes() {
+        assert_eq!(prefixed(0.024, "N"), (1e3, "mN".to_string()));
+        assert_eq!(prefixed(2.4e-5, "N"), (1e6, "µN".to_string()));
+        assert_eq!(prefixed(1.0, "m"), (1.0, "m".to_string()));
+        assert_eq!(prefixed(3.2e9, "Pa"), (1e-9, "GPa".to_string()));
+        assert_eq!(prefixed(0.0, "N"), (1.0, "N".to_string()));
+    }
 
     /// Fig. 2's loads read "1e-4, 0.001, 0.01 … 100": one axis in two notations.
     #[test]

@@ -2,7 +2,10 @@
 //!
 //! Must not import report: plot draws what study, friction, contact and shs hand it.
 
-use super::{prefixed, style, tick_label, Axis, Figure, Marker, Panel, Series};
+use super::figure::{Axis, Figure, Panel};
+use super::series::{Marker, Series};
+use super::style;
+use super::ticks::{prefixed, tick_label};
 use crate::shs::{Analysis, Cycle, Group, ShsOptions, Trace};
 
 /// Width [px] of the legends, beside the axes of every panel, so that the time axes line up.

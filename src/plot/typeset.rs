@@ -7,7 +7,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{FontDesc, FontTransform};
 
-use super::{style, DrawResult};
+use super::draw::DrawResult;
+use super::style;
 
 /// Pieces of typeset text: base line, subscript or superscript.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
