@@ -1,4 +1,5 @@
-//! A figure as plain data — panels of axes and series — drawn on any plotters backend.
+//! A figure as plain data — panels of axes and their series (`series.rs`) — drawn on any
+//! plotters backend.
 //!
 //! Must not import report, study, friction, contact or shs: a figure knows only its series.
 

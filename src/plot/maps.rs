@@ -1,5 +1,6 @@
-//! Maps of the contact window drawn pixel by pixel: the contact maps (pressure), the element
-//! classes at the critical state and the local stress ratio as the displacement grows.
+//! Maps of the contact window drawn pixel by pixel: what every map is drawn with (views,
+//! layers, colour scales, axes) and the local stress ratio as the displacement grows; the
+//! contact maps and the element classes, which add an inset, are in `contact_maps.rs`.
 //!
 //! A map is drawn as rectangles in window coordinates [m] (tick labels in µm or nm): one per
 //! run of equally coloured pixels along a row when a pixel covers at least a screen pixel,
