@@ -22,7 +22,8 @@
 //! on the same kind of CPU; across CPUs it may differ in the last bits through the FFT's
 //! SIMD paths and the amplitudes' `powf`.
 //!
-//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
+//! Must not import `stats` (whose tests measure these surfaces), nor contact, friction, study,
+//! report, plot, shs, cli (the layers above topography).
 
 use std::f64::consts::PI;
 

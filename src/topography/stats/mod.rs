@@ -10,7 +10,8 @@
 //! `h_rms² = ∫ C(q) d²q / (2π)²`, i.e. `h_rms² = (1/A) Σ_q C(q)` over the discrete wavevectors
 //! q = 2π (kx/lx, ky/ly). The isotropic C(q) averages the modes in annuli of width 2π/min(lx, ly).
 //!
-//! Imports only its own files; must not import contact, friction, study, report, plot, shs, cli.
+//! Imports only its own files (its tests also `synth` and `resample`, which import nothing of
+//! `stats`); must not import contact, friction, study, report, plot, shs, cli.
 
 mod fit;
 mod heights;
