@@ -18,7 +18,7 @@ import sys
 
 PATH = re.compile(
     r"(?<![A-Za-z_0-9:])((?:super::)+|crate::(?P<root>[a-z_]+)::|self::)?"
-    r"((?:(?!super::)[a-z_0-9]+::)*)((?<=::)\{[^}]*\}|[A-Za-z_*]+)"
+    r"((?:(?!super::)[a-z_0-9]+::)*)((?<=::)\{[^}]*\}|[A-Za-z_][A-Za-z_0-9]*|\*)"
 )
 CHILD = re.compile(r"^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+([a-z_0-9]+)\s*;", re.M)
 

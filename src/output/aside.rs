@@ -80,11 +80,33 @@ fn keep_visible(aside: &Path) -> std::io::Result<PathBuf> {
     let parent = aside.parent().unwrap_or(Path::new("."));
     for n in 1..10_000 {
         let to = parent.join(format!("asperity-kept-{n}"));
-        match super::rename_no_replace(aside, &to) {
+        match rename_no_replace(aside, &to) {
             Ok(()) => return Ok(to),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
             Err(e) => return Err(e),
         }
     }
     Err(std::io::Error::other("no free name asperity-kept-N beside it"))
+}
+
+/// Rename `from` to `to` unless something is at `to` (then an `AlreadyExists` error): never
+/// over anything, as a plain rename would be over an empty folder or a file.
+fn rename_no_replace(from: &Path, to: &Path) -> std::io::Result<()> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = |p: &Path| std::ffi::CString::new(p.as_os_str().as_bytes()).map_err(std::io::Error::other);
+    let (f, t) = (c(from)?, c(to)?);
+    // SAFETY: valid NUL-terminated paths, relative to the working folder.
+    let r = unsafe { libc::renameat2(libc::AT_FDCWD, f.as_ptr(), libc::AT_FDCWD, t.as_ptr(), libc::RENAME_NOREPLACE) };
+    if r == 0 {
+        return Ok(());
+    }
+    let e = std::io::Error::last_os_error();
+    // A filesystem without the flag: look, then rename (a race only with another writer of `to`).
+    if e.raw_os_error() == Some(libc::EINVAL) {
+        if std::fs::symlink_metadata(to).is_ok() {
+            return Err(std::io::ErrorKind::AlreadyExists.into());
+        }
+        return std::fs::rename(from, to);
+    }
+    Err(e)
 }

@@ -5,10 +5,11 @@
 //! unrecorded. A file is this ledger's only while it is the very file written: a user's file
 //! named in a hand-edited line, or put where an output was, has another identity. Processes working in one folder at
 //! once append under an exclusive `flock` of the ledger (also over a shared filesystem); a line
-//! torn by a crash does not parse and is skipped.
+//! torn by a crash does not parse and is skipped. The ledger's rewrite ([`Ledger::retain`]) is in
+//! `write.rs`, beside the write it goes through.
 //!
-//! Imports only `error` and the files of `output`; must not import topography, contact, friction,
-//! study, report, plot, shs, cli.
+//! Imports only `error`, none of the other files of `output` (they record through it); must not
+//! import topography, contact, friction, study, report, plot, shs, cli.
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -64,29 +65,12 @@ impl Ledger {
         }
         Ok(Some(written))
     }
-
-    /// Keep in the ledger file `file` only the lines of the paths `keep` chooses (a torn or
-    /// foreign line goes too), rewriting it atomically.
-    pub fn retain(file: &Path, keep: impl Fn(&Path) -> bool) -> Result<()> {
-        let text = match std::fs::read(file) {
-            Ok(bytes) => bytes,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Vec::new(),
-            Err(e) => return Err(Error::io(file, e)),
-        };
-        let kept: Vec<&[u8]> = text
-            .split(|&b| b == b'\n')
-            .filter(|line| serde_json::from_slice::<Line>(line).is_ok_and(|l| keep(Path::new(&l.path))))
-            .collect();
-        super::write_atomic(file, |w| {
-            kept.iter().try_for_each(|line| w.write_all(line).and_then(|()| w.write_all(b"\n")))
-        })
-    }
 }
 
 /// One ledger line.
 #[derive(serde::Serialize, serde::Deserialize)]
-struct Line {
-    path: String,
+pub(super) struct Line {
+    pub(super) path: String,
     identity: Identity,
 }
 
@@ -205,64 +189,4 @@ fn ends_a_line(file: &mut File) -> std::io::Result<bool> {
     let mut last = [0u8];
     file.read_exact(&mut last)?;
     Ok(last[0] == b'\n')
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn writes_below_the_folder_are_recorded_before_they_appear_and_torn_lines_skipped() {
-        let root = tempfile::tempdir().unwrap();
-        let dir = root.path().join("R");
-        let file = dir.join("solves/written.jsonl");
-        std::fs::create_dir_all(dir.join("solves")).unwrap();
-        assert!(Ledger::read(&file).unwrap().is_none());
-        {
-            let _ledger = Ledger::open(&dir, &file);
-            super::super::write_json(&dir.join("results.json"), &1).unwrap();
-            super::super::write_json(&root.path().join("elsewhere.json"), &1).unwrap();
-            super::super::Lock::acquire(&dir.join("solves/a.lock"), super::super::Access::Shared, false).unwrap();
-            // A line torn by a crash, then a name with a line break in it.
-            let mut f = OpenOptions::new().append(true).open(&file).unwrap();
-            f.write_all(b"\"snapshots/lab").unwrap();
-            super::super::write_json(&dir.join("odd\nname.json"), &1).unwrap();
-        }
-        super::super::write_json(&dir.join("after.json"), &1).unwrap();
-        let recorded = Ledger::read(&file).unwrap().unwrap();
-        let paths: Vec<_> = recorded.iter().map(|w| w.path.clone()).collect();
-        assert_eq!(paths, ["results.json", "solves/a.lock", "odd\nname.json"].map(PathBuf::from));
-        let meta = |p: &str| std::fs::symlink_metadata(dir.join(p)).unwrap();
-        assert!(recorded[0].is(&meta("results.json")) && recorded[1].is(&meta("solves/a.lock")));
-    }
-
-    /// A line naming a user's file (hand-edited, or the identity of a file since replaced) does
-    /// not make it the ledger's, nor does a line of an older ledger without identity.
-    #[test]
-    fn only_the_very_file_written_is_the_ledgers() {
-        let root = tempfile::tempdir().unwrap();
-        let dir = root.path().join("R");
-        let file = dir.join("written.jsonl");
-        std::fs::create_dir_all(&dir).unwrap();
-        {
-            let _ledger = Ledger::open(&dir, &file);
-            super::super::write_json(&dir.join("results.json"), &1).unwrap();
-        }
-        std::fs::write(dir.join("mine.txt"), "mine").unwrap();
-        let mut f = OpenOptions::new().append(true).open(&file).unwrap();
-        writeln!(
-            f,
-            "{{\"path\":\"mine.txt\",\"identity\":{{\"dev\":1,\"ino\":2,\"len\":4,\"mtime\":[0,0]}}}}\n\"mine.txt\""
-        )
-        .unwrap();
-        let recorded = Ledger::read(&file).unwrap().unwrap();
-        assert_eq!(recorded.len(), 2);
-        let meta = |p: &str| std::fs::symlink_metadata(dir.join(p)).unwrap();
-        assert!(recorded[0].is(&meta("results.json")));
-        assert!(!recorded[1].is(&meta("mine.txt")));
-        // The user's own file in place of the output written.
-        std::fs::remove_file(dir.join("results.json")).unwrap();
-        std::fs::write(dir.join("results.json"), "mine").unwrap();
-        assert!(!recorded[0].is(&meta("results.json")));
-    }
 }

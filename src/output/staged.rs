@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use super::aside::{retire, Known, Manifest, MANIFEST};
 use super::temp::{remove_orphaned_temporaries, TempDir};
-use super::{resolve_symlinks, write_json};
+use super::write::{resolve_symlinks, the_input, write_json};
 use crate::error::{Error, Result};
 
 /// An output folder under construction. Files are written into a hidden sibling folder;
@@ -191,7 +191,7 @@ impl StagedDir {
                     self.written_by
                 ));
             }
-            if super::the_input(&meta, &self.inputs).is_some() {
+            if the_input(&meta, &self.inputs).is_some() {
                 return refuse(format!(
                     "holds {name}, an input of this command, which replacing the folder would delete: copy it \
                      elsewhere, or"

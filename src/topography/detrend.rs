@@ -12,8 +12,8 @@ use std::str::FromStr;
 use ndarray::{ArrayView2, Axis};
 use rayon::prelude::*;
 
+use super::map::Topography;
 use super::profile::Profile;
-use super::Topography;
 use crate::error::{Error, Result};
 
 /// Highest polynomial degree [`Detrend::Polynomial`] accepts.
@@ -536,7 +536,7 @@ fn normal_equations(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::topography::Provenance;
+    use crate::topography::map::Provenance;
     use ndarray::Array2;
 
     fn map(size: (f64, f64), grid: (usize, usize), f: impl Fn(f64, f64) -> f64) -> Topography {

@@ -2,7 +2,7 @@
 //!
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
-use super::Topography;
+use super::map::Topography;
 use crate::error::{Error, Result};
 
 /// An error counting the missing points of `topo`, if it has any.
@@ -118,7 +118,7 @@ pub fn fill_missing(topo: &mut Topography) -> Result<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::topography::Provenance;
+    use crate::topography::map::Provenance;
     use ndarray::Array2;
 
     fn map(heights: Array2<f64>, periodic: bool) -> Topography {

@@ -10,10 +10,10 @@
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::detrend::Detrend;
+use super::map::Topography;
 use super::missing::{fill_missing, refuse_missing};
 use super::resample::{compound, crop, resample, CropWindow};
 use super::synth::Cap;
-use super::Topography;
 use crate::error::Result;
 use crate::limits::Limits;
 
@@ -111,8 +111,8 @@ mod tests {
     use ndarray::Array2;
 
     use super::*;
+    use crate::topography::map::Provenance;
     use crate::topography::synth::CapShape;
-    use crate::topography::Provenance;
 
     fn tilted(known: bool) -> Topography {
         Topography {

@@ -10,7 +10,7 @@
 //!
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
-use super::{Provenance, MAX_LENGTH_M, MIN_SIZE_M};
+use super::map::{Provenance, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::Error;
 
 /// How far each step may differ from the mean step for the positions to be uniform, in the

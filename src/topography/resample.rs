@@ -23,7 +23,7 @@ use std::ops::Range;
 use ndarray::{Array2, ArrayView2};
 use rayon::prelude::*;
 
-use super::{Provenance, Topography};
+use super::map::{Provenance, Topography};
 use crate::error::{Error, Result};
 use crate::limits::{check_memory, grid_memory, Limits, RESAMPLE_BYTES_PER_POINT};
 

@@ -22,7 +22,8 @@
 //! on the same kind of CPU; across CPUs it may differ in the last bits through the FFT's
 //! SIMD paths and the amplitudes' `powf`.
 //!
-//! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
+//! Must not import `stats` (whose tests measure these surfaces), nor contact, friction, study,
+//! report, plot, shs, cli (the layers above topography).
 
 use std::f64::consts::PI;
 
@@ -33,7 +34,7 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use super::{Provenance, Topography, MAX_LENGTH_M, MIN_SIZE_M};
+use super::map::{Provenance, Topography, MAX_LENGTH_M, MIN_SIZE_M};
 use crate::error::{Error, Result};
 use crate::fft::Fft2;
 use crate::limits::{check_memory, grid_memory, zeroed, Limits, GENERATE_BYTES_PER_POINT};
@@ -494,13 +495,12 @@ impl SyntheticSurface {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use crate::topography::resample::compound;
-    use crate::topography::stats::log_slope;
-    use crate::topography::stats::{height_stats, psd, rms_slope, Window};
 
-    fn rough(hurst: f64, amplitude: Amplitude) -> SelfAffine {
+    /// A self-affine surface of `hurst` and `amplitude` with a roll-off at 2.5 µm and a
+    /// cut-off at 0.2 µm.
+    pub(crate) fn rough(hurst: f64, amplitude: Amplitude) -> SelfAffine {
         SelfAffine {
             hurst,
             rolloff_wavelength: Some(2.5e-6),
@@ -554,37 +554,6 @@ mod tests {
     }
 
     #[test]
-    fn the_target_rms_height_or_slope_is_met_exactly() {
-        for grid in [(64, 64), (63, 50)] {
-            let t = rough(0.8, Amplitude::RmsHeight(3e-8)).generate((10e-6, 8e-6), grid, 1).unwrap();
-            let s = height_stats(&t).unwrap();
-            assert!((s.rms_height / 3e-8 - 1.0).abs() < 1e-12, "{grid:?}: {}", s.rms_height);
-            assert!(s.mean.abs() < 1e-12 * 3e-8, "{grid:?}: mean {}", s.mean);
-            let t = rough(0.5, Amplitude::RmsSlope(0.1)).generate((10e-6, 8e-6), grid, 1).unwrap();
-            let g = rms_slope(&t).unwrap();
-            assert!((g / 0.1 - 1.0).abs() < 1e-12, "{grid:?}: slope {g}");
-        }
-    }
-
-    #[test]
-    fn the_spectrum_follows_the_prescribed_power_law() {
-        let (l, n) = (10e-6, 256);
-        for hurst in [0.3, 0.8] {
-            let t = rough(hurst, Amplitude::RmsHeight(1e-8)).generate((l, l), (n, n), 3).unwrap();
-            let p = psd(&t, Window::None).unwrap();
-            let (q_r, q_s) = (2.0 * PI / 2.5e-6, 2.0 * PI / 0.2e-6);
-            let slope = log_slope(&p, 1.2 * q_r, q_s / 1.2);
-            let expected = -2.0 * (1.0 + hurst);
-            assert!((slope / expected - 1.0).abs() < 0.05, "H = {hurst}: slope {slope}, expected {expected}");
-            // Flat below the roll-off, nothing beyond the short cut-off.
-            let plateau: Vec<f64> = p.q.iter().zip(&p.c).filter(|(q, _)| **q < 0.9 * q_r).map(|(_, c)| *c).collect();
-            let (lo, hi) = plateau.iter().fold((f64::MAX, 0.0f64), |(a, b), &c| (a.min(c), b.max(c)));
-            assert!(plateau.len() >= 3 && hi / lo < 1.02, "plateau {plateau:?}");
-            assert!(p.q.iter().zip(&p.c).filter(|(q, _)| **q > 1.05 * q_s).all(|(_, c)| *c < 1e-30 * hi));
-        }
-    }
-
-    #[test]
     fn caps_have_their_apex_highest_at_the_centre() {
         let (l, n, r) = (30e-6, 64, 1e-3);
         let sphere = Cap { radius: r, shape: CapShape::Sphere }.heights((l, l), (n, n)).unwrap();
@@ -598,36 +567,6 @@ mod tests {
         assert!((parab[(0, 0)] + rho2 / (2.0 * r)).abs() < 1e-20);
         let err = Cap { radius: 10e-6, shape: CapShape::Sphere }.heights((l, l), (n, n)).unwrap_err();
         assert!(err.to_string().starts_with("--sphere-radius: "), "{err}");
-    }
-
-    #[test]
-    fn the_default_silicon_ball_has_about_40_nm_rms() {
-        // The paper's window on a coarser grid (the RMS hardly depends on the pixel).
-        for seed in 0..3 {
-            let ball = SyntheticSurface { grid: (300, 300), seed, ..SyntheticSurface::default() };
-            let t = ball.generate().unwrap();
-            assert!(!t.periodic && t.channel == "self-affine + cap");
-            let rms = height_stats(&t).unwrap().rms_height;
-            assert!((36e-9..44e-9).contains(&rms), "seed {seed}: {rms} m");
-            // The sum of the parts.
-            let roughness = ball.roughness.unwrap().generate(ball.size, ball.grid, seed).unwrap();
-            let cap = SyntheticSurface { roughness: None, ..ball.clone() }.generate().unwrap();
-            assert_eq!(cap.channel, "cap");
-            assert_eq!(t.heights, &roughness.heights + &cap.heights);
-        }
-    }
-
-    #[test]
-    fn a_synthetic_wafer_compounds_with_a_synthetic_ball() {
-        let ball = SyntheticSurface { grid: (128, 128), ..SyntheticSurface::default() }.generate().unwrap();
-        let wafer = SelfAffine::silicon_wafer().generate((40e-6, 40e-6), (256, 256), 1).unwrap();
-        assert!((height_stats(&wafer).unwrap().rms_height / 0.2e-9 - 1.0).abs() < 1e-12);
-        let h = compound(&ball, &wafer).unwrap();
-        assert!(!h.periodic && h.physical_size == ball.physical_size);
-        // What the wafer takes away is its own roughness, seen through the ball's window.
-        let wafer_part = &ball.heights - &h.heights;
-        let rms = wafer_part.std(0.0);
-        assert!((0.1e-9..0.3e-9).contains(&rms), "{rms}");
     }
 
     #[test]
@@ -677,28 +616,5 @@ mod tests {
         };
         assert!(none.generate((1e-5, 1e-5), (16, 16), 0).unwrap_err().to_string().contains("no wavevector"));
         assert!(SelfAffine::silicon_ball().generate((1e-5, 1e-5), (1, 16), 0).is_err());
-    }
-
-    #[test]
-    fn parameters_that_overflow_the_heights_are_refused() {
-        // An rms of 1e308 m gave NaN heights, 1e200 m infinite statistics, written with exit 0.
-        for (amplitude, option) in [
-            (Amplitude::RmsHeight(1e308), "--rms"),
-            (Amplitude::RmsHeight(1e50), "--rms"),
-            (Amplitude::RmsSlope(1e300), "--rms-slope"),
-        ] {
-            let err = rough(0.8, amplitude).generate((1e-5, 1e-5), (16, 16), 0).unwrap_err().to_string();
-            assert!(err.starts_with(&format!("{option}: ")) && err.contains("not representable"), "{err}");
-        }
-        // Just within the range, every height is finite.
-        let t = rough(0.8, Amplitude::RmsHeight(1e48)).generate((1e-5, 1e-5), (16, 16), 0).unwrap();
-        assert!(t.heights.iter().all(|h| h.is_finite()) && height_stats(&t).unwrap().rms_height.is_finite());
-        let tiny_paraboloid = Cap { radius: 1e-300, shape: CapShape::Paraboloid };
-        let err = tiny_paraboloid.heights((1e-5, 1e-5), (16, 16)).unwrap_err().to_string();
-        assert!(err.starts_with("--sphere-radius: "), "{err}");
-        for size in [(1e308, 1e308), (1e-60, 1e-5)] {
-            let err = rough(0.8, Amplitude::RmsSlope(0.1)).generate(size, (16, 16), 0).unwrap_err().to_string();
-            assert!(err.starts_with("--size: "), "{err}");
-        }
     }
 }

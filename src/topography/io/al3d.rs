@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 
 pub struct Al3d;
 

@@ -14,7 +14,7 @@
 use std::collections::HashMap;
 
 use super::binary::{self, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::plausible;
 use crate::quantity::metres_per;
 

@@ -14,8 +14,8 @@
 //!
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
+use super::reading::ProfileData;
 use super::text::{self, Separators};
-use super::ProfileData;
 use crate::quantity;
 
 /// Rows of increasing positions that make a headless two-column table a profile rather than a

@@ -11,7 +11,7 @@
 use hdf5_reader::{Attribute, Dataset, Datatype};
 
 use super::binary::one_line;
-use super::{hdf5, Channel, Format};
+use super::reading::{Channel, Format};
 use crate::limits::Limits;
 use crate::quantity::metres_per;
 use crate::quantity::quoted;
@@ -44,7 +44,7 @@ impl Format for Datx {
     }
 
     fn read_within(&self, bytes: &[u8], limits: &Limits) -> Result<Vec<Channel>, String> {
-        let file = hdf5::open(bytes, limits)?;
+        let file = super::hdf5::open(bytes, limits)?;
         let data =
             file.root_group().and_then(|g| g.group("Data")).map_err(|e| one_line(format!("datx: /Data: {e}")))?;
         let mut channels = Vec::new();
@@ -90,7 +90,7 @@ fn channel(group: &str, ds: &Dataset, file_len: usize, limits: &Limits) -> Resul
         crate::plausible::height_factor(f, None).map_err(|e| format!("datx unit {}: {e}", quoted(&unit)))?;
     }
     let no_data = number("No Data").ok();
-    let mut data = hdf5::map(ds, file_len, limits)?;
+    let mut data = super::hdf5::map(ds, file_len, limits)?;
     data.mapv_inplace(|v| match (no_data, to_metres) {
         (Some(nd), _) if v == nd => f64::NAN,
         (_, Some(f)) => v * f,

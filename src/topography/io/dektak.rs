@@ -20,8 +20,8 @@
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::columns;
+use super::reading::{ProfileData, ProfileFormat};
 use super::text;
-use super::{ProfileData, ProfileFormat};
 use crate::topography::profile::StatedStep;
 
 pub struct Dektak;

@@ -13,12 +13,12 @@ use std::path::Path;
 
 use ndarray::Array2;
 
+use super::reading::{Channel, Format};
 use super::text;
-use super::{Channel, Format};
 use crate::error::{Error, Result};
 use crate::output;
 use crate::quantity::metres_per;
-use crate::topography::Topography;
+use crate::topography::map::Topography;
 
 pub struct Gsf;
 
@@ -148,7 +148,7 @@ mod tests {
 
     use super::super::text::testing;
     use super::*;
-    use crate::topography::Provenance;
+    use crate::topography::map::Provenance;
 
     #[test]
     fn wafer_sample() {

@@ -15,7 +15,7 @@
 use std::collections::BTreeMap;
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::quantity::metres_per;
 
 pub struct Gwy;

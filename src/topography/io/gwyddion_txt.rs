@@ -17,8 +17,8 @@
 //!
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
+use super::reading::{Channel, Format};
 use super::text::{self, Rows, Separators};
-use super::{Channel, Format};
 use crate::quantity::metres_per;
 
 pub struct GwyddionTxt;

@@ -11,7 +11,8 @@ use ndarray::{Array2, ArrayD, Ix2};
 use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 
 use super::binary::one_line;
-use super::{gzip, Channel, Format};
+use super::gzip;
+use super::reading::{Channel, Format};
 use crate::limits::{self, Limits};
 use crate::quantity::quoted;
 

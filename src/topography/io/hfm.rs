@@ -6,8 +6,8 @@
 
 use super::binary;
 use super::columns;
+use super::reading::{ProfileData, ProfileFormat};
 use super::text;
-use super::{ProfileData, ProfileFormat};
 
 pub struct Hfm;
 

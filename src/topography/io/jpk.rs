@@ -14,8 +14,8 @@
 use ndarray::Array2;
 
 use super::binary::{self, Sample, Stored};
+use super::reading::{Channel, Format};
 use super::tiff::{Directory, Tiff};
-use super::{Channel, Format};
 use crate::quantity::metres_per;
 use crate::quantity::quoted;
 

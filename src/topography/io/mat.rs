@@ -14,7 +14,8 @@
 
 use ndarray::Array2;
 
-use super::{gzip, Channel, Format};
+use super::gzip;
+use super::reading::{Channel, Format};
 use crate::limits::Limits;
 use crate::quantity::quoted;
 

@@ -29,8 +29,8 @@
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::gwyddion_txt::GwyddionTxt;
+use super::reading::{Channel, Format};
 use super::text::{self, Rows, Separators};
-use super::{Channel, Format};
 use crate::plausible;
 use crate::quantity::metres_per;
 

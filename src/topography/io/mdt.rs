@@ -12,7 +12,7 @@
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::quantity::metres_per;
 use crate::quantity::quoted;
 

@@ -12,7 +12,8 @@ use std::io::Cursor;
 
 use calamine::{Data, DataType, Reader, Xlsx};
 
-use super::{columns, container, ProfileData, ProfileFormat};
+use super::reading::{ProfileData, ProfileFormat};
+use super::{columns, container};
 use crate::limits::Limits;
 use crate::quantity::quoted;
 

@@ -19,7 +19,8 @@ use std::io::Read;
 use ndarray::Array2;
 
 use super::binary::{self, Cursor, Endian};
-use super::{gzip, Channel, Format};
+use super::gzip;
+use super::reading::{Channel, Format};
 use crate::limits::{reserve, Limits};
 use crate::quantity::metres_per;
 

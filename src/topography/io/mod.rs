@@ -10,7 +10,7 @@
 //! (`gzip`), and a member of a zip container is named `archive.zip#member` (`container`,
 //! whose members [`container_members`] lists). Both inflate within the input limits.
 //!
-//! The registry above the formats: the formats import the reading types defined here, never the
+//! The registry above the formats: the formats import the reading types of `reading`, never the
 //! registry itself (`FORMATS`). Must not import contact, friction, study, report, plot, shs, cli.
 
 mod al3d;
@@ -48,6 +48,7 @@ mod opdx;
 mod plu;
 mod profile;
 mod ps;
+mod reading;
 mod sdf;
 mod sur;
 mod text;
@@ -58,106 +59,25 @@ mod x3p;
 mod xyz;
 
 pub use gsf::write_gsf;
+pub use reading::{Channel, Format, ProfileData, ProfileFormat};
 
 use std::path::{Path, PathBuf};
 
-use ndarray::Array2;
-
-use super::profile::{Profile, StatedStep};
-use super::{AnyTopography, Provenance, Topography};
+use super::map::{Provenance, Topography};
+use super::profile::Profile;
 use crate::error::{Error, Result};
 use crate::limits::Limits;
 use crate::plausible::{self, Spelling};
 use crate::quantity::{self, metres_per};
 
-/// One decoded channel of a file.
+/// What a topography file holds: a 2-D height map or a line profile (SurfaceTopography's `dim`
+/// 2 or 1). What needs a map reads with [`read`], which refuses a profile.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Channel {
-    /// Name as the file gives it (instruments may repeat names).
-    pub name: String,
-    /// Values, shape (ny, nx); in metres when `is_height`, as stored otherwise. `NaN` marks
-    /// a missing point.
-    pub data: Array2<f64>,
-    /// Physical size (lx, ly) \[m], when the file states one.
-    pub physical_size: Option<(f64, f64)>,
-    /// The data unit as the file writes it (`"nm"`, `"V"`, `"deg"`…), `None` if it gives none.
-    pub unit: Option<String>,
-    /// Whether the channel holds heights (its unit is a length, or the format only holds
-    /// heights).
-    pub is_height: bool,
-}
-
-/// A file format the registry can read.
-pub trait Format: Sync {
-    /// Short name, as `--format` takes it and provenance reports it.
-    fn name(&self) -> &'static str;
-    /// File name endings this format uses, lower case, without the dot.
-    fn extensions(&self) -> &'static [&'static str];
-    /// Whether a file's leading bytes identify this format.
-    fn sniff(&self, head: &[u8]) -> bool;
-    /// Decode every channel of the file. Errors are reasons; the registry adds the path.
-    fn read(&self, bytes: &[u8]) -> std::result::Result<Vec<Channel>, String>;
-    /// Decode every channel, refusing a grid over `limits` before allocating it. Only a format
-    /// whose data can outgrow the file (compressed) needs the limits while it decodes; the
-    /// others allocate no more than the file's length allows, and the registry checks their
-    /// grids once decoded.
-    fn read_within(&self, bytes: &[u8], limits: &Limits) -> std::result::Result<Vec<Channel>, String> {
-        let _ = limits;
-        self.read(bytes)
-    }
-    /// A bare format whose files carry neither physical size nor height unit: both come
-    /// from the user (`--size`, `--height-unit`).
-    fn is_bare(&self) -> bool {
-        false
-    }
-    /// The header fields a channel's physical size comes from, as an error about it names them.
-    fn size_field(&self) -> &'static str {
-        "the header"
-    }
-}
-
-/// A line profile as a format decodes it, in the units the file states.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ProfileData {
-    /// Name of the heights' column (`"default"` when the file names none).
-    pub name: String,
-    /// Positions along the profile, as stored, increasing.
-    pub positions: Vec<f64>,
-    /// Heights as stored; `NaN` marks a missing point.
-    pub heights: Vec<f64>,
-    /// The positions' length unit as the file writes it, if it does.
-    pub position_unit: Option<String>,
-    /// The heights' length unit as the file writes it, if it does.
-    pub height_unit: Option<String>,
-    /// Whether the content says it is a profile rather than a map two points wide (a header, a
-    /// format of profiles, enough rows); an undecided file is read only when `--format` says so.
-    pub decided: bool,
-    /// The grid step the header states, in the positions' unit, if it does.
-    pub stated_step: Option<StatedStep>,
-}
-
-/// A file format that holds a line profile.
-pub trait ProfileFormat: Sync {
-    /// Short name, as `--format` takes it and provenance reports it.
-    fn name(&self) -> &'static str;
-    /// File name endings this format uses, lower case, without the dot.
-    fn extensions(&self) -> &'static [&'static str];
-    /// Whether a file's leading bytes identify this format.
-    fn sniff(&self, head: &[u8]) -> bool;
-    /// Whether the whole file identifies this format when its head does not (a zip whose
-    /// members tell it); tried after every format's [`ProfileFormat::sniff`].
-    fn sniff_all(&self, bytes: &[u8]) -> bool {
-        let _ = bytes;
-        false
-    }
-    /// Decode the profile. Errors are reasons; the registry adds the path.
-    fn read(&self, bytes: &[u8]) -> std::result::Result<ProfileData, String>;
-    /// Decode the profile within `limits`: only a compressed format needs them while it
-    /// decodes (see [`Format::read_within`]).
-    fn read_within(&self, bytes: &[u8], limits: &Limits) -> std::result::Result<ProfileData, String> {
-        let _ = limits;
-        self.read(bytes)
-    }
+pub enum AnyTopography {
+    /// A height map h(x, y) on a regular grid.
+    Map(Topography),
+    /// A line profile h(x).
+    Profile(Profile),
 }
 
 /// A format of the registry: of maps (channels) or of a line profile.
@@ -841,6 +761,7 @@ fn choose_channel(channels: &[Channel], wanted: Option<&str>) -> std::result::Re
 
 #[cfg(test)]
 mod tests {
+    use super::text::testing;
     use super::*;
 
     #[test]
@@ -853,5 +774,41 @@ mod tests {
         let hgt = formats.iter().find(|f| f.name == "hgt").unwrap();
         assert_eq!((hgt.extensions, hgt.kind), (&["hgt"][..], "map"));
         assert_eq!(formats.iter().find(|f| f.name == "nmm").unwrap().kind, "profile");
+    }
+
+    #[test]
+    fn exactly_one_format_claims_each_sample() {
+        let expected = [
+            ("gwyddion-export-english.txt", "gwyddion-txt"),
+            ("matrix-3.txt", "gwyddion-txt"),
+            ("matrix-6.txt", "gwyddion-txt"),
+            ("xyz-1.txt", "xyz"),
+            ("xyz-2.txt", "xyz"),
+            ("sdf-1.sdf", "sdf"),
+            ("wafer-roughness.gsf", "gsf"),
+            ("example-2d.npy", "npy"),
+            ("xy-1.txt", "profile"),
+            ("xy-2.txt", "profile"),
+            ("xy-5.txt", "profile"),
+            ("nonuniform.asc", "profile"),
+            ("opdx-3.txt", "profile"),
+            ("csv-1.csv", "profile"),
+            ("csv-2.csv", "profile"),
+            ("csv-3.csv", "profile"),
+            ("dektak-1.csv", "dektak"),
+        ];
+        for (file, format) in expected {
+            let bytes = testing::sample(file);
+            let head = &bytes[..bytes.len().min(4096)];
+            let claims: Vec<&str> = FORMATS.iter().filter(|f| f.sniff(head)).map(|f| f.name()).collect();
+            assert_eq!(claims, [format], "{file}");
+        }
+        let headless_matrix = b"1 2 3 4\n5 6 7 8\n";
+        let claims: Vec<&str> = FORMATS.iter().filter(|f| f.sniff(headless_matrix)).map(|f| f.name()).collect();
+        assert_eq!(claims, ["matrix"]);
+        for file in ["nonsense_txt_file.txt", "wrongnpyfile.npy"] {
+            let bytes = testing::sample(file);
+            assert!(FORMATS.iter().all(|f| !f.sniff(&bytes)), "{file}");
+        }
     }
 }

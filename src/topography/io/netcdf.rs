@@ -13,7 +13,7 @@
 
 use ndarray::Array2;
 
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::quantity::{metres_per, quoted};
 
 pub struct NetCdf;

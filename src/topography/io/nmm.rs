@@ -7,7 +7,8 @@
 //!
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
-use super::{container, ProfileData, ProfileFormat};
+use super::container;
+use super::reading::{ProfileData, ProfileFormat};
 use crate::limits::Limits;
 
 pub struct Nmm;

@@ -9,7 +9,7 @@
 
 use ndarray::{Array2, ShapeBuilder};
 
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::quantity::quoted;
 
 /// The reader of `.npy` files (`--format npy`): one height channel, without size or unit.

@@ -9,7 +9,8 @@
 //!
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
-use super::{container, npy, Channel, Format};
+use super::reading::{Channel, Format};
+use super::{container, npy};
 use crate::limits::Limits;
 
 pub struct Npz;

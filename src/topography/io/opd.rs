@@ -15,7 +15,7 @@
 use std::collections::HashMap;
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::plausible;
 
 pub struct Opd;

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use super::binary::{self, Cursor, Endian};
 use super::columns;
-use super::{ProfileData, ProfileFormat};
+use super::reading::{ProfileData, ProfileFormat};
 
 pub struct Opdx;
 

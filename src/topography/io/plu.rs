@@ -11,7 +11,7 @@
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 
 pub struct Plu;
 

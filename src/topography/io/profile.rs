@@ -8,8 +8,8 @@
 use super::columns::{self, names_an_index};
 use super::dektak::Dektak;
 use super::gwyddion_txt::GwyddionTxt;
+use super::reading::{Format, ProfileData, ProfileFormat};
 use super::text::{self, Separators};
-use super::{Format, ProfileData, ProfileFormat};
 
 pub struct ProfileText;
 

@@ -9,8 +9,8 @@
 //! Must not import contact, friction, study, report, plot, shs, cli (the layers above topography).
 
 use super::binary::{self, Cursor, Endian, Sample, Stored};
+use super::reading::{Channel, Format};
 use super::tiff::{Entry, Tiff};
-use super::{Channel, Format};
 use crate::quantity::metres_per;
 
 pub struct Ps;

@@ -11,8 +11,8 @@
 
 use ndarray::Array2;
 
+use super::reading::{Channel, Format};
 use super::text;
-use super::{Channel, Format};
 
 pub struct Sdf;
 

@@ -314,7 +314,6 @@ pub(super) mod testing {
 
 #[cfg(test)]
 mod tests {
-    use super::testing;
     use super::*;
 
     #[test]
@@ -352,43 +351,6 @@ mod tests {
         assert_eq!(key_value("1 2 3"), None);
         assert!(is_header_line("# anything"));
         assert!(!is_header_line("This is nonsense. Should raise CannotDetectFileFormat."));
-    }
-
-    #[test]
-    fn exactly_one_format_claims_each_sample() {
-        let expected = [
-            ("gwyddion-export-english.txt", "gwyddion-txt"),
-            ("matrix-3.txt", "gwyddion-txt"),
-            ("matrix-6.txt", "gwyddion-txt"),
-            ("xyz-1.txt", "xyz"),
-            ("xyz-2.txt", "xyz"),
-            ("sdf-1.sdf", "sdf"),
-            ("wafer-roughness.gsf", "gsf"),
-            ("example-2d.npy", "npy"),
-            ("xy-1.txt", "profile"),
-            ("xy-2.txt", "profile"),
-            ("xy-5.txt", "profile"),
-            ("nonuniform.asc", "profile"),
-            ("opdx-3.txt", "profile"),
-            ("csv-1.csv", "profile"),
-            ("csv-2.csv", "profile"),
-            ("csv-3.csv", "profile"),
-            ("dektak-1.csv", "dektak"),
-        ];
-        for (file, format) in expected {
-            let bytes = testing::sample(file);
-            let head = &bytes[..bytes.len().min(4096)];
-            let claims: Vec<&str> = super::super::FORMATS.iter().filter(|f| f.sniff(head)).map(|f| f.name()).collect();
-            assert_eq!(claims, [format], "{file}");
-        }
-        let headless_matrix = b"1 2 3 4\n5 6 7 8\n";
-        let claims: Vec<&str> =
-            super::super::FORMATS.iter().filter(|f| f.sniff(headless_matrix)).map(|f| f.name()).collect();
-        assert_eq!(claims, ["matrix"]);
-        for file in ["nonsense_txt_file.txt", "wrongnpyfile.npy"] {
-            let bytes = testing::sample(file);
-            assert!(super::super::FORMATS.iter().all(|f| !f.sniff(&bytes)), "{file}");
-        }
     }
 
     #[test]

@@ -14,7 +14,7 @@ use std::io::{Cursor, Read};
 use ndarray::Array2;
 
 use super::binary::{self, Endian, Sample, Stored};
-use super::{Channel, Format};
+use super::reading::{Channel, Format};
 use crate::limits::Limits;
 
 pub struct X3p;

@@ -11,8 +11,8 @@
 use ndarray::Array2;
 
 use super::gwyddion_txt::GwyddionTxt;
+use super::reading::{Channel, Format};
 use super::text::{self, Separators};
-use super::{Channel, Format};
 
 pub struct Xyz;
 

@@ -257,10 +257,10 @@ mod tests {
     use super::super::heights::tests::map;
     use super::super::psd::{profile_psd, psd};
     use super::*;
+    use crate::topography::map::Topography;
     use crate::topography::profile::Profile;
     use crate::topography::resample::{crop, CropWindow};
     use crate::topography::synth::{Amplitude, SelfAffine};
-    use crate::topography::Topography;
     use ndarray::Array2;
 
     /// The self-affine map of `hurst`, 512² on 10 µm, RMS 10 nm, with a roll-off at λ_r.

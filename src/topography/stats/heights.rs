@@ -4,9 +4,9 @@
 //! Imports `missing`, `profile` and the map type of `topography`, never `psd` or `fit`; must not
 //! import contact, friction, study, report, plot, shs, cli.
 
+use super::super::map::Topography;
 use super::super::missing::refuse_missing;
 use super::super::profile::Profile;
-use super::super::Topography;
 use crate::error::Result;
 
 /// Moments of the defined heights.
@@ -254,7 +254,7 @@ pub(super) mod tests {
     use std::f64::consts::PI;
 
     use super::*;
-    use crate::topography::Provenance;
+    use crate::topography::map::Provenance;
     use ndarray::Array2;
 
     #[test]

@@ -8,9 +8,9 @@ use std::f64::consts::PI;
 
 use realfft::RealFftPlanner;
 
+use super::super::map::Topography;
 use super::super::missing::refuse_missing;
 use super::super::profile::Profile;
-use super::super::Topography;
 use crate::error::Result;
 use crate::fft::Fft2;
 
