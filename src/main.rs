@@ -2,6 +2,7 @@
 //!
 //! Must not hold a command's work (that is `cli`'s) nor physics (the library's): it parses and
 //! dispatches.
+//! It imports only `cli` and the library's public API (`asperity::…`), never a module's internals.
 
 mod cli;
 

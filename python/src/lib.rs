@@ -1,5 +1,9 @@
 //! The Python module `asperity._asperity`: a thin PyO3 layer over the library's public API.
 //!
+//! It imports only its own modules and the library's public API (`asperity::…`); its modules
+//! import one way, in the pipeline's order (topography ← contact ← friction), over `errors` and
+//! `units`.
+//!
 //! It converts arguments and results (numpy float64 arrays of shape (ny, nx), SI units) and
 //! adds no physics. Long work runs with the GIL released and stops on Ctrl-C: the solver's
 //! per-iteration callback checks for signals. Every library error becomes `asperity.Error`
