@@ -123,8 +123,8 @@ impl Study {
         };
         let ledger_path = solves.join(LEDGER);
         let recorded = Ledger::read(&ledger_path)?;
-        if let Some(recorded) = &recorded {
-            self.check_outputs(dir, recorded)?;
+        if recorded.is_some() {
+            self.check_outputs(dir, &ledger_path)?;
         }
         // A DIR an asperity without ledgers wrote stays without one: a ledger begun now would
         // miss the earlier files, which a later `fresh` must not keep as this study's.
@@ -197,10 +197,10 @@ impl Study {
     }
 
     /// Refuse, before anything in `dir` changes, a file where the runs write their outputs
-    /// ([`DIR_OUTPUTS`]) that the ledger `recorded` does not hold as written by a run (a user's
+    /// ([`DIR_OUTPUTS`]) that the ledger `ledger` does not hold as written by a run (a user's
     /// file, or one changed since), and an input of the study there (which a run would replace
     /// or `fresh` remove), compared as `cp` does, by device and inode.
-    fn check_outputs(&self, dir: &Path, recorded: &[output::Written]) -> Result<()> {
+    fn check_outputs(&self, dir: &Path, ledger: &Path) -> Result<()> {
         use std::os::unix::fs::MetadataExt;
         let inputs: Vec<(&Path, (u64, u64))> = self
             .config
@@ -208,13 +208,15 @@ impl Study {
             .into_iter()
             .filter_map(|p| std::fs::metadata(p).ok().map(|m| (p, (m.dev(), m.ino()))))
             .collect();
-        let by_path: std::collections::HashMap<&Path, &output::Written> =
-            recorded.iter().map(|w| (w.path.as_path(), w)).collect();
         let mut found = Vec::new();
         files_below(dir, Path::new(""), &mut found)?;
         found.sort();
         // A lock file is opened, never written over, and may be another process's to record.
         let lock = |p: &Path| p.starts_with(SOLVES) && p.extension().is_some_and(|e| e == "lock");
+        // Each file's identity first, the ledger after: runs working on other pieces write
+        // meanwhile, and each records a file before the file takes its name, so every file seen
+        // here is in the ledger as read below. What is refused is the first such path in order.
+        let mut seen = Vec::new();
         for path in found {
             let first = path.components().next().map(|c| c.as_os_str().to_owned()).unwrap_or_default();
             if !DIR_OUTPUTS.iter().any(|o| first == *o) || is_kept(&path) || lock(&path) {
@@ -222,15 +224,17 @@ impl Study {
             }
             let full = dir.join(&path);
             if std::fs::symlink_metadata(&full).is_ok_and(|m| m.file_type().is_symlink()) {
-                return Err(Error::file(
+                seen.push(Err(Error::file(
                     &full,
                     "a symbolic link in a folder asperity writes: it never writes through one (it would replace what \
                      the link points to); remove the link, or choose another --out",
-                ));
+                )));
+                continue;
             }
+            // Gone meanwhile (a map another run's chain no longer needs): nothing to check.
             let Ok(meta) = std::fs::metadata(&full) else { continue };
             if let Some((input, _)) = inputs.iter().find(|(_, id)| *id == (meta.dev(), meta.ino())) {
-                return Err(Error::file(
+                seen.push(Err(Error::file(
                     &full,
                     format!(
                         "is an input of the study ({}) where the study writes its results: keep inputs out of \
@@ -238,13 +242,21 @@ impl Study {
                         input.display(),
                         DIR_OUTPUTS.join(", ")
                     ),
-                ));
+                )));
+                continue;
             }
-            let ours = reached_without_links(dir, &path)
-                .is_some_and(|m| by_path.get(path.as_path()).is_some_and(|w| w.is(&m)));
-            if !ours {
+            if let Some(meta) = reached_without_links(dir, &path) {
+                seen.push(Ok((path, meta)));
+            }
+        }
+        let recorded = Ledger::read(ledger)?.unwrap_or_default();
+        let by_path: std::collections::HashMap<&Path, &output::Written> =
+            recorded.iter().map(|w| (w.path.as_path(), w)).collect();
+        for found in seen {
+            let (path, meta) = found?;
+            if !by_path.get(path.as_path()).is_some_and(|w| w.is(&meta)) {
                 return Err(Error::file(
-                    &full,
+                    dir.join(&path),
                     "is a file asperity did not write (or one changed since), where the study writes its results: \
                      asperity never writes over one; move it away, or choose another --out",
                 ));
