@@ -29,9 +29,13 @@
 //! tensile load with an equilibrium; beyond it the load rises again (a displacement-controlled
 //! branch past its minimum) or the surfaces separate. [`AdhesiveSolver::pull_off`] finds it
 //! by sweeping the separation from the equilibrium at zero load, refining around the least
-//! load found. A solve starts cold from a compressive state (pressing until the load is at
-//! least zero) and unloads from there, so that a tensile load is reached on the unloading
-//! branch.
+//! load found. A cold solve of a compressive load starts from the equilibrium without adhesion
+//! at that load (its gap and separation, and its stiffness for the first step), a few secant
+//! steps from the adhesive one; a cold solve of a zero or tensile load starts from a
+//! compressive state (pressing until the load is at least zero) and unloads from there, so
+//! that a tensile load is reached on the unloading branch. Where the discrete problem has
+//! several equilibria at one load (a Maugis–Dugdale zone narrower than a pixel), the one
+//! reached depends on that start.
 //!
 //! One iteration applies the inverse operator once (to the search direction) and once more
 //! when the projection moved points (the change's traction); the traction is carried along
@@ -122,9 +126,9 @@ pub struct PullOff {
 /// Partial sums kept per grid row.
 const SUMS: usize = 4;
 
-/// Bytes per grid point of an adhesive solve: eight fields of f64 (with the operator's two
+/// Bytes per grid point of an adhesive solve: nine fields of f64 (with the operator's two
 /// kernels) and the spectrum.
-const BYTES_PER_POINT: u64 = 8 * 8 + 16;
+const BYTES_PER_POINT: u64 = 9 * 8 + 16;
 
 /// The memory of an adhesive solve on an ny × nx surface \[bytes].
 pub fn solve_memory((ny, nx): (usize, usize), boundary: Boundary) -> u64 {
@@ -138,6 +142,8 @@ pub struct AdhesiveSolver {
     ny: usize,
     nx: usize,
     size: (f64, f64),
+    /// Effective modulus E* \[Pa].
+    e_star: f64,
     boundary: Boundary,
     law: CohesiveLaw,
     convergence: Convergence,
@@ -164,6 +170,9 @@ pub struct AdhesiveSolver {
     m_direction: Vec<f64>,
     /// The projection's changes to x \[m].
     change: Vec<f64>,
+    /// The cohesive tension t(g) \[Pa] at each window point of the iterate (zero outside):
+    /// evaluated once per iteration, read by every pass over the residual.
+    cohesive: Vec<f64>,
     row_sums: Vec<[f64; SUMS]>,
     /// The mean traction (periodic: the multiplier of the imposed mean gap) \[Pa].
     mean_traction: f64,
@@ -223,6 +232,7 @@ impl AdhesiveSolver {
             ny,
             nx,
             size: (lx, ly),
+            e_star,
             boundary,
             law,
             convergence,
@@ -238,6 +248,7 @@ impl AdhesiveSolver {
             direction: vec![0.0; gy * gx],
             m_direction: vec![0.0; gy * gx],
             change: vec![0.0; gy * gx],
+            cohesive: vec![0.0; gy * gx],
             row_sums: vec![[0.0; SUMS]; gy],
             mean_traction: 0.0,
             pressure_scale: 0.0,
@@ -409,9 +420,9 @@ impl AdhesiveSolver {
         total
     }
 
-    /// Residual r = σ + t(g) at grid point `i` (t only on the window), and whether the point
-    /// is free to move: apart (g > 0), outside the window, or in contact with r < 0 (pulled
-    /// open).
+    /// Residual r = σ + t(g) at grid point `i` (t only on the window, as last evaluated by
+    /// [`evaluate_cohesion`](Self::evaluate_cohesion)), and whether the point is free to move:
+    /// apart (g > 0), outside the window, or in contact with r < 0 (pulled open).
     #[inline]
     fn residual_at(&self, i: usize) -> (f64, bool) {
         let sigma = self.traction_at(i);
@@ -419,8 +430,22 @@ impl AdhesiveSolver {
             return (sigma, true);
         }
         let g = self.gap_at(i, self.x[i]);
-        let r = sigma + self.law.tension(g.max(0.0));
+        let r = sigma + self.cohesive[i];
         (r, g > 0.0 || r < 0.0)
+    }
+
+    /// The cohesive tension of the current iterate at every window point.
+    fn evaluate_cohesion(&mut self) {
+        let gx = self.gx;
+        let mut cohesive = std::mem::take(&mut self.cohesive);
+        let this = &*self;
+        cohesive.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
+            for (j, t) in row.iter_mut().enumerate() {
+                let i = y * gx + j;
+                *t = if this.in_window(i) { this.law.tension(this.gap_at(i, this.x[i]).max(0.0)) } else { 0.0 };
+            }
+        });
+        self.cohesive = cohesive;
     }
 
     /// Make x admissible at the current separation: gap ≥ 0 on the window, and the mean gap
@@ -534,12 +559,13 @@ impl AdhesiveSolver {
         let mut previous = f64::NAN;
         let mut fresh = true;
         loop {
+            self.evaluate_cohesion();
             // The mean traction: the mean of −(M(g + h) + t) over the points apart (periodic).
             let mean = if periodic {
                 let [sum, count, _, _] = self.sum_rows(|s, i| {
                     let g = s.x[i];
                     if g > 0.0 {
-                        [-(s.mx[i] + s.mh[i] + s.law.tension(g)), 1.0, 0.0, 0.0]
+                        [-(s.mx[i] + s.mh[i] + s.cohesive[i]), 1.0, 0.0, 0.0]
                     } else {
                         [0.0; SUMS]
                     }

@@ -2,14 +2,16 @@
 //! regula falsi (Illinois) on the separation to reach a load, and the sweep of the separation
 //! that finds the pull-off force (see the parent module).
 //!
-//! Imports its parent (`adhesion`), `influence` and `options` inside `contact`; must not import
+//! Imports its parent (`adhesion`), `influence`, `options` and `solver` (the start without
+//! adhesion) inside `contact`; must not import
 //! friction, study, report, plot, shs, cli.
 
 use std::time::Instant;
 
 use super::{AdhesiveReport, AdhesiveSolver, PullOff};
 use crate::contact::influence::Boundary;
-use crate::contact::options::Convergence;
+use crate::contact::options::{Convergence, Device, SolverOptions};
+use crate::contact::solver::ContactSolver;
 use crate::error::{Error, Result};
 
 /// The loosest tolerance of load control's steps far from the load sought.
@@ -88,8 +90,16 @@ impl AdhesiveSolver {
         // start a branch from, and a cold start presses first.
         let held_state = if self.warm { Some(self.forces()).filter(|r| r.contact_points > 0) } else { None };
         let held = held_state.is_some();
+        let mut stiffness = None;
         let mut current = match held_state {
             Some(state) => state,
+            None if target > 0.0 => {
+                // The equilibrium without adhesion at the load sought is near the adhesive one
+                // (adhesion adds the tension of a thin zone around the contact): the march and
+                // the secant start a few steps from it, not from the first touch.
+                stiffness = Some(self.seed(target)?).filter(|k| k.is_finite() && *k > 0.0);
+                self.at(self.separation, tally)?
+            }
             None => {
                 self.warm = false;
                 let s = match self.boundary {
@@ -126,7 +136,7 @@ impl AdhesiveSolver {
         let range = self.law.range();
         let mut step = range;
         let mut last_step = f64::INFINITY;
-        let mut slope: Option<f64> = None;
+        let mut slope: Option<f64> = stiffness;
         let mut marched = 0;
         let (mut near, mut far) = loop {
             marched += 1;
@@ -211,6 +221,41 @@ impl AdhesiveSolver {
             residual: (near.1 - target).abs().min((far.1 - target).abs()) / target.abs().max(f64::MIN_POSITIVE),
             tolerance: 100.0 * self.convergence.tolerance,
         })
+    }
+
+    /// Start from the equilibrium without adhesion at the compressive load `load` \[N]:
+    /// its gap, and its separation (periodic, the mean gap; free, the rigid body's position
+    /// from the first touch of the highest point, minus the mean of u − h over the contact).
+    /// Returns the contact's stiffness there, −dN/ds \[N/m], from a second solve at a load 1 %
+    /// lower: the first step of load control. Solved to the loosest tolerance of load
+    /// control's steps: the adhesive solves refine it.
+    fn seed(&mut self, load: f64) -> Result<f64> {
+        let heights = self.window_map(|s, i| s.heights[i]);
+        let options = SolverOptions {
+            convergence: Convergence { tolerance: LOOSE, max_iterations: self.convergence.max_iterations },
+            device: Device::Cpu,
+        };
+        let mut plain = ContactSolver::new(&heights, self.shape(), self.size, self.e_star, self.boundary, options)?;
+        let boundary = self.boundary;
+        let separation = |plain: &ContactSolver, gap: &[f64]| match boundary {
+            Boundary::Periodic => gap.iter().sum::<f64>() / gap.len() as f64,
+            Boundary::Free => {
+                let (u, p) = (plain.displacement(), plain.pressure());
+                let (sum, count) = (0..gap.len())
+                    .filter(|&i| p[i] > 0.0)
+                    .fold((0.0, 0usize), |(sum, count), i| (sum + u[i] - heights[i], count + 1));
+                -sum / count.max(1) as f64
+            }
+        };
+        let lighter = 0.99 * load;
+        plain.solve(lighter, |_, _| ())?;
+        let apart = separation(&plain, &plain.gap());
+        plain.solve(load, |_, _| ())?;
+        let gap = plain.gap();
+        let at = separation(&plain, &gap);
+        drop(plain);
+        self.warm_start(&gap, at)?;
+        Ok((load - lighter) / (apart - at))
     }
 
     /// The sweep of [`pull_off`](Self::pull_off): (the separation at zero load, the pull-off).
