@@ -223,7 +223,7 @@ fn every_figure_movie_and_the_report() {
         ("pressure-distribution", 1200, 800),
         ("contact-maps", 1400, 1600),
         ("class-map", 1400, 1060),
-        ("class-fractions", 1450, 800),
+        ("class-fractions", 1450, 1500),
         ("friction-curve", 1200, 800),
         ("stress-ratio-snapshots", 150 + 3 * 400 + 20, 60 + 60 + 4 * 400 + 150),
     ];
@@ -427,6 +427,8 @@ fn figures_say_what_they_show() {
     assert!(svg("pressure-distribution").contains("ball 0"), "p(σ) names its topography");
     let fractions = svg("class-fractions");
     assert!(fractions.contains("mean over 2 topographies") && fractions.contains("normal force N"));
+    // Elastic sharing's classes below equal sharing's.
+    assert!(fractions.contains("elastic sharing, instant drop") && fractions.contains("weakening: normal force"));
     assert!(svg("class-map").contains("the stress ratio of a stuck element"), "μ^0 is defined");
 
     let report = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
