@@ -14,6 +14,7 @@ use asperity::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLa
 use asperity::plot::study::render;
 use asperity::plot::FigureInput;
 use asperity::shs::ShsPoint;
+use asperity::study::adhesion::AdhesionLimit;
 use asperity::study::{FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, FIGURE_LOADS_N};
 use asperity::topography::resample::resample;
 use asperity::topography::synth::SyntheticSurface;
@@ -147,6 +148,8 @@ fn input<'a>(
         hold_times: &[Some(100.0), Some(10.0)],
         modulus_ratios: &[130.0 / 127.0, 130.0 / 133.0],
         counterface: Some(("the same material, E* = 69.7 GPa", 2.0)),
+        // Summits of 30 µm: a pull-off of 18.85 µN, the limit at 188.5 µN, above the lowest load.
+        adhesion: Some(AdhesionLimit::new(30e-6)),
         resolution: &s.resolution,
         hold_time_loads: &[1e-4, 1e-3, 1e-2],
         log_density: false,
@@ -362,6 +365,7 @@ fn nothing_to_draw_is_no_failure() {
         hold_times: &[],
         modulus_ratios: &[],
         counterface: None,
+        adhesion: None,
         resolution: &[],
         hold_time_loads: &[],
         log_density: false,
@@ -429,10 +433,21 @@ fn figures_say_what_they_show() {
     assert!(fractions.contains("mean over 2 topographies") && fractions.contains("normal force N"));
     // Elastic sharing's classes below equal sharing's.
     assert!(fractions.contains("elastic sharing, instant drop") && fractions.contains("weakening: normal force"));
+    // The loads where one summit's pull-off exceeds a tenth of the load are shaded and keyed
+    // in both friction-drop figures, and said with the estimate's inputs in the report.
+    for name in ["friction-drop", "friction-drop-sharing"] {
+        let drawn = svg(name);
+        let keyed = drawn.split("outside a non-adhesive").nth(1).map(|t| &t[..40]);
+        assert_eq!(drawn.matches("outside a non-adhesive model: N &lt; 188.496 µN").count(), 1, "{name}: {keyed:?}");
+    }
     assert!(svg("class-map").contains("the stress ratio of a stuck element"), "μ^0 is defined");
 
     let report = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(report.contains("every topography solved on its own grid"));
+    let adhesion = "Below N = 188.496 µN (shaded grey) a non-adhesive model does not describe the contact: there the \
+                    DMT pull-off force 2πRw of a single contacting summit, 18.8496 µN for a work of adhesion w = 0.1 J/m²";
+    assert!(report.contains(adhesion), "{report}");
+    assert!(report.contains("a summit radius R = 30 µm"), "{report}");
     let full_size = r#"<a href="figures/friction-drop.png"><img src="figures/friction-drop.png""#;
     assert!(report.contains(full_size), "a click shows a figure at full size");
     assert!(report.contains("lifts this"), "the limits say what elastic sharing lifts");

@@ -7,6 +7,7 @@
 //! kept for the maps, distributions, curves and movies). It imports, of the study, the study
 //! file (`config`) only, never the runner's rooms, nor `plot`, `report`, `cli` or `python`.
 
+pub mod adhesion;
 pub mod config;
 mod plan;
 mod progress;
@@ -559,6 +560,9 @@ pub struct Records {
     /// paper's rigid flat, or the rigid flat against the same material): its description and
     /// E*₀/E*, by the same scaling; none for another body.
     pub counterface: Option<(String, f64)>,
+    /// Where a single summit's DMT pull-off is no longer small beside the load (none when no
+    /// topography has a curvature).
+    pub adhesion: Option<adhesion::AdhesionLimit>,
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: Vec<ResolutionRow>,
     /// Loads \[N] of the hold-time figure.
