@@ -92,12 +92,17 @@ pub(super) fn adhesion_sentence(limit: &AdhesionLimit) -> String {
          water film's capillary adhesion on silicon oxide) and a summit radius R = {} (1/κ, κ the RMS mean \
          curvature of the topography; the largest over the topographies), exceeds {}% of the load, and the study \
          solves no adhesion.",
-        show(limit.load_n, &FORCE),
-        show(limit.pull_off_n, &FORCE),
+        show(estimate(limit.load_n), &FORCE),
+        show(estimate(limit.pull_off_n), &FORCE),
         tick_label(&limit.work_of_adhesion),
-        show(limit.summit_radius_m, &LENGTH),
+        show(estimate(limit.summit_radius_m), &LENGTH),
         tick_label(&(ADHESION_SHARE * 100.0))
     )
+}
+
+/// `x` to the two significant digits an order-of-magnitude estimate has.
+fn estimate(x: f64) -> f64 {
+    format!("{x:.1e}").parse().expect("a formatted float parses")
 }
 
 /// The shaded span of the loads [mN] below the adhesion limit, within the axis `x` [mN].
@@ -106,7 +111,7 @@ fn adhesion_span(limit: Option<AdhesionLimit>, (x0, x1): (f64, f64)) -> Option<S
     (to > x0).then(|| {
         Series::span(x0, to.min(x1), style::GREY)
             .opacity(0.2)
-            .label(format!("outside a non-adhesive model: N < {}", show(to * 1e-3, &FORCE)))
+            .label(format!("outside a non-adhesive model: N < {}", show(estimate(to * 1e-3), &FORCE)))
     })
 }
 
