@@ -48,7 +48,7 @@ fn writes_the_onset_its_curve_and_maps() {
     assert!((j["static_force_n"].as_f64().unwrap() - fs * 2e-3).abs() < 1e-9 * 2e-3);
     let eq = &j["equal_sharing"];
     assert!(eq["friction_drop"].as_f64().unwrap() > 1.0 && eq["static_coefficient"].as_f64().unwrap() > 0.4);
-    let classes = ["stuck", "critical", "slipped"];
+    let classes = ["stuck", "critical", "weakening", "weakened"];
     let count: u64 = classes.iter().map(|c| j[c]["count"].as_u64().unwrap()).sum();
     let normal: f64 = classes.iter().map(|c| j[c]["normal_fraction"].as_f64().unwrap()).sum();
     let friction: f64 = classes.iter().map(|c| j[c]["friction_fraction"].as_f64().unwrap()).sum();
@@ -62,6 +62,9 @@ fn writes_the_onset_its_curve_and_maps() {
     let area = 8e-6 * 6e-6 / (96.0 * 128.0);
     assert!((sx.sum() * area / j["static_force_n"].as_f64().unwrap() - 1.0).abs() < 1e-9);
     assert_eq!(cl.iter().filter(|c| **c != 0).count() as u64, count);
+    for (class, code) in classes.iter().zip([3, 2, 4, 1]) {
+        assert_eq!(cl.iter().filter(|c| **c == code).count() as u64, j[class]["count"].as_u64().unwrap(), "{class}");
+    }
     let curve = std::fs::read_to_string(out.join("curve.csv")).unwrap();
     let mut lines = curve.lines();
     assert_eq!(lines.next(), Some("displacement_m,force_n,stick_points,slip_points"));

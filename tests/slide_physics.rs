@@ -344,8 +344,8 @@ fn one_element_follows_the_local_law() {
     let below = 1.0 - onset.static_force / (0.6 * 2e9 * area);
     assert!((0.0..PEAK_TOLERANCE).contains(&below), "{below:e}");
     assert!(onset.friction_drop() <= 1.5 && onset.friction_drop() > 1.5 * (1.0 - PEAK_TOLERANCE));
-    assert_eq!(onset.critical.count + onset.stuck.count, 1);
-    assert_eq!(onset.slipped.count, 0);
+    assert_eq!(onset.classes.critical.count + onset.classes.stuck.count, 1);
+    assert_eq!(onset.classes.weakened.count + onset.classes.weakening.count, 0);
     // After the peak it slides at mu_d.
     let last = onset.curve.last().unwrap();
     assert!((last.force_n - 0.4 * 2e9 * area).abs() < 1e-9 * last.force_n);
@@ -500,7 +500,7 @@ fn coulomb_friction_gives_the_sliding_force() {
     assert_eq!(onset.friction_drop(), 1.0);
     assert_eq!(onset.static_coefficient(), 0.5);
     assert!(onset.peak.point.displacement_m.is_infinite());
-    assert_eq!(onset.slipped.count, solver.points().len());
+    assert_eq!(onset.classes.weakened.count, solver.points().len());
     assert!(onset
         .peak
         .traction
@@ -594,6 +594,85 @@ fn isolated_elements_weaken_as_spring_sliders() {
             loads.len()
         );
         assert!(rel.abs() < 1e-3, "{rel:e}");
+    }
+}
+
+/// Two elements far apart, n_2 = 2 n_1, as spring–sliders of k = K_t/2 each, μ falling
+/// linearly by Δμ = mu_s − mu_d over d_c = c δ_1 (δ_1 = mu_s n_1/k, where the first slips):
+/// the first weakens stably (a = Δμ n_1/d_c below k/2) and has slipped s_1 = δ_1/(1 − a/k)
+/// when the second reaches its bound at δ_2 = 2 δ_1, the peak. For c = 4 that is 0.27 d_c:
+/// the first is weakening, F_S = mu_s n_2 + (mu_s − Δμ s_1/d_c) n_1; for c = 0.8 it would be
+/// 2.1 d_c: the first is fully weakened, F_S = mu_s n_2 + mu_d n_1, as under the instant drop.
+/// The second is at its bound at the peak, on it (critical) or just below (stuck).
+#[test]
+fn two_elements_have_the_classes_of_two_spring_sliders() {
+    let (n, l) = (256, 25.6e-6);
+    let mut p = vec![0.0; n * n];
+    let (p1, p2) = (1e9, 2e9);
+    p[64 * n + 64] = p1;
+    p[192 * n + 192] = p2;
+    let area = (l / n as f64).powi(2);
+    let (n1, n2) = (p1 * area, p2 * area);
+    let mut solver = periodic_solver(&p, n, l);
+    let (mu_s, mu_d) = (0.6, 0.4);
+    let inst = elastic_onset(&mut solver, &instant(mu_s, mu_d), PEAK_TOLERANCE, |_| {}).unwrap();
+    let k = element_stiffness(inst.stuck_stiffness, 2);
+    let delta1 = mu_s * n1 / k;
+    let first = |o: &asperity::friction::ElasticOnset| {
+        let i = solver_index(&p, 64 * n + 64);
+        (o.peak.classes[i], o.peak.classes[1 - i])
+    };
+    let cases = [(0.0, SlideClass::Weakened), (4.0, SlideClass::Weakening), (0.8, SlideClass::Weakened)];
+    for (c, class) in cases {
+        let onset = if c == 0.0 {
+            inst.clone()
+        } else {
+            let law = SlipLaw { mu_s, mu_d, weakening: Weakening::Linear(c * delta1) };
+            elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap()
+        };
+        let s1 = delta1 / (1.0 - (mu_s - mu_d) / (mu_s * c));
+        let mu1 = if c > 0.0 && s1 < c * delta1 { mu_s - (mu_s - mu_d) * s1 / (c * delta1) } else { mu_d };
+        let want = mu_s * n2 + mu1 * n1;
+        let (one, two) = first(&onset);
+        eprintln!("c = {c}: F_S {:.6e} N against {want:.6e} N; classes {one:?}, {two:?}", onset.static_force);
+        assert!((onset.static_force / want - 1.0).abs() < 2e-3, "c = {c}: {} against {want}", onset.static_force);
+        assert_eq!(one, class, "c = {c}");
+        assert!(matches!(two, SlideClass::Critical | SlideClass::Stuck), "c = {c}: {two:?}");
+        let c_ = &onset.classes;
+        assert_eq!(c_.stuck.count + c_.critical.count + c_.weakening.count + c_.weakened.count, 2);
+    }
+}
+
+/// The index among the contact points (in the order of the grid) of the pixel `at`.
+fn solver_index(pressure: &[f64], at: usize) -> usize {
+    pressure[..at].iter().filter(|p| **p > 0.0).count()
+}
+
+/// A small rough contact near 0.1 mN: the classes at the peak cover every contact point, their
+/// shares of N and F_S sum to 1; under d_c = 2 nm some points are weakening at the peak, under
+/// the instant drop none.
+#[test]
+fn the_classes_cover_a_rough_contact() {
+    let (n, l) = (128, 12.8e-6);
+    let mut solver = rough_solver(n, l, 1e-4);
+    let points = solver.points().len();
+    for weakening in [Weakening::Linear(2e-9), Weakening::Instant] {
+        let law = SlipLaw { mu_s: 0.6, mu_d: 0.4, weakening: weakening.clone() };
+        let onset = elastic_onset(&mut solver, &law, PEAK_TOLERANCE, |_| {}).unwrap();
+        let c = &onset.classes;
+        let shares = [c.stuck, c.critical, c.weakening, c.weakened];
+        eprintln!("{weakening:?}: {points} points, δ_peak {:.3e} m, {shares:?}", onset.peak.point.displacement_m);
+        assert_eq!(shares.iter().map(|s| s.count).sum::<usize>(), points);
+        for fraction in [shares.map(|s| s.normal_fraction), shares.map(|s| s.friction_fraction)] {
+            assert!((fraction.iter().sum::<f64>() - 1.0).abs() < 1e-9, "{fraction:?}");
+        }
+        let counted = |class| onset.peak.classes.iter().filter(|k| **k == class).count();
+        assert_eq!(counted(SlideClass::Weakening), c.weakening.count);
+        if weakening == Weakening::Instant {
+            assert_eq!(c.weakening.count, 0);
+        } else {
+            assert!(c.weakening.count > 0, "{shares:?}");
+        }
     }
 }
 

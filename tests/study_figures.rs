@@ -14,6 +14,7 @@ use asperity::friction::{elastic_onset, ElementLoads, FrictionLaw, Onset, SlipLa
 use asperity::plot::study::render;
 use asperity::plot::FigureInput;
 use asperity::shs::ShsPoint;
+use asperity::study::adhesion::AdhesionLimit;
 use asperity::study::{FigureKind, MapSnapshot, ResolutionRow, Row, SolveFacts, FIGURE_LOADS_N};
 use asperity::topography::resample::resample;
 use asperity::topography::synth::SyntheticSurface;
@@ -147,6 +148,9 @@ fn input<'a>(
         hold_times: &[Some(100.0), Some(10.0)],
         modulus_ratios: &[130.0 / 127.0, 130.0 / 133.0],
         counterface: Some(("the same material, E* = 69.7 GPa", 2.0)),
+        // Summits of 30 µm: a pull-off of 18.85 µN (19 µN as shown), the limit at 188.5 µN (190 µN),
+        // above the lowest load.
+        adhesion: Some(AdhesionLimit::new(30e-6)),
         resolution: &s.resolution,
         hold_time_loads: &[1e-4, 1e-3, 1e-2],
         log_density: false,
@@ -223,7 +227,7 @@ fn every_figure_movie_and_the_report() {
         ("pressure-distribution", 1200, 800),
         ("contact-maps", 1400, 1600),
         ("class-map", 1400, 1060),
-        ("class-fractions", 1450, 800),
+        ("class-fractions", 1450, 1500),
         ("friction-curve", 1200, 800),
         ("stress-ratio-snapshots", 150 + 3 * 400 + 20, 60 + 60 + 4 * 400 + 150),
     ];
@@ -362,6 +366,7 @@ fn nothing_to_draw_is_no_failure() {
         hold_times: &[],
         modulus_ratios: &[],
         counterface: None,
+        adhesion: None,
         resolution: &[],
         hold_time_loads: &[],
         log_density: false,
@@ -427,10 +432,22 @@ fn figures_say_what_they_show() {
     assert!(svg("pressure-distribution").contains("ball 0"), "p(σ) names its topography");
     let fractions = svg("class-fractions");
     assert!(fractions.contains("mean over 2 topographies") && fractions.contains("normal force N"));
+    // Elastic sharing's classes below equal sharing's.
+    assert!(fractions.contains("elastic sharing, instant drop") && fractions.contains("weakening: normal force"));
+    // The loads where one summit's pull-off exceeds a tenth of the load are shaded and keyed
+    // in both friction-drop figures, and said with the estimate's inputs in the report.
+    for name in ["friction-drop", "friction-drop-sharing"] {
+        let drawn = svg(name);
+        assert_eq!(drawn.matches("outside a non-adhesive model: N &lt; 190 µN").count(), 1, "{name}");
+    }
     assert!(svg("class-map").contains("the stress ratio of a stuck element"), "μ^0 is defined");
 
     let report = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(report.contains("every topography solved on its own grid"));
+    let adhesion = "Below N = 190 µN (shaded grey) a non-adhesive model does not describe the contact: there the \
+                    DMT pull-off force 2πRw of a single contacting summit, 19 µN for a work of adhesion w = 0.1 J/m²";
+    assert!(report.contains(adhesion), "{report}");
+    assert!(report.contains("a summit radius R = 30 µm"), "{report}");
     let full_size = r#"<a href="figures/friction-drop.png"><img src="figures/friction-drop.png""#;
     assert!(report.contains(full_size), "a click shows a figure at full size");
     assert!(report.contains("lifts this"), "the limits say what elastic sharing lifts");

@@ -103,14 +103,19 @@ fn both_sharings_give_their_rows_figure_and_resume() {
         for (row, drop) in [(elastic, dl), (weakening, dw)] {
             assert!(drop >= 1.0 - 1e-9 && drop <= limit * (1.0 + 1e-9), "drop {drop} outside [1, {limit}]");
             assert!((num(row, "static_coefficient") - drop * num(row, "mu_d")).abs() < 1e-12);
-            let classes: f64 =
-                ["critical_count", "pre_sliding_count", "subcritical_count"].iter().map(|c| num(row, c)).sum();
+            // Elastic rows split the slipped elements into the fully weakened (pre-sliding)
+            // and the weakening; equal rows leave the weakening columns empty.
+            let elastic_row = row["sharing"] == "elastic";
+            assert_eq!(row["weakening_count"].is_empty(), !elastic_row);
+            let names: &[&str] = if elastic_row {
+                &["critical", "pre_sliding", "subcritical", "weakening"]
+            } else {
+                &["critical", "pre_sliding", "subcritical"]
+            };
+            let classes: f64 = names.iter().map(|c| num(row, &format!("{c}_count"))).sum();
             assert_eq!(classes, points);
             for share in ["normal", "friction"] {
-                let fractions: f64 = ["critical", "pre_sliding", "subcritical"]
-                    .iter()
-                    .map(|c| num(row, &format!("{c}_{share}_fraction")))
-                    .sum();
+                let fractions: f64 = names.iter().map(|c| num(row, &format!("{c}_{share}_fraction"))).sum();
                 assert!((fractions - 1.0).abs() < 1e-9, "{share} fractions sum to {fractions}");
             }
         }

@@ -238,7 +238,10 @@ class Slide:
     """δ at F_S [m]; None when F_S is the steady sliding force."""
     stuck: ClassShare
     critical: ClassShare
-    slipped: ClassShare
+    weakening: ClassShare
+    """Slipped before the peak, 0 < s < d_c."""
+    weakened: ClassShare
+    """Slipped before the peak, s ≥ d_c (at mu_d)."""
     equal_sharing_static_coefficient: float
     equal_sharing_friction_drop: float
     equal_sharing_same_law_static_coefficient: Optional[float]
@@ -249,7 +252,7 @@ class Slide:
     shear_y: npt.NDArray[np.float64]
     """Shear along y at the peak [Pa], (ny, nx)."""
     classes: npt.NDArray[np.int8]
-    """0 no contact, 1 slipped, 2 critical, 3 stuck; (ny, nx)."""
+    """0 no contact, 1 weakened, 2 critical, 3 stuck, 4 weakening; (ny, nx)."""
     steps: int
     solves: int
     iterations: int

@@ -340,12 +340,15 @@ pub(crate) struct Slide {
     /// At the peak: points stuck below their bound, …
     #[pyo3(get)]
     stuck: ClassShare,
-    /// … points on their bound that never slipped, …
+    /// … points on their bound that never slipped before the peak's increment, …
     #[pyo3(get)]
     critical: ClassShare,
-    /// … and points that slipped before it.
+    /// … points that slipped before it, still weakening (0 < s < d_c), …
     #[pyo3(get)]
-    slipped: ClassShare,
+    weakening: ClassShare,
+    /// … and points that slipped before it, fully weakened (s ≥ d_c; at mu_d).
+    #[pyo3(get)]
+    weakened: ClassShare,
     /// The static coefficient of equal load sharing (``onset``) on the same pressure.
     #[pyo3(get)]
     equal_sharing_static_coefficient: f64,
@@ -366,8 +369,8 @@ pub(crate) struct Slide {
     /// Shear traction along y [Pa] at the peak, float64 (ny, nx).
     #[pyo3(get)]
     shear_y: Py<PyArray2<f64>>,
-    /// Class of each pixel at the peak, int8 (ny, nx): 0 no contact, 1 slipped, 2 critical,
-    /// 3 stuck.
+    /// Class of each pixel at the peak, int8 (ny, nx): 0 no contact, 1 weakened, 2 critical,
+    /// 3 stuck, 4 weakening.
     #[pyo3(get)]
     classes: Py<PyArray2<i8>>,
     /// Displacement steps along the path to sliding.
@@ -613,9 +616,10 @@ pub(crate) fn slide(
         static_coefficient: onset.static_coefficient(),
         friction_drop: onset.friction_drop(),
         peak_displacement: Some(onset.peak.point.displacement_m).filter(|d| d.is_finite()),
-        stuck: onset.stuck.into(),
-        critical: onset.critical.into(),
-        slipped: onset.slipped.into(),
+        stuck: onset.classes.stuck.into(),
+        critical: onset.classes.critical.into(),
+        weakening: onset.classes.weakening.into(),
+        weakened: onset.classes.weakened.into(),
         equal_sharing_static_coefficient: equal.static_coefficient(),
         equal_sharing_friction_drop: equal.friction_drop(),
         equal_sharing_same_law_static_coefficient: same_law.map(|e| e.static_coefficient()),

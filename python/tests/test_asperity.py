@@ -578,8 +578,9 @@ def test_slide_matches_the_command_line(tmp_path):
     assert sl.peak_displacement == record["peak_displacement_m"]
     assert sl.equal_sharing_friction_drop == record["equal_sharing"]["friction_drop"]
     assert sl.equal_sharing_friction_drop == ap.onset(s, mu_s=0.6, mu_d=0.4).friction_drop
-    assert (sl.stuck.count, sl.critical.count, sl.slipped.count) == (
-        record["stuck"]["count"], record["critical"]["count"], record["slipped"]["count"])
+    classes = ("stuck", "critical", "weakening", "weakened")
+    assert [getattr(sl, c).count for c in classes] == [record[c]["count"] for c in classes]
+    assert sum(getattr(sl, c).count for c in classes) == sl.contact_points
     assert np.array_equal(np.load(tmp_path / "s" / "shear_x.npy"), sl.shear_x)
     assert np.array_equal(np.load(tmp_path / "s" / "classes.npy"), sl.classes)
     curve = np.loadtxt(tmp_path / "s" / "curve.csv", delimiter=",", skiprows=1)

@@ -16,8 +16,8 @@ use asperity::contact::{
 };
 use asperity::friction::{
     check_curve_unit, check_partial_slip_force, check_peak_tolerance, elastic_onset, element_stiffness, ramp_force,
-    slip_curve_file, spring_slider_onset, ClassShare, ElementLoads, FrictionLaw, Onset, SlideStage, SlideWork, SlipLaw,
-    Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
+    slip_curve_file, spring_slider_onset, ElementLoads, FrictionLaw, Onset, SlideClasses, SlideStage, SlideWork,
+    SlipLaw, Snapshot, Weakening, DEFAULT_SLIP_DISTANCE_M, PEAK_TOLERANCE,
 };
 use asperity::limits::Limits;
 use asperity::output::{self, StagedDir};
@@ -45,8 +45,11 @@ use super::{MaterialArgs, ReadArgs};
 /// weakening, each element a spring–slider of the contact's stuck stiffness K_t / n),
 /// DIR/curve.csv (displacement_m, force_n, stick_points, slip_points of the settled states: the
 /// march's and the search's), DIR/shear_x.npy and DIR/shear_y.npy (Pa) and DIR/classes.npy
-/// (int8: 0 no contact, 1 slipped, 2 critical: slipping for the first time, 3 stuck) at the
-/// peak force, or at the imposed --tangential-force.
+/// (int8: 0 no contact, 1 weakened: slipped, fully weakened (slip ≥ d_c, at mu_d; every
+/// slipped point under the instant drop), 2 critical: on its bound, slipping for the first time,
+/// 3 stuck: below its bound, never slipped, 4 weakening: slipped, 0 < slip < d_c) at the peak
+/// force, or at the imposed --tangential-force; slide.json counts them (stuck, critical,
+/// weakening, weakened).
 #[derive(Args)]
 #[command(mut_arg("file", |a| a.value_name("SURFACE|CONTACT_DIR").help(
     "A topography file, in any format asperity reads (solved for --load first), or the output \
@@ -184,9 +187,8 @@ struct OnsetReport {
     friction_drop: f64,
     /// None (null) when F_S is the steady sliding force, reached as δ → ∞.
     peak_displacement_m: Option<f64>,
-    stuck: ClassShare,
-    critical: ClassShare,
-    slipped: ClassShare,
+    #[serde(flatten)]
+    classes: SlideClasses,
     /// The paper's model: equal sharing, the instant drop.
     equal_sharing: EqualSharing,
     /// Equal sharing with the law's own weakening (spring–sliders of K_t / n); absent for a
@@ -338,9 +340,7 @@ pub fn run(args: SlideArgs) -> Result<()> {
             dynamic_coefficient: law.mu_d,
             friction_drop: onset.friction_drop(),
             peak_displacement_m: Some(onset.peak.point.displacement_m).filter(|d| d.is_finite()),
-            stuck: onset.stuck,
-            critical: onset.critical,
-            slipped: onset.slipped,
+            classes: onset.classes,
             equal_sharing: EqualSharing {
                 static_coefficient: equal.static_coefficient(),
                 friction_drop: equal.friction_drop(),

@@ -23,7 +23,7 @@
 use ndarray::Array2;
 use serde::Serialize;
 
-use super::onset::ClassShare;
+use super::slide_class::{SlideClass, SlideClasses};
 use super::slip_law::{SlipLaw, Weakening};
 use super::stiffness::stuck_stiffness;
 use crate::contact::tangential::magnitude;
@@ -80,18 +80,6 @@ const SMALLEST: f64 = 1e-140;
 const LARGEST: f64 = 1e140;
 /// F_S / N may leave [mu_d, mu_s] by this relative amount, from rounding alone.
 const ROUNDING: f64 = 1e-9;
-
-/// What a contact point is in a state of the path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[repr(i8)]
-pub enum SlideClass {
-    /// Slipped before this state (its coefficient follows the weakening).
-    Slipped = 1,
-    /// Not slipped before, on its bound now: about to slip.
-    Critical = 2,
-    /// Not slipped before, below its bound.
-    Stuck = 3,
-}
 
 /// One state along the path.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -170,12 +158,8 @@ pub struct ElasticOnset {
     pub mu_d: f64,
     /// The state at the largest force (the steady sliding state at δ = ∞ when that is it).
     pub peak: Snapshot,
-    /// Stuck points at the peak (never slipped, below their bound): count and shares of N and F_S.
-    pub stuck: ClassShare,
-    /// Critical points at the peak (never slipped, on their bound mu_s p): count and shares.
-    pub critical: ClassShare,
-    /// Slipped points at the peak (weakened towards mu_d): count and shares.
-    pub slipped: ClassShare,
+    /// The classes of the points at the peak: count and shares of N and F_S of each.
+    pub classes: SlideClasses,
     /// The settled force F(δ), in increasing δ: the march from δ = 0 and the probes of the
     /// search near the peak (each settled from the settled state just below it). F_S is the
     /// largest of the search's, solved to the tolerance (or the sliding limit); the march's,
@@ -381,21 +365,11 @@ impl<'a> Path<'a> {
     }
 
     /// The snapshot of the settled state at `point`, reached from a state whose points
-    /// `before` had slipped: those are slipped, the others on their bound critical (slipping
-    /// for the first time in this increment), the rest stuck.
+    /// `before` had slipped ([`SlideClass::of`]).
     fn snapshot(&self, before: &[bool], point: SlidePoint) -> Snapshot {
         let q = self.solver.traction();
-        let classes = (0..q.len())
-            .map(|i| {
-                if before[i] {
-                    SlideClass::Slipped
-                } else if at_bound(q[i], self.bound[i]) {
-                    SlideClass::Critical
-                } else {
-                    SlideClass::Stuck
-                }
-            })
-            .collect();
+        let at = |i: usize| at_bound(q[i], self.bound[i]);
+        let classes = (0..q.len()).map(|i| SlideClass::of(self.law, before[i], at(i), self.state.path[i])).collect();
         Snapshot { point, traction: q.to_vec(), classes }
     }
 
@@ -421,7 +395,7 @@ impl<'a> Path<'a> {
         Snapshot {
             point: SlidePoint { displacement_m: f64::INFINITY, force_n: force, stick_points: 0, slip_points: p.len() },
             traction,
-            classes: vec![SlideClass::Slipped; p.len()],
+            classes: (0..p.len()).map(|i| SlideClass::of(self.law, true, true, st.path[i])).collect(),
         }
     }
 
@@ -729,16 +703,12 @@ pub fn elastic_onset<R: Proceed>(
         .zip(path.solver.pressure())
         .map(|((c, q), p)| (*c, p * area, q[0] * area));
     check_coefficient(law, peak.point.force_n / normal_force, peak.point.displacement_m)?;
-    let share = |class| ClassShare::tally(elements.clone(), class, (normal_force, peak.point.force_n));
-    let (stuck, critical, slipped) =
-        (share(SlideClass::Stuck), share(SlideClass::Critical), share(SlideClass::Slipped));
+    let classes = SlideClasses::tally(elements, (normal_force, peak.point.force_n));
     Ok(ElasticOnset {
         normal_force,
         static_force: peak.point.force_n,
         mu_d: law.mu_d,
-        stuck,
-        critical,
-        slipped,
+        classes,
         peak,
         curve,
         stuck_stiffness: k,

@@ -16,17 +16,19 @@ mod curve;
 mod elastic;
 mod law;
 mod onset;
+mod slide_class;
 mod slip_law;
 mod spring_slider;
 mod stiffness;
 
 pub use curve::{displacement, write_curves_csv, Curve, CurvePoint, Loading};
 pub use elastic::{
-    check_partial_slip_force, check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlideClass, SlidePoint,
+    check_partial_slip_force, check_peak_tolerance, elastic_onset, ramp_force, ElasticOnset, SlidePoint,
     SlideProgress, SlideStage, SlideWork, Snapshot, PEAK_TOLERANCE,
 };
 pub use law::{check_curve_unit, law_from_curve, parse_curve, slip_curve_file, CurveError, FrictionLaw, PRESETS};
 pub use onset::{ClassShare, ElementClass, ElementLoads, Onset};
+pub use slide_class::{SlideClass, SlideClasses};
 pub use slip_law::{SlipLaw, Weakening, DEFAULT_SLIP_DISTANCE_M};
 pub use spring_slider::{spring_slider_onset, WeakeningOnset};
 pub use stiffness::{element_stiffness, stuck_stiffness};

@@ -14,8 +14,9 @@ use super::style;
 use super::ticks::tick_label;
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::plausible::MAX_FRICTION_COEFFICIENT;
-use crate::quantity::{show, LENGTH};
+use crate::quantity::{show, FORCE, LENGTH};
 use crate::shs::ShsPoint;
+use crate::study::adhesion::{AdhesionLimit, ADHESION_SHARE};
 use crate::study::{law_name, ResolutionRow, Row, COARSENING};
 use plotters::style::RGBColor;
 
@@ -80,6 +81,38 @@ fn load_range(input: &FigureInput) -> (f64, f64) {
     let xs = input.rows.iter().map(|r| r.load_n).chain(input.experiments.iter().map(|p| p.load_n));
     let (lo, hi) = xs.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x * 1e3), b.max(x * 1e3)));
     (lo / 1.5, hi * 1.5)
+}
+
+/// What the shaded span of the loads outside a non-adhesive model stands for, with the
+/// estimate's inputs: one sentence for the report and the figures' captions.
+pub(super) fn adhesion_sentence(limit: &AdhesionLimit) -> String {
+    format!(
+        "Below N = {} (shaded grey) a non-adhesive model does not describe the contact: there the DMT pull-off \
+         force 2πRw of a single contacting summit, {} for a work of adhesion w = {} J/m² (assumed: of the order of a \
+         water film's capillary adhesion on silicon oxide) and a summit radius R = {} (1/κ, κ the RMS mean \
+         curvature of the topography; the largest over the topographies), exceeds {}% of the load, and the study \
+         solves no adhesion.",
+        show(estimate(limit.load_n), &FORCE),
+        show(estimate(limit.pull_off_n), &FORCE),
+        tick_label(&limit.work_of_adhesion),
+        show(estimate(limit.summit_radius_m), &LENGTH),
+        tick_label(&(ADHESION_SHARE * 100.0))
+    )
+}
+
+/// `x` to the two significant digits an order-of-magnitude estimate has.
+fn estimate(x: f64) -> f64 {
+    format!("{x:.1e}").parse().expect("a formatted float parses")
+}
+
+/// The shaded span of the loads [mN] below the adhesion limit, within the axis `x` [mN].
+fn adhesion_span(limit: Option<AdhesionLimit>, (x0, x1): (f64, f64)) -> Option<Series> {
+    let to = limit?.load_n * 1e3;
+    (to > x0).then(|| {
+        Series::span(x0, to.min(x1), style::GREY)
+            .opacity(0.2)
+            .label(format!("outside a non-adhesive model: N < {}", show(estimate(to * 1e-3), &FORCE)))
+    })
 }
 
 /// y range fitting `levels` with a little room.
@@ -203,6 +236,7 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
             marked.push(load_label(load));
         }
     }
+    series.extend(adhesion_span(input.adhesion, (x0, x1)));
     let mut panel = drop_vs_load((x0, x1), (y0, y1), "Friction drop vs normal load");
     panel.series = series;
     let experiments = if input.experiments.is_empty() {
@@ -232,9 +266,10 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
          shaded band spans the values over the {topographies} topograph{}{modulus}, the line is the mean over the \
          topographies, and the dotted line is the single-element value μ_s/μ_d, drawn below the lowest load carried \
          by more than one element.{counterface}{experiments} Short ticks along the top mark the loads of the p(σ) \
-         figure ({}), coloured as its curves.",
+         figure ({}), coloured as its curves.{}",
         if topographies == 1 { "y" } else { "ies" },
-        marked.join(", ")
+        marked.join(", "),
+        input.adhesion.map_or(String::new(), |a| format!(" {}", adhesion_sentence(&a)))
     );
     Some((Figure::new(panel).with_size(1800, 850), caption))
 }
@@ -322,6 +357,7 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
         });
     }
     let (y0, y1) = fit(&levels);
+    series.extend(adhesion_span(input.adhesion, (x0, x1)));
     let mut panel = drop_vs_load((x0, x1), (y0, y1), "Friction drop vs normal load: equal and elastic sharing");
     panel.series = series;
     let weakening = if input.slip_distance_m > 0.0 {
@@ -349,9 +385,10 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
          displaced rigidly along x, {weakening}): per law, the band spans the values over the topographies (paler for \
          elastic sharing) and the line joins their mean; dotted: the single-element value μ_s/μ_d, drawn below the \
          lowest load carried by more than one element. The interaction alone (elastic against equal sharing under the \
-         same weakening) lowers the mean excess drop − 1 by more than {}% at every load {}.{weakening_alone}",
+         same weakening) lowers the mean excess drop − 1 by more than {}% at every load {}.{weakening_alone}{}",
         tick_label(&(LOWERED * 100.0)),
-        findings.join(", ")
+        findings.join(", "),
+        input.adhesion.map_or(String::new(), |a| format!(" {}", adhesion_sentence(&a)))
     );
     Some((Figure::new(panel).with_size(1800, 850), caption))
 }

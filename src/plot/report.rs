@@ -90,6 +90,10 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
         escape(crate::COMMIT)
     );
 
+    if let Some(limit) = &input.adhesion {
+        let _ = writeln!(w, "<p class=\"adhesion\">{}</p>", escape(&super::coefficients::adhesion_sentence(limit)));
+    }
+
     // Plausibility first: a result a physicist knows is doubtful says so before any figure.
     let warnings = crate::study::warnings(input.rows);
     if !warnings.is_empty() {

@@ -6,6 +6,7 @@
 
 use crate::friction::FrictionLaw;
 use crate::shs::ShsPoint;
+use crate::study::adhesion::AdhesionLimit;
 use crate::study::{FigureKind, MapSnapshot, Records, ResolutionRow, Row};
 use plotters::style::RGBColor;
 
@@ -30,6 +31,8 @@ pub struct FigureInput<'a> {
     pub modulus_ratios: &'a [f64],
     /// The other counterface the friction-drop figure shows: its description and E*₀/E*.
     pub counterface: Option<(&'a str, f64)>,
+    /// Where a single summit's DMT pull-off is no longer small beside the load.
+    pub adhesion: Option<AdhesionLimit>,
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: &'a [ResolutionRow],
     /// Loads \[N] of the hold-time figure.
@@ -68,6 +71,7 @@ impl<'a> FigureInput<'a> {
             hold_times: &records.hold_times,
             modulus_ratios: &records.modulus_ratios,
             counterface: records.counterface.as_ref().map(|(name, ratio)| (name.as_str(), *ratio)),
+            adhesion: records.adhesion,
             resolution: &records.resolution,
             hold_time_loads: &records.hold_time_loads,
             log_density: records.log_density,

@@ -299,30 +299,77 @@ fn pressure_distribution(input: &FigureInput) -> Option<(Figure, String)> {
     Some((Figure::new(panel).with_size(1200, 800), caption))
 }
 
-/// Fractions of N and of F_S carried by each class vs load, first law (Fig. 4g).
+/// Fractions of N and of F_S carried by each class vs load, first law (Fig. 4g): equal sharing,
+/// and below it elastic sharing's four classes when the study has its rows.
 fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
     let law = input.laws.first()?;
     let name = law_name(law);
-    let groups = by_load(input.rows, &name);
-    if groups.is_empty() {
-        return None;
-    }
-    let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
-    let mut panel = Panel::new(Axis::new("normal load N", "mN").log(), Axis::dimensionless("fraction").range(0.0, 1.0))
-        .title(format!(
-            "Force carried per element class at the critical state ({name}; mean over {} topograph{})",
-            input.topographies.len(),
-            if input.topographies.len() == 1 { "y" } else { "ies" }
-        ))
-        .legend_beside(330);
+    let topographies = input.topographies.len();
+    let mean_over = format!("mean over {topographies} topograph{}", if topographies == 1 { "y" } else { "ies" });
     type Pick = fn(&Row) -> f64;
     let classes: [(&str, RGBColor, Pick, Pick); 3] = [
         ("critical", style::CRITICAL, |r| r.critical_normal_fraction, |r| r.critical_friction_fraction),
         ("pre-sliding", style::PRE_SLIDING, |r| r.pre_sliding_normal_fraction, |r| r.pre_sliding_friction_fraction),
         ("subcritical", style::SUBCRITICAL, |r| r.subcritical_normal_fraction, |r| r.subcritical_friction_fraction),
     ];
-    for (class, colour, normal, friction) in classes {
-        let mean = |pick: Pick| -> Vec<(f64, f64)> {
+    let equal = class_panel(input.rows, &name, &classes, format!("equal sharing, {name}; {mean_over}"))?;
+    let elastic_classes: [(&str, RGBColor, Pick, Pick); 4] = [
+        ("critical", style::CRITICAL, |r| r.critical_normal_fraction, |r| r.critical_friction_fraction),
+        (
+            "weakening",
+            style::WEAKENING,
+            |r| r.weakening_normal_fraction.unwrap_or(0.0),
+            |r| r.weakening_friction_fraction.unwrap_or(0.0),
+        ),
+        ("weakened", style::PRE_SLIDING, |r| r.pre_sliding_normal_fraction, |r| r.pre_sliding_friction_fraction),
+        ("stuck", style::SUBCRITICAL, |r| r.subcritical_normal_fraction, |r| r.subcritical_friction_fraction),
+    ];
+    let weakening = if input.slip_distance_m > 0.0 {
+        format!("d_c {}", crate::quantity::show(input.slip_distance_m, &crate::quantity::LENGTH))
+    } else {
+        "instant drop".to_string()
+    };
+    let elastic =
+        class_panel(input.elastic_rows, &name, &elastic_classes, format!("elastic sharing, {weakening}; {mean_over}"));
+    let figure = match elastic {
+        Some(elastic) => Figure::stack(vec![(equal, 1), (elastic, 1)]).with_size(1450, 1500),
+        None => Figure::new(equal).with_size(1450, 800),
+    };
+    let below = if input.elastic_rows.iter().any(|r| r.law == name) {
+        " Below, the same under elastic sharing, whose slip weakening splits the elements that slipped before the \
+         peak: weakening (red-orange; slip below d_c, between μ_s and μ_d, the critical ones' part: their further \
+         slip lowers the force) and weakened (amber; at μ_d, the paper's pre-sliding); critical (brown) are those on \
+         their bound μ_s for the first time at the peak, stuck (green) the paper's subcritical."
+    } else {
+        ""
+    };
+    let caption = format!(
+        "The fraction of the normal load N (solid) and of the static friction force F_S (dashed) carried by \
+         critical (brown), pre-sliding (amber) and subcritical (green) elements at the critical state, against the \
+         normal load, for the law \"{name}\" (the paper's Fig. 4g): N^μ and F_S^μ are the normal and the friction \
+         force carried by the elements of class μ (the paper's F_f^μ); {mean_over}.{below}"
+    );
+    Some((figure, caption))
+}
+
+/// A panel of the class fractions of `rows` for the law `name`, one pair of lines per class
+/// (name, colour, its fraction of N, of F_S), titled "… (`what`)"; `None` without rows.
+fn class_panel(
+    rows: &[Row],
+    name: &str,
+    classes: &[(&str, RGBColor, fn(&Row) -> f64, fn(&Row) -> f64)],
+    what: String,
+) -> Option<Panel> {
+    let groups = by_load(rows, name);
+    if groups.is_empty() {
+        return None;
+    }
+    let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
+    let mut panel = Panel::new(Axis::new("normal load N", "mN").log(), Axis::dimensionless("fraction").range(0.0, 1.0))
+        .title(format!("Force carried per element class at the critical state ({what})"))
+        .legend_beside(330);
+    for &(class, colour, normal, friction) in classes {
+        let mean = |pick: fn(&Row) -> f64| -> Vec<(f64, f64)> {
             x.iter().zip(&groups).map(|(&x, g)| (x, spread(g.1.iter().map(|r| pick(r))).1)).collect()
         };
         let n = mean(normal);
@@ -332,15 +379,7 @@ fn class_fractions(input: &FigureInput) -> Option<(Figure, String)> {
             Series::line(mean(friction), colour).width(3).dashed().label(format!("{class}: friction force F_S^μ/F_S")),
         );
     }
-    let topographies = input.topographies.len();
-    let caption = format!(
-        "The fraction of the normal load N (solid) and of the static friction force F_S (dashed) carried by \
-         critical (brown), pre-sliding (amber) and subcritical (green) elements at the critical state, against the \
-         normal load, for the law \"{name}\" (the paper's Fig. 4g): N^μ and F_S^μ are the normal and the friction \
-         force carried by the elements of class μ (the paper's F_f^μ); mean over the {topographies} topograph{}.",
-        if topographies == 1 { "y" } else { "ies" }
-    );
-    Some((Figure::new(panel).with_size(1450, 800), caption))
+    Some(panel)
 }
 
 /// F/N vs δ/δ_peak at the load nearest 0.1 mN, equal load sharing and rigid displacement

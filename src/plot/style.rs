@@ -36,6 +36,9 @@ pub const CRITICAL: RGBColor = RGBColor(140, 75, 30);
 pub const PRE_SLIDING: RGBColor = RGBColor(240, 175, 0);
 /// Subcritical elements (stuck below mu_s): green.
 pub const SUBCRITICAL: RGBColor = RGBColor(50, 150, 70);
+/// Weakening elements of elastic sharing (slipped, between mu_s and mu_d): red-orange, between
+/// the critical brown and the pre-sliding amber.
+pub const WEAKENING: RGBColor = RGBColor(225, 90, 40);
 
 /// Colours for successive data series (black and red first, as the paper's 100 s and 10 s
 /// hold times).

@@ -7,6 +7,7 @@
 //! kept for the maps, distributions, curves and movies). It imports, of the study, the study
 //! file (`config`) only, never the runner's rooms, nor `plot`, `report`, `cli` or `python`.
 
+pub mod adhesion;
 pub mod config;
 mod plan;
 mod progress;
@@ -92,8 +93,10 @@ pub struct Row {
     /// F_S / (mu_d N).
     pub friction_drop: f64,
     /// Element classes at the critical state (the peak of the friction force): count, fraction
-    /// of N, fraction of F_S. Under elastic sharing: critical = not slipped before, on its bound
-    /// μ_s p; pre-sliding = slipped before the peak; subcritical = stuck below its bound.
+    /// of N, fraction of F_S. Under elastic sharing ([`SlideClass`](crate::friction::SlideClass)):
+    /// critical = not slipped before, on its bound μ_s p; pre-sliding = slipped before the peak
+    /// and fully weakened (slip ≥ d_c, at μ_d); subcritical = stuck below its bound; the
+    /// `weakening_` columns hold the rest, slipped and partly weakened.
     ///
     /// Critical elements (stuck at the stress ratio mu_s): their number.
     pub critical_count: usize,
@@ -113,6 +116,16 @@ pub struct Row {
     pub subcritical_normal_fraction: f64,
     /// Fraction of F_S the subcritical elements carry.
     pub subcritical_friction_fraction: f64,
+    /// Elastic sharing only: elements slipped before the peak and still weakening (0 < slip <
+    /// d_c, between μ_s and μ_d), their number; none under the instant drop.
+    #[serde(default)]
+    pub weakening_count: Option<usize>,
+    /// Elastic sharing only: fraction of N the weakening elements carry.
+    #[serde(default)]
+    pub weakening_normal_fraction: Option<f64>,
+    /// Elastic sharing only: fraction of F_S the weakening elements carry.
+    #[serde(default)]
+    pub weakening_friction_fraction: Option<f64>,
     /// Contact solver iterations of the solve this row comes from.
     pub iterations: usize,
     /// Wall-clock time \[s] of that solve.
@@ -177,11 +190,22 @@ impl Row {
         seconds: f64,
     ) -> Row {
         let model = (onset.static_coefficient(), onset.mu_d, onset.friction_drop());
-        let shares = [&onset.critical, &onset.slipped, &onset.stuck];
+        let c = &onset.classes;
         Row {
+            weakening_count: Some(c.weakening.count),
+            weakening_normal_fraction: Some(c.weakening.normal_fraction),
+            weakening_friction_fraction: Some(c.weakening.friction_fraction),
             slide_iterations: Some(onset.work.iterations),
             slide_seconds: Some(seconds),
-            ..Row::of(topography, load_n, solve, law, (Sharing::Elastic, slip.slip_distance()), model, shares)
+            ..Row::of(
+                topography,
+                load_n,
+                solve,
+                law,
+                (Sharing::Elastic, slip.slip_distance()),
+                model,
+                [&c.critical, &c.weakened, &c.stuck],
+            )
         }
     }
 
@@ -223,6 +247,9 @@ impl Row {
             subcritical_count: subcritical.count,
             subcritical_normal_fraction: subcritical.normal_fraction,
             subcritical_friction_fraction: subcritical.friction_fraction,
+            weakening_count: None,
+            weakening_normal_fraction: None,
+            weakening_friction_fraction: None,
             iterations: solve.iterations,
             seconds: solve.seconds,
             slide_iterations: None,
@@ -246,6 +273,8 @@ impl Row {
             ("pre_sliding_friction_fraction", self.pre_sliding_friction_fraction),
             ("subcritical_normal_fraction", self.subcritical_normal_fraction),
             ("subcritical_friction_fraction", self.subcritical_friction_fraction),
+            ("weakening_normal_fraction", self.weakening_normal_fraction.unwrap_or(0.0)),
+            ("weakening_friction_fraction", self.weakening_friction_fraction.unwrap_or(0.0)),
             ("contact_fraction", self.contact_fraction),
             ("max_pressure_pa", self.max_pressure_pa),
             ("edge_load_fraction", self.edge_load_fraction),
@@ -531,6 +560,9 @@ pub struct Records {
     /// paper's rigid flat, or the rigid flat against the same material): its description and
     /// E*₀/E*, by the same scaling; none for another body.
     pub counterface: Option<(String, f64)>,
+    /// Where a single summit's DMT pull-off is no longer small beside the load (none when no
+    /// topography has a curvature).
+    pub adhesion: Option<adhesion::AdhesionLimit>,
     /// The resolution study's rows (empty when it was not asked for).
     pub resolution: Vec<ResolutionRow>,
     /// Loads \[N] of the hold-time figure.

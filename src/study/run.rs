@@ -64,6 +64,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
+use super::adhesion::AdhesionLimit;
 use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 pub use super::plan::Study;
 pub use super::progress::Progress;
@@ -401,6 +402,7 @@ impl Study {
             hold_times: self.hold_times.clone(),
             modulus_ratios: self.modulus_ratios(),
             counterface: self.other_counterface(),
+            adhesion: AdhesionLimit::of(&self.topographies.iter().map(|(_, t)| t).collect::<Vec<_>>())?,
             resolution,
             hold_time_loads,
             log_density: self.config.output.log_density,
