@@ -658,6 +658,29 @@ fn a_run_killed_at_any_moment_of_its_start_resumes_or_starts_fresh() {
 }
 
 #[test]
+fn a_dir_whose_records_an_earlier_asperity_named_by_load_index_is_refused_until_fresh() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    succeeds(&run(dir, "study.toml", "out", &[]));
+    // A fingerprint as an earlier asperity kept it (the whole study's, without the naming of
+    // the records), in the place of the run's own: its length and time kept, as the ledger
+    // recorded them.
+    let path = dir.join("out/solves/fingerprint.json");
+    let (length, time) =
+        (std::fs::metadata(&path).unwrap().len() as usize, std::fs::metadata(&path).unwrap().modified().unwrap());
+    let old = r#"{"study":{},"heights":[]}"#;
+    std::fs::write(&path, format!("{old:length$}")).unwrap();
+    File::options().write(true).open(&path).unwrap().set_modified(time).unwrap();
+    let before = files_below(&dir.join("out"));
+    let e = refusal(&run(dir, "study.toml", "out", &[]));
+    assert!(e.contains("named its records by load index: rerun with --fresh"), "{e}");
+    assert_eq!(files_below(&dir.join("out")), before);
+    let o = run(dir, "study.toml", "out", &["--fresh"]);
+    succeeds(&o);
+    assert!(stderr(&o).contains("4 solved, 0 resumed"), "{}", stderr(&o));
+}
+
+#[test]
 fn topography_names_never_meet_the_runs_own_files() {
     let tmp = study_dir();
     let dir = tmp.path();

@@ -221,13 +221,12 @@ pub fn run(args: RunArgs) -> Result<()> {
         0 => format!("{topographies}{grid}{kinds} × {loads} loads"),
         n => format!("({topographies}{grid}{kinds} and {n} coarser copies for the resolution figure) × {loads} loads"),
     };
-    // The elastic onsets run now, and those an interrupted solve had finished (the solve
-    // counts as solved now).
+    // The elastic onsets run now, and those of the solves run now that were recorded before
+    // (by an interrupted solve, or with the solve by a study with other laws).
     let onsets = match (outcome.onsets, outcome.onsets_resumed) {
         (0, 0) => String::new(),
         (run, 0) => format!("; {run} elastic onsets run"),
-        (run, 1) => format!("; {run} elastic onsets run, 1 of an interrupted solve resumed"),
-        (run, n) => format!("; {run} elastic onsets run, {n} of interrupted solves resumed"),
+        (run, n) => format!("; {run} elastic onsets run, {n} recorded before kept"),
     };
     if let Some(shard) = args.shard {
         let (resumed, share) = (outcome.resumed, outcome.share);

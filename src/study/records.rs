@@ -227,6 +227,7 @@ impl Study {
         };
         let sweeps = self.sweeps();
         let mut units = Vec::new();
+        output::make_room(pieces.iter().map(|p| p.loads.len()).sum());
         for piece in pieces {
             let (u, plastic) = sweeps[piece.sweep];
             let unit = self.solves_dir(dir, u, plastic);

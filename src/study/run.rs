@@ -100,8 +100,9 @@ pub struct Outcome {
     pub resumed: usize,
     /// Elastic onsets run now.
     pub onsets: usize,
-    /// Elastic onsets of the solves run now that an earlier run had finished (and recorded)
-    /// before it stopped.
+    /// Elastic onsets of the solves run now that an earlier run had recorded: one stopped
+    /// before the solve's record, or one that recorded the solve without a row this study
+    /// asks for (another law).
     pub onsets_resumed: usize,
     /// What the figures and the report are drawn from; none for a shard.
     pub records: Option<Records>,

@@ -303,12 +303,16 @@ impl Study {
                         let weakening_slot = layout
                             .iter()
                             .position(|s| s.sharing == Sharing::Equal && s.law == l && s.slip_distance != Some(0.0));
-                        let recorded = earlier.as_ref().and_then(|r| {
-                            let weakening = weakening_slot.map(|w| r.row(&keys[w]).cloned());
-                            Some((r.row(&keys[slot])?.clone(), weakening.map_or(Some(None), |w| w.map(Some))?))
+                        // Recorded with the solve by an earlier study: both of its rows.
+                        let from_record = earlier.as_ref().and_then(|r| {
+                            let weakening = match weakening_slot {
+                                Some(w) => Some(r.row(&keys[w])?.clone()),
+                                None => None,
+                            };
+                            Some((r.row(&keys[slot])?.clone(), weakening))
                         });
                         let path = solves.join(onset_name(stem, &keys[slot]));
-                        if let Some((row, weakening)) = recorded {
+                        if let Some((row, weakening)) = from_record {
                             rows[slot] = Some(row);
                             if let Some(w) = weakening_slot {
                                 rows[w] = weakening;
