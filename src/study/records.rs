@@ -288,8 +288,16 @@ impl Study {
                     ),
                 ));
             }
-            let ours = reached_without_links(dir, &path)
-                .is_some_and(|m| by_path.get(path.as_path()).is_some_and(|w| w.is(&m)));
+            let ours = |recorded: Option<&output::Written>| {
+                reached_without_links(dir, &path).is_some_and(|m| recorded.is_some_and(|w| w.is(&m)))
+            };
+            // A run working in DIR meanwhile (another study's, a shard) records each file before
+            // it appears: one written since the ledger was read is in it when read again (or
+            // gone, a map no solve needs any more).
+            let ours = ours(by_path.get(path.as_path()).copied()) || {
+                let now = Ledger::read(&dir.join(SOLVES).join(LEDGER))?.unwrap_or_default();
+                ours(now.iter().rev().find(|w| w.path == path)) || reached_without_links(dir, &path).is_none()
+            };
             if !ours {
                 return Err(Error::file(
                     &full,
