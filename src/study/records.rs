@@ -657,7 +657,7 @@ pub(super) fn read_normal(solves: &Path, stem: &str, load: f64) -> Result<(Norma
     Ok((normal, read_map(&solves.join(warm_name(stem)))?))
 }
 
-/// A pressure map [Pa] a run kept (`warm-NN.npy`), row-major.
+/// A pressure map [Pa] a run kept (`<stem>-warm.npy`), row-major.
 pub(super) fn read_map(path: &Path) -> Result<Array2<f64>> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))?;

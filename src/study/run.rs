@@ -213,7 +213,7 @@ impl Study {
         &self.warnings
     }
 
-    /// When another process works in DIR on the same units, wait for it (`true`) instead of
+    /// When another process works in DIR on the same solves, wait for it (`true`) instead of
     /// refusing (the default).
     pub fn waiting(self, wait: bool) -> Study {
         Study { wait, ..self }

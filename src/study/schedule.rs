@@ -419,7 +419,7 @@ impl Study {
         }
     }
 
-    /// Run the elastic onset `job`, record it (`NN-elastic-LL.json`) and report it to the
+    /// Run the elastic onset `job`, record it (`<stem>-elastic-<key>.json`) and report it to the
     /// progress callback, whose `Break` stops the run at once with [`Error::Interrupted`] (the
     /// onsets finished stay recorded, no solve's record is written); then record the sweep's
     /// solves whose onsets are all done. Errors name the topography, the load and the law.
