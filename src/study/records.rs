@@ -371,7 +371,8 @@ impl Study {
     /// The stem of the names of sweep `u`'s solve at load `k`, elastic or `plastic`: its load
     /// and a digest of its identity, `<load>N-<digest>` (e.g. `1e-3N-0123456789abcdef`). The
     /// identity is what the solve depends on: its topography as built ([`heights_digest`]),
-    /// the material, the contact settings and the kind of solve, and the load [N]; not the
+    /// the material, the contact settings and the kind of solve, the load [N], and the
+    /// asperity that computes it (whose solvers' own settings its rows depend on too); not the
     /// other loads, laws or outputs of the study, so that a study that changes those finds it.
     pub(super) fn stem(&self, u: usize, plastic: bool, k: usize) -> String {
         let mut material = self.config.material.clone();
@@ -380,6 +381,7 @@ impl Study {
         let mut contact = self.config.contact.clone();
         contact.plastic = Plastic::One(plastic);
         let identity = serde_json::json!({
+            "asperity": env!("CARGO_PKG_VERSION"),
             "heights": self.digests[u],
             "material": material,
             "contact": contact,
