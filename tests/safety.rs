@@ -35,6 +35,15 @@ fn succeeds(o: &Output) {
 }
 
 /// Sorted names in `dir`.
+/// The one file in `folder` named for the solve at `load` [N] as `{:e}` writes it
+/// (`1e-3N-<digest>…`), and ending `end`.
+fn solve_file(folder: &Path, load: &str, end: &str) -> String {
+    let found: Vec<String> =
+        names(folder).into_iter().filter(|n| n.starts_with(&format!("{load}N-")) && n.ends_with(end)).collect();
+    assert_eq!(found.len(), 1, "{}: {found:?}", folder.display());
+    found[0].clone()
+}
+
 fn names(dir: &Path) -> Vec<String> {
     let mut n: Vec<String> =
         std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
@@ -444,12 +453,15 @@ fn fresh_removes_what_runs_wrote_and_nothing_else() {
         std::fs::create_dir_all(r.join(m).parent().unwrap()).unwrap();
         std::fs::write(r.join(m), "mine").unwrap();
     }
-    std::fs::remove_file(r.join("pressure/study.lock/01.npy")).unwrap();
-    std::os::unix::fs::symlink("../../notes.txt", r.join("pressure/study.lock/01.npy")).unwrap();
+    let maps = r.join("pressure/study.lock");
+    let (first, second) = (solve_file(&maps, "1e-4", ".npy"), solve_file(&maps, "1e-3", ".npy"));
+    let (first, second) = (format!("pressure/study.lock/{first}"), format!("pressure/study.lock/{second}"));
+    std::fs::remove_file(r.join(&second)).unwrap();
+    std::os::unix::fs::symlink("../../notes.txt", r.join(&second)).unwrap();
     // The user's own file put in place of an output, and a ledger edited by hand to claim the
     // user's files (an older ledger's bare path, a made-up identity): all stay.
-    std::fs::remove_file(r.join("pressure/study.lock/00.npy")).unwrap();
-    std::fs::write(r.join("pressure/study.lock/00.npy"), "mine").unwrap();
+    std::fs::remove_file(r.join(&first)).unwrap();
+    std::fs::write(r.join(&first), "mine").unwrap();
     let mut ledger = std::fs::OpenOptions::new().append(true).open(r.join("solves/written.jsonl")).unwrap();
     std::io::Write::write_all(
         &mut ledger,
@@ -475,11 +487,11 @@ fn fresh_removes_what_runs_wrote_and_nothing_else() {
         assert!(!e.contains(m), "{m}: {e}");
     }
     let e = refusal(&run(dir, "renamed.toml", "R", &["--fresh"]));
-    assert!(e.contains("R/pressure/study.lock/00.npy: is a file asperity did not write"), "{e}");
-    std::fs::rename(r.join("pressure/study.lock/00.npy"), away.join("00.npy")).unwrap();
+    assert!(e.contains(&format!("R/{second}: a symbolic link in a folder asperity writes")), "{e}");
+    std::fs::remove_file(r.join(&second)).unwrap();
     let e = refusal(&run(dir, "renamed.toml", "R", &["--fresh"]));
-    assert!(e.contains("R/pressure/study.lock/01.npy: a symbolic link in a folder asperity writes"), "{e}");
-    std::fs::remove_file(r.join("pressure/study.lock/01.npy")).unwrap();
+    assert!(e.contains(&format!("R/{first}: is a file asperity did not write")), "{e}");
+    std::fs::rename(r.join(&first), away.join("00.npy")).unwrap();
     assert_eq!(files_below(&away).len(), 6);
 
     // What is left elsewhere in DIR stays, and is said.
@@ -646,6 +658,29 @@ fn a_run_killed_at_any_moment_of_its_start_resumes_or_starts_fresh() {
 }
 
 #[test]
+fn a_dir_whose_records_an_earlier_asperity_named_by_load_index_is_refused_until_fresh() {
+    let tmp = study_dir();
+    let dir = tmp.path();
+    succeeds(&run(dir, "study.toml", "out", &[]));
+    // A fingerprint as an earlier asperity kept it (the whole study's, without the naming of
+    // the records), in the place of the run's own: its length and time kept, as the ledger
+    // recorded them.
+    let path = dir.join("out/solves/fingerprint.json");
+    let (length, time) =
+        (std::fs::metadata(&path).unwrap().len() as usize, std::fs::metadata(&path).unwrap().modified().unwrap());
+    let old = r#"{"study":{},"heights":[]}"#;
+    std::fs::write(&path, format!("{old:length$}")).unwrap();
+    File::options().write(true).open(&path).unwrap().set_modified(time).unwrap();
+    let before = files_below(&dir.join("out"));
+    let e = refusal(&run(dir, "study.toml", "out", &[]));
+    assert!(e.contains("named its records by load index: rerun with --fresh"), "{e}");
+    assert_eq!(files_below(&dir.join("out")), before);
+    let o = run(dir, "study.toml", "out", &["--fresh"]);
+    succeeds(&o);
+    assert!(stderr(&o).contains("4 solved, 0 resumed"), "{}", stderr(&o));
+}
+
+#[test]
 fn topography_names_never_meet_the_runs_own_files() {
     let tmp = study_dir();
     let dir = tmp.path();
@@ -661,15 +696,15 @@ fn topography_names_never_meet_the_runs_own_files() {
 }
 
 #[test]
-fn one_writer_per_unit_of_work_and_never_two_studies_in_one_dir() {
+fn one_writer_per_solve_and_two_studies_share_a_dir() {
     let tmp = study_dir();
     let dir = tmp.path();
     succeeds(&run(dir, "study.toml", "out", &[]));
-    let results = std::fs::read(dir.join("out/results.csv")).unwrap();
     std::fs::write(dir.join("out/notes.txt"), "mine").unwrap();
 
-    // Another process works on a unit (this test holds its lock).
-    let unit = File::create(dir.join("out/solves/topographies/study.lock/loads-00-01.lock")).unwrap();
+    // Another process works on a solve (this test holds its lock).
+    let solves = dir.join("out/solves/topographies/study.lock");
+    let unit = File::create(solves.join(solve_file(&solves, "1e-4", ".lock"))).unwrap();
     unit.lock().unwrap();
     let e = refusal(&run(dir, "study.toml", "out", &[]));
     assert!(e.contains("out is busy") && e.contains("topography \"study.lock\"") && e.contains("--wait"), "{e}");
@@ -685,9 +720,14 @@ fn one_writer_per_unit_of_work_and_never_two_studies_in_one_dir() {
     drop(unit);
     succeeds(&waiting.wait_with_output().unwrap());
 
-    // Another study: refused; with --fresh while a run works there: busy.
-    let e = refusal(&run(dir, "other.toml", "out", &[]));
-    assert!(e.contains("different study"), "{e}");
+    // Another study grows DIR: its new load is solved, the one it shares is not; the table is
+    // its own. With --fresh while a run works there: busy.
+    let o = run(dir, "other.toml", "out", &[]);
+    succeeds(&o);
+    assert!(stderr(&o).contains(": 2 solved, 2 resumed"), "{}", stderr(&o));
+    assert_eq!(loads(&dir.join("out/results.csv")), ["0.0001", "0.002", "0.0001", "0.002"]);
+    succeeds(&run(dir, "study.toml", "out", &[]));
+    let results = std::fs::read(dir.join("out/results.csv")).unwrap();
     let study = File::open(dir.join("out/solves/study.lock")).unwrap();
     study.lock_shared().unwrap();
     let e = refusal(&run(dir, "other.toml", "out", &["--fresh"]));
@@ -699,8 +739,8 @@ fn one_writer_per_unit_of_work_and_never_two_studies_in_one_dir() {
     assert_eq!(std::fs::read_to_string(dir.join("out/notes.txt")).unwrap(), "mine");
     assert_eq!(loads(&dir.join("out/results.csv")), ["0.0001", "0.002", "0.0001", "0.002"]);
 
-    // Two studies started at once into one new DIR: one wins, the other is refused, and the
-    // results are the winner's alone.
+    // Two studies started at once into one new DIR: each runs, or is refused while the other
+    // works on a solve both ask for; the table is one study's whole.
     for _ in 0..3 {
         let _ = std::fs::remove_dir_all(dir.join("race"));
         let spawn = |study: &str| {
@@ -713,14 +753,16 @@ fn one_writer_per_unit_of_work_and_never_two_studies_in_one_dir() {
         };
         let (a, b) = (spawn("study.toml"), spawn("other.toml"));
         let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
-        let won: Vec<&Output> = [&a, &b].into_iter().filter(|o| o.status.success()).collect();
-        assert_eq!(won.len(), 1, "{a:?} {b:?}");
-        let lost = if a.status.success() { &b } else { &a };
-        let e = refusal(lost);
-        assert!(e.contains("different study") || e.contains("is busy"), "{e}");
+        assert!(a.status.success() || b.status.success(), "{a:?} {b:?}");
+        for lost in [&a, &b].into_iter().filter(|o| !o.status.success()) {
+            let e = refusal(lost);
+            assert!(e.contains("is busy"), "{e}");
+        }
         let loads = loads(&dir.join("race/results.csv"));
-        let expected = if a.status.success() { "0.001" } else { "0.002" };
-        assert!(loads.contains(&expected.to_string()) && loads.len() == 4, "{loads:?}");
+        assert!(
+            [["0.0001", "0.001"], ["0.0001", "0.002"]].iter().any(|l| loads == [l[0], l[1], l[0], l[1]]),
+            "{loads:?}"
+        );
     }
 }
 
@@ -794,8 +836,9 @@ fn an_input_of_a_study_among_its_outputs_is_refused_before_anything_changes() {
     let r = dir.join("R");
     // A third topography read from the study's own pressure map: --fresh would remove it, a
     // run rewrite it; also through a hard link.
-    std::fs::hard_link(r.join("pressure/study.lock/00.npy"), dir.join("map.npy")).unwrap();
-    for input in ["R/pressure/study.lock/00.npy", "map.npy"] {
+    let map = format!("pressure/study.lock/{}", solve_file(&r.join("pressure/study.lock"), "1e-4", ".npy"));
+    std::fs::hard_link(r.join(&map), dir.join("map.npy")).unwrap();
+    for input in [&format!("R/{map}")[..], "map.npy"] {
         let third = format!(
             "[[topography]]\nname = \"map\"\nfile = \"{input}\"\nsize = [\"1 cm\", \"1 cm\"]\nheight_unit = \"pm\"\n\n"
         );
@@ -803,7 +846,11 @@ fn an_input_of_a_study_among_its_outputs_is_refused_before_anything_changes() {
         let before = files_below(&r);
         for fresh in [&["--fresh"][..], &[]] {
             let e = refusal(&run(dir, "study.toml", "R", fresh));
-            assert!(e.contains("R/pressure/study.lock/00.npy: is an input of the study"), "{input}: {e}");
+            // The path shortened in the message, its end kept.
+            assert!(
+                e.contains(&format!("{}.npy: is an input of the study", &map[map.len() - 16..map.len() - 4])),
+                "{input}: {e}"
+            );
             assert_eq!(files_below(&r), before);
         }
     }

@@ -106,6 +106,19 @@ fn direct_rows() -> Vec<Row> {
     rows
 }
 
+/// The path of the one file in `folder` named for the solve at `load` [N] (`<load>N-<digest>`,
+/// the load as `{:e}` writes it) with the extension `ext`.
+fn solve_file(folder: &std::path::Path, load: f64, ext: &str) -> std::path::PathBuf {
+    let found: Vec<_> = std::fs::read_dir(folder)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap().to_str().unwrap().starts_with(&format!("{load:e}N-")))
+        .filter(|p| p.extension().is_some_and(|e| e == ext))
+        .collect();
+    assert_eq!(found.len(), 1, "{}: {found:?}", folder.display());
+    found[0].clone()
+}
+
 fn without_seconds(rows: &[Row]) -> Vec<Row> {
     rows.iter().map(|r| Row { seconds: 0.0, ..r.clone() }).collect()
 }
@@ -136,8 +149,7 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
     assert_eq!((outcome.solved, outcome.resumed, outcome.rows.len()), (24, 0, 16));
 
     // results.json: the rows, which are the solver's and the model's run directly.
-    let results: Results =
-        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let results: Results = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!((results.asperity_version.as_str(), results.commit.as_str()), (asperity::VERSION, asperity::COMMIT));
     let json = results.rows;
     assert_eq!(json, outcome.rows);
@@ -205,9 +217,11 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
 
     // Snapshots of the first topography at the loads of the figures, and every pressure map.
     for (k, load) in FIGURE_LOADS_N.iter().enumerate() {
-        let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();
+        let name = solve_file(&out.join("pressure/ball-1"), *load, "npy");
+        let stem = name.file_stem().unwrap().to_str().unwrap();
+        let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{stem}")).unwrap();
         assert_eq!((snap.load_n, snap.topography.as_str(), snap.grid), (*load, "ball-1", (64, 64)));
-        let full: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/{k:02}.npy"))).unwrap();
+        let full: Array2<f64> = ndarray_npy::read_npy(&name).unwrap();
         // The same values summed in another order.
         assert!((snap.pressure.sum() / full.sum() - 1.0).abs() < 1e-13);
         let area = snap.pixel_area();
@@ -232,13 +246,13 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
             assert_eq!(snap.stuck_stiffness, None, "K_t at {load} N");
         }
     }
-    // Nothing left over from the sweep but its records.
-    let mut solves: Vec<_> = std::fs::read_dir(out.join("solves/topographies/ball-2"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .collect();
-    solves.sort();
-    assert_eq!(solves, ["00.json", "01.json", "02.json", "03.json", "loads-00-03.lock"]);
+    // Nothing left over from the sweep but its records and their locks, named by load.
+    let solves = out.join("solves/topographies/ball-2");
+    for load in [1e-4, 1e-3, 1e-2, 1e-1] {
+        solve_file(&solves, load, "json");
+        solve_file(&solves, load, "lock");
+    }
+    assert_eq!(std::fs::read_dir(&solves).unwrap().count(), 8);
 
     // Run again once the first outcome (which holds DIR's locks) is dropped: everything is
     // found finished, and the results are the same.
@@ -250,26 +264,31 @@ fn a_small_study_gives_the_solver_and_models_numbers() {
 }
 
 #[test]
-fn a_dir_of_another_study_is_refused_and_fresh_starts_over() {
+fn a_dir_grows_with_its_study_and_fresh_starts_over() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let small = SMALL.replace("pressure_maps = true", "pressure_maps = false");
     study(&small).run(&out, false, &|_| ()).unwrap();
-    let results = std::fs::read(out.join("results.csv")).unwrap();
+    let ball = out.join("solves/topographies/ball-1");
 
+    // 20 mN in place of 10 mN: that load alone is solved, for each of the 6 sweeps (2 balls,
+    // each with 2 coarser copies); 10 mN is left out of the table, its records kept.
     let other = study(&small.replace("\"10 mN\"]", "\"20 mN\"]"));
-    let e = other.run(&out, false, &|_| ()).unwrap_err().to_string();
-    assert!(e.starts_with("--out: ") && e.contains("different study") && e.contains("--fresh"), "{e}");
-    assert!(!e.contains('\n'));
-    assert_eq!(std::fs::read(out.join("results.csv")).unwrap(), results);
-    // Another figure set is the same study: the solves are kept.
+    let outcome = other.run(&out, false, &|_| ()).unwrap();
+    assert_eq!((outcome.solved, outcome.resumed), (6, 18));
+    let loads: Vec<f64> = outcome.rows.iter().map(|r| r.load_n).collect();
+    assert!(loads.contains(&2e-2) && !loads.contains(&1e-2), "{loads:?}");
+    solve_file(&ball, 1e-2, "json");
+    drop(outcome);
+    // Another figure set solves nothing.
     let same = study(&small.replace("pressure_maps = false", "pressure_maps = false\nfigures = [\"friction-drop\"]"));
     assert_eq!(same.run(&out, false, &|_| ()).unwrap().resumed, 8);
 
+    // --fresh solves everything again, and removes the records no longer asked for.
     let outcome = other.run(&out, true, &|_| ()).unwrap();
-    // With the coarser copies of the resolution figure.
     assert_eq!((outcome.solved, outcome.resumed), (24, 0));
     assert!(outcome.rows.iter().any(|r| r.load_n == 2e-2));
+    assert!(std::fs::read_dir(&ball).unwrap().all(|e| !e.unwrap().file_name().to_str().unwrap().starts_with("1e-2N-")));
 
     // A folder that holds something else is never a study's.
     let busy = dir.path().join("busy");
@@ -341,9 +360,12 @@ fn a_study_compares_elastic_and_plastic_solves() {
     }
     assert!(differ > 0, "the cap changed no drop");
     for k in 0..4 {
-        let map: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/plastic/{k:02}.npy"))).unwrap();
+        let load = [1e-4, 1e-3, 1e-2, 1e-1][k];
+        let map: Array2<f64> =
+            ndarray_npy::read_npy(solve_file(&out.join("pressure/ball-1/plastic"), load, "npy")).unwrap();
         assert!(map.iter().all(|p| *p <= 1e9));
-        let elastic: Array2<f64> = ndarray_npy::read_npy(out.join(format!("pressure/ball-1/{k:02}.npy"))).unwrap();
+        let elastic: Array2<f64> =
+            ndarray_npy::read_npy(solve_file(&out.join("pressure/ball-1"), load, "npy")).unwrap();
         assert!(k < 2 || elastic.iter().any(|p| *p > 1e9), "load {k}: the elastic peak stays below 1 GPa");
     }
     // Without a hardness, a plastic solve is refused before anything runs.

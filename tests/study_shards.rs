@@ -1,7 +1,8 @@
 //! A study split into shards (`asperity run --shard I/N`) run at once into one DIR, then
 //! assembled by a run without a shard, gives the unsharded run's results; and the same through
 //! a real Slurm (`asperity slurm --submit`, the ignored test that `.ci/run` runs after starting
-//! one with `tools/slurm-local.sh`).
+//! one with `tools/slurm-local.sh`). A study grown load by load in its DIR gives them too,
+//! solving only what is new.
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -108,6 +109,94 @@ fn same_results(sharded: &Path, whole: &Path, relative: f64) -> f64 {
     worst
 }
 
+/// The closing line's counts: (solved, resumed).
+fn solved_resumed(o: &Output) -> (usize, usize) {
+    let e = stderr(o);
+    let line = e.lines().find(|l| l.contains(" solved, ")).unwrap_or_else(|| panic!("{e}"));
+    let count = |before: &str| line.split(before).next().unwrap().rsplit(' ').next().unwrap().parse().unwrap();
+    (count(" solved,"), count(" resumed"))
+}
+
+/// The solve records of `out`'s first topography at `load` [N] (`1e-3N-<digest>.json`).
+fn records_at(out: &Path, load: f64) -> usize {
+    let folder = out.join("solves/topographies/ball-1");
+    walk(&folder).iter().filter(|n| n.starts_with(&format!("{load:e}N-")) && n.ends_with(".json")).count()
+}
+
+/// One ball, elastic, at the loads `loads`, with the table and one figure.
+fn one_ball(loads: &[&str]) -> String {
+    let (balls, rest) = STUDY.split_at(STUDY.find("[[topography]]\nname = \"ball-2\"").unwrap());
+    let rest = &rest[rest.find("[material]").unwrap()..];
+    let quoted: Vec<String> = loads.iter().map(|l| format!("\"{l}\"")).collect();
+    let study = format!("{balls}{rest}")
+        .replace("plastic = [false, true]\n", "")
+        .replace("[\"friction-drop\", \"resolution\"]", "[\"friction-drop\"]");
+    let (head, tail) = study.split_at(study.find("min = ").unwrap());
+    format!("{head}values = [{}]{}", quoted.join(", "), &tail[tail.find("\n\n").unwrap()..])
+}
+
+const NINE: [&str; 9] = ["0.1 mN", "0.2 mN", "0.5 mN", "1 mN", "2 mN", "5 mN", "10 mN", "20 mN", "50 mN"];
+
+#[test]
+fn a_study_grown_by_a_load_solves_it_alone_and_a_removed_one_stays_until_fresh() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("nine.toml"), one_ball(&NINE)).unwrap();
+    let mut ten = NINE.to_vec();
+    ten.insert(5, "3 mN");
+    std::fs::write(dir.join("ten.toml"), one_ball(&ten)).unwrap();
+    let o = asperity(dir, &["run", "nine.toml", "--out", "out"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (9, 0));
+
+    // A load between two recorded ones: it alone is solved (cold, its neighbours' maps being
+    // gone), and the table is the fresh ten-load study's within 100 times the solver's
+    // tolerance.
+    let o = asperity(dir, &["run", "ten.toml", "--out", "out"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (1, 9));
+    succeeds(&asperity(dir, &["run", "ten.toml", "--out", "whole"]));
+    same_results(&dir.join("out/results.csv"), &dir.join("whole/results.csv"), 100.0 * TOLERANCE);
+
+    // The load removed again: left out of the table, its record kept until --fresh.
+    let o = asperity(dir, &["run", "nine.toml", "--out", "out"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (0, 9));
+    let loads = &columns(&dir.join("out/results.csv"))[0];
+    // Two laws × nine loads.
+    assert!(loads.0 == "load_n" && loads.1.len() == 18 && !loads.1.contains(&"0.003".to_string()), "{loads:?}");
+    assert_eq!(records_at(&dir.join("out"), 3e-3), 1);
+    let o = asperity(dir, &["run", "nine.toml", "--out", "out", "--fresh"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (9, 0));
+    assert_eq!(records_at(&dir.join("out"), 3e-3), 0);
+}
+
+#[test]
+fn an_output_option_solves_nothing_and_the_material_solves_everything() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let study = one_ball(&NINE[..4]);
+    std::fs::write(dir.join("study.toml"), &study).unwrap();
+    succeeds(&asperity(dir, &["run", "study.toml", "--out", "out"]));
+    let output = study.replace("[output]\n", "[output]\nlog_density = true\nhold_time_loads = [\"0.2 mN\"]\n");
+    std::fs::write(dir.join("output.toml"), output).unwrap();
+    let o = asperity(dir, &["run", "output.toml", "--out", "out"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (0, 4));
+
+    // Another Young's modulus: every solve is new; the earlier ones stay on disk, and are
+    // found again with their material.
+    std::fs::write(dir.join("stiffer.toml"), study.replace("youngs = \"130 GPa\"", "youngs = \"160 GPa\"")).unwrap();
+    let o = asperity(dir, &["run", "stiffer.toml", "--out", "out"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (4, 0));
+    assert_eq!(records_at(&dir.join("out"), 1e-4), 2);
+    let o = asperity(dir, &["run", "study.toml", "--out", "out"]);
+    succeeds(&o);
+    assert_eq!(solved_resumed(&o), (0, 4));
+}
+
 /// The records of `out` whose solve started cold.
 fn cold_records(out: &Path) -> usize {
     let mut cold = 0;
@@ -164,7 +253,7 @@ fn three_shards_at_once_then_assembled_give_the_unsharded_results() {
     assert!(worst > 0.0, "a cold start gave the warm-started numbers bit for bit: is the piece cold?");
     same_results(&dir.join("sharded/resolution.csv"), &dir.join("whole/resolution.csv"), 100.0 * TOLERANCE);
     // No map is left once every chain is done.
-    let warm = walk(&dir.join("sharded/solves")).into_iter().filter(|n| n.starts_with("warm-")).count();
+    let warm = walk(&dir.join("sharded/solves")).into_iter().filter(|n| n.ends_with("-warm.npy")).count();
     assert_eq!(warm, 0);
 }
 
@@ -195,10 +284,11 @@ fn a_missing_shard_is_solved_by_the_assembling_run_and_overlapping_pieces_exclud
         let closing = e.lines().find(|l| l.starts_with("shard ")).unwrap();
         shares.push(closing.split(" solves,").next().unwrap().rsplit(' ').next().unwrap().parse::<usize>().unwrap());
     }
-    // A piece of another split, held by "another process" (this test): a run that needs those
-    // loads is refused, naming the topography, until it goes.
-    let unit = dir.join("out/solves/topographies/ball-1/loads-03-05.lock");
-    let held = std::fs::File::create(&unit).unwrap();
+    // A solve held by "another process" (this test): a run that needs it is refused, naming
+    // the topography, until it goes.
+    let folder = dir.join("out/solves/topographies/ball-1");
+    let unit = walk(&folder).into_iter().find(|n| n.ends_with(".lock")).unwrap();
+    let held = std::fs::File::create(folder.join(unit)).unwrap();
     held.lock().unwrap();
     let o = asperity(dir, &["run", "study.toml", "--out", "out"]);
     assert!(!o.status.success());

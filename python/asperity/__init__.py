@@ -141,7 +141,8 @@ def run_study(
     ``study``: a study file (TOML), a dict with the same keys and values (relative paths are
     then relative to the working directory), or None for the default study. Writes into
     ``out`` as the command line does (results.csv, results.json, study.toml, figures,
-    index.html) and resumes a run of the same study that was stopped; ``fresh`` starts over.
+    index.html), reusing the solves earlier runs there computed with the same inputs (a study
+    that was stopped resumes; one grown by a load solves that load); ``fresh`` starts over.
     ``quick`` runs it on 256 × 256 points with 7 loads. ``progress``: True prints one line per
     solve and elastic onset on stderr; a callable receives one dict per event (``{"event":
     "start", "total", "done", "work", "work_done", "onsets", "onsets_done"}``:

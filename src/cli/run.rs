@@ -39,11 +39,14 @@ use asperity::Result;
 /// gives the friction curve δ in metres), pressure/ (every map, if the study asks), figures/ and
 /// index.html.
 ///
-/// Resumable: finished solves (with elastic sharing, each finished onset too) are kept in
-/// DIR/solves, and running the same study into the same DIR continues where an interrupted run
-/// stopped, with the same results. One writer per
-/// topography: a second run into a DIR where another works on the same topographies is
-/// refused (or waits, with --wait).
+/// Resumable, and a DIR grows with its study: finished solves (with elastic sharing, each
+/// finished onset too) are kept in DIR/solves, each found by what it was computed from (the
+/// topography, material, contact settings and load; an onset also by its law and slip
+/// weakening). Running the same study again continues where an interrupted run stopped, with
+/// the same results; a changed study (a load, law or topography added, an output option
+/// changed) solves only what is new. Solves it no longer asks for stay in DIR/solves, out of
+/// the table and figures, until --fresh. One writer per solve: a second run into a DIR where
+/// another works on the same solves is refused (or waits, with --wait).
 #[derive(Args)]
 pub struct RunArgs {
     /// Study file (TOML; see --print-default) [default: the embedded default study].
@@ -60,11 +63,12 @@ pub struct RunArgs {
     /// exit.
     #[arg(long, conflicts_with_all = ["study", "quick", "fresh"])]
     print_default: bool,
-    /// Discard what an earlier run wrote in DIR and start over. Files put there by hand stay;
-    /// one where runs write (results, figures/, pressure/, snapshots/, solves/) is refused first.
+    /// Discard what earlier runs wrote in DIR (every study's solves) and start over. Files put
+    /// there by hand stay; one where runs write (results, figures/, pressure/, snapshots/,
+    /// solves/) is refused first.
     #[arg(long)]
     fresh: bool,
-    /// When another run works in DIR on the same topographies, wait for it instead of refusing.
+    /// When another run works in DIR on the same solves, wait for it instead of refusing.
     #[arg(long, conflicts_with = "print_default")]
     wait: bool,
     /// Solve only shard I of N (I from 1 to N): its share of the loads of every topography,
@@ -217,13 +221,12 @@ pub fn run(args: RunArgs) -> Result<()> {
         0 => format!("{topographies}{grid}{kinds} × {loads} loads"),
         n => format!("({topographies}{grid}{kinds} and {n} coarser copies for the resolution figure) × {loads} loads"),
     };
-    // The elastic onsets run now, and those an interrupted solve had finished (the solve
-    // counts as solved now).
+    // The elastic onsets run now, and those of the solves run now that were recorded before
+    // (by an interrupted solve, or with the solve by a study with other laws).
     let onsets = match (outcome.onsets, outcome.onsets_resumed) {
         (0, 0) => String::new(),
         (run, 0) => format!("; {run} elastic onsets run"),
-        (run, 1) => format!("; {run} elastic onsets run, 1 of an interrupted solve resumed"),
-        (run, n) => format!("; {run} elastic onsets run, {n} of interrupted solves resumed"),
+        (run, n) => format!("; {run} elastic onsets run, {n} recorded before kept"),
     };
     if let Some(shard) = args.shard {
         let (resumed, share) = (outcome.resumed, outcome.share);

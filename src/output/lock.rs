@@ -9,6 +9,23 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
+/// Make room for `count` lock files held open at once (a study's run holds one per solve):
+/// raise the soft limit on open files towards the hard one where it is short (1024 on many
+/// systems). Past the hard limit, the open that fails names its file and the reason.
+pub fn make_room(count: usize) {
+    let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+    // SAFETY: getrlimit fills the struct it is given; setrlimit only reads it.
+    if unsafe { libc::getrlimit(libc::RLIMIT_NOFILE, &mut limit) } != 0 {
+        return;
+    }
+    // The files of the run itself besides its locks: inputs, outputs, the ledger.
+    let want = (count as libc::rlim_t).saturating_add(256);
+    if limit.rlim_cur < want {
+        limit.rlim_cur = want.min(limit.rlim_max);
+        unsafe { libc::setrlimit(libc::RLIMIT_NOFILE, &limit) };
+    }
+}
+
 /// How a lock is shared.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Access {

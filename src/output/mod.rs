@@ -27,7 +27,7 @@ use crate::error::{Error, Result};
 
 pub use aside::MANIFEST;
 pub use ledger::{Ledger, Written};
-pub use lock::{Access, Lock};
+pub use lock::{make_room, Access, Lock};
 pub use staged::{Committed, StagedDir};
 pub use temp::{is_temporary, remove_temporaries, Interrupted};
 pub use write::{check_output_file, write_atomic, write_json, write_npy};

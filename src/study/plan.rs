@@ -23,6 +23,9 @@ pub struct Study {
     pub(super) topographies: Vec<(String, Topography)>,
     /// (topography index, coarsening, the topography resampled) for the resolution figure.
     pub(super) coarse: Vec<(usize, usize, Topography)>,
+    /// The digest of each sweep unit's topography as built (the topographies, then the
+    /// coarser copies), part of its solves' identity ([`Study::stem`]).
+    pub(super) digests: Vec<String>,
     pub(super) laws: Vec<FrictionLaw>,
     /// Each law's slip weakening under elastic sharing ([`super::config::ModelSpec::weakening`]).
     pub(super) weakenings: Vec<Weakening>,
@@ -199,7 +202,21 @@ impl Study {
         indices
     }
 
+    /// Whether the study keeps every full pressure map of sweep `u`'s solves: a topography's,
+    /// when `output.pressure_maps` asks.
+    pub(super) fn keeps_maps(&self, u: usize) -> bool {
+        self.config.output.pressure_maps && u < self.topographies.len()
+    }
+
+    /// Whether the figures' snapshots come from sweep `u`, elastic or `plastic`: the first
+    /// topography in the first kind of solve listed.
+    pub(super) fn shows(&self, u: usize, plastic: bool) -> bool {
+        u == 0 && plastic == self.config.contact.plastic.modes()[0]
+    }
+
+    /// The stem of the names of the snapshot of load `k` in `snapshots/`: the first
+    /// topography's name and its solve's ([`Study::stem`]).
     pub(super) fn snapshot_stem(&self, k: usize) -> String {
-        format!("{}-{k:02}", self.topographies[0].0)
+        format!("{}-{}", self.topographies[0].0, self.stem(0, self.config.contact.plastic.modes()[0], k))
     }
 }

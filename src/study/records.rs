@@ -1,12 +1,11 @@
 //! What a run keeps on disk in DIR and reads back: the run's own names below `solves/`, the
-//! solve records, the fingerprint of the study, claiming DIR (its locks, its ledger, the
+//! solve records and the identity they are found by, claiming DIR (its locks, its ledger, the
 //! refusal of what a run must not write over, `--fresh`'s discard), resuming from the records
 //! (their names and readers, the rows they hold, the tidying of what no solve needs any more).
 //!
 //! It reads the [plan](super::plan); it must not import the scheduler or the progress
 //! reports, nor `plot`, `report`, `cli` or `python`.
 
-use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -14,11 +13,12 @@ use std::path::{Path, PathBuf};
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
-use super::config::StudyConfig;
-use super::plan::Study;
+use super::config::Plastic;
+use super::plan::{Slot, Study};
 use super::shard::Piece;
 use super::{ResolutionRow, Row, Sharing, SolveFacts, COARSENING};
 use crate::error::{Error, Result};
+use crate::friction::Weakening;
 use crate::output::{self, Access, Ledger, Lock};
 use crate::topography::io;
 use crate::topography::Topography;
@@ -32,6 +32,10 @@ pub(super) const RESULTS_LOCK: &str = "results.lock";
 const TOPOGRAPHIES: &str = "topographies";
 /// The ledger of what runs wrote in DIR.
 const LEDGER: &str = "written.jsonl";
+/// How the records below `solves/` are found, stated in its fingerprint: by each solve's
+/// identity ([`Study::stem`]). A DIR whose fingerprint lacks it was written by an asperity
+/// that kept one fingerprint for the whole study and named its records by load index.
+const RECORDS: u32 = 2;
 /// The files of `solves/` that stay for good: `fresh` keeps them (the claim replaces the
 /// fingerprint, and a lock file is never removed while a process may open it).
 const KEPT: [&str; 5] = [FINGERPRINT, CLAIM_LOCK, STUDY_LOCK, RESULTS_LOCK, LEDGER];
@@ -61,22 +65,35 @@ pub(super) struct Claim {
     pub(super) left: Vec<PathBuf>,
 }
 
-/// The record of one finished solve, `solves/<topography>/NN.json`.
+/// The record of one finished solve, `solves/topographies/<topography>/<stem>.json`
+/// ([`Study::stem`]).
 #[derive(Serialize, Deserialize)]
 pub(super) struct SolveRecord {
     pub(super) load_n: f64,
-    /// Whether the solve started from no pressure (the first of its piece of the load
-    /// chain), not from the solution of the load before it.
-    #[serde(default)]
+    /// Whether the solve started from no pressure, not from the solution of a lower load.
     pub(super) cold: bool,
     pub(super) solve: SolveFacts,
-    /// One row per sharing and law (sharing-major), in the study's order; the coarser copies
-    /// of the resolution figure under equal sharing only.
-    pub(super) rows: Vec<Row>,
+    /// Its rows, each under the key of its slot ([`Study::slot_key`]): those of every study
+    /// that recorded this solve (sharings, laws, slip weakenings), in no order.
+    pub(super) rows: Vec<KeyedRow>,
 }
 
-/// The normal solve of a load whose elastic onsets are not all done, `NN-normal.json` beside
-/// its pressure map `warm-NN.npy`; the solve's record replaces it.
+/// A row of a solve record and the key of the slot it fills ([`Study::slot_key`]).
+#[derive(Clone, Serialize, Deserialize)]
+pub(super) struct KeyedRow {
+    pub(super) key: String,
+    pub(super) row: Row,
+}
+
+impl SolveRecord {
+    /// The row of the slot keyed `key`, if recorded.
+    pub(super) fn row(&self, key: &str) -> Option<&Row> {
+        self.rows.iter().find(|r| r.key == key).map(|r| &r.row)
+    }
+}
+
+/// The normal solve of a load whose elastic onsets are not all done, `<stem>-normal.json`
+/// beside its pressure map `<stem>-warm.npy`; the solve's record replaces it.
 #[derive(Serialize, Deserialize)]
 pub(super) struct NormalRecord {
     pub(super) load_n: f64,
@@ -84,14 +101,55 @@ pub(super) struct NormalRecord {
     pub(super) solve: SolveFacts,
 }
 
-/// What a DIR's solves were computed for, `solves/fingerprint.json`.
+/// What marks DIR as a study's, `solves/fingerprint.json`: the asperity that wrote it and how
+/// its records are found ([`RECORDS`]); what each record was computed for is in its name.
 #[derive(Debug, PartialEq, Serialize, Deserialize)]
 struct Fingerprint {
     asperity: String,
-    /// The resolved study, without the output options that do not change the solves.
-    study: serde_json::Value,
-    /// A digest of each topography's heights, grid and size as built.
-    heights: Vec<String>,
+    records: u32,
+}
+
+/// A digest that stays the same across builds and machines of one byte order (FNV-1a, 64
+/// bits): the names of the records outlive the asperity that wrote them, which the standard
+/// library's hasher does not promise.
+struct Digest(u64);
+
+impl Digest {
+    fn new() -> Digest {
+        Digest(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn hex(&self) -> String {
+        format!("{:016x}", self.0)
+    }
+}
+
+impl Hasher for Digest {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// The digest of a topography's heights, grid and size as built, part of its solves' identity.
+pub(super) fn heights_digest(t: &Topography) -> String {
+    let mut h = Digest::new();
+    t.heights.dim().hash(&mut h);
+    t.physical_size.map(|(lx, ly)| (lx.to_bits(), ly.to_bits())).hash(&mut h);
+    t.heights.iter().for_each(|v| v.to_bits().hash(&mut h));
+    h.hex()
+}
+
+/// The digest of `value`'s JSON text.
+fn json_digest(value: &serde_json::Value) -> String {
+    let mut h = Digest::new();
+    h.write(value.to_string().as_bytes());
+    h.hex()
 }
 
 impl Study {
@@ -101,12 +159,13 @@ impl Study {
         Ok(format!("# The study as run by asperity {}.\n\n{text}", env!("CARGO_PKG_VERSION")))
     }
 
-    /// Make `dir` this study's: new, holding this study's solves (kept, or discarded when
+    /// Make `dir` this study's: new, holding the solves of studies (kept, or discarded when
     /// `fresh`), or what a start killed before its fingerprint leaves. Anything else is
-    /// refused, and so is `fresh` in a DIR whose runs kept no ledger. Returns the locks of the
-    /// run (the study's, shared, and every piece's of `pieces`) and its open ledger.
+    /// refused, and so are a DIR an asperity that named its records by load index wrote
+    /// (unless `fresh`), and `fresh` in a DIR whose runs kept no ledger. Returns the locks of
+    /// the run (the study's, shared, and every solve's of `pieces`) and its open ledger.
     pub(super) fn claim(&self, dir: &Path, fresh: bool, pieces: &[Piece]) -> Result<Claim> {
-        let fingerprint = self.fingerprint()?;
+        let fingerprint = Fingerprint { asperity: env!("CARGO_PKG_VERSION").to_string(), records: RECORDS };
         // Before anything is created in it.
         self.check_dir(dir)?;
         let solves = dir.join(SOLVES);
@@ -117,7 +176,7 @@ impl Study {
         output::remove_stale_temporaries(&solves)?;
         let stored_path = solves.join(FINGERPRINT);
         let stored = match std::fs::read_to_string(&stored_path) {
-            Ok(text) => Some(serde_json::from_str::<Fingerprint>(&text).ok()),
+            Ok(text) => Some(serde_json::from_str::<Fingerprint>(&text).is_ok_and(|f| f.records == RECORDS)),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
             Err(e) => return Err(Error::io(&stored_path, e)),
         };
@@ -145,20 +204,19 @@ impl Study {
         let mut left = Vec::new();
         let study_lock = solves.join(STUDY_LOCK);
         let study = match stored {
-            Some(Some(f)) if f == fingerprint && !fresh => self.lock(&study_lock, Access::Shared, dir, "this study")?,
-            Some(_) if !fresh => {
+            Some(true) if !fresh => self.lock(&study_lock, Access::Shared, dir, "a study")?,
+            Some(false) if !fresh => {
                 return Err(Error::invalid(
                     "--out",
                     format!(
-                        "{} holds the results of a different study than {}: rerun with --fresh to start over, or \
-                         choose another --out",
-                        dir.display(),
-                        self.origin
+                        "{} holds the results of an earlier asperity, which named its records by load index: rerun \
+                         with --fresh to start over, or choose another --out",
+                        dir.display()
                     ),
                 ))
             }
             stored => {
-                let lock = self.lock(&study_lock, Access::Exclusive, dir, "its study")?;
+                let lock = self.lock(&study_lock, Access::Exclusive, dir, "a study")?;
                 if stored.is_some() {
                     left = discard(dir, recorded.unwrap_or_default())?;
                 }
@@ -168,29 +226,19 @@ impl Study {
             }
         };
         let sweeps = self.sweeps();
-        let first_mode = self.config.contact.plastic.modes()[0];
-        let units = pieces
-            .iter()
-            .map(|piece| {
-                let (u, plastic) = sweeps[piece.sweep];
-                let unit = self.solves_dir(dir, u, plastic);
-                std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
-                let (label, folder, ..) = self.unit(u);
-                let what = format!("topography \"{label}\"{}", if plastic { " (plastic)" } else { "" });
-                let lock = self.lock_loads(&unit, piece.loads.clone(), dir, &what)?;
-                // A whole chain's folders are this run's alone now: what a killed run left
-                // there goes (a piece shares them with the other pieces' writers).
-                if piece.loads.len() == self.loads.len() {
-                    let pressure = plastic_dir(dir.join("pressure").join(folder), plastic);
-                    output::remove_stale_temporaries(&unit)?;
-                    output::remove_stale_temporaries(&pressure)?;
-                    if u == 0 && plastic == first_mode {
-                        output::remove_stale_temporaries(&dir.join("snapshots"))?;
-                    }
-                }
-                Ok(lock)
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let mut units = Vec::new();
+        output::make_room(pieces.iter().map(|p| p.loads.len()).sum());
+        for piece in pieces {
+            let (u, plastic) = sweeps[piece.sweep];
+            let unit = self.solves_dir(dir, u, plastic);
+            std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
+            let label = self.unit(u).0;
+            let what = format!("topography \"{label}\"{}", if plastic { " (plastic)" } else { "" });
+            for k in piece.loads.clone() {
+                let name = format!("{}.lock", self.stem(u, plastic, k));
+                units.push(self.lock(&unit.join(name), Access::Exclusive, dir, &what)?);
+            }
+        }
         let text = self.study_file()?;
         output::write_atomic(&dir.join("study.toml"), |w| w.write_all(text.as_bytes()))?;
         Ok(Claim { _study: study, _units: units, _ledger: ledger, left })
@@ -280,26 +328,6 @@ impl Study {
         })
     }
 
-    /// Lock loads `loads` of the sweep whose records are in `folder`: by its own lock file
-    /// `loads-AA-BB.lock` (AA, BB its first and last load), once no other process holds the
-    /// lock of a piece that overlaps it. Only claims take these locks, under the claim lock, so
-    /// no new one appears meanwhile.
-    fn lock_loads(&self, folder: &Path, loads: Range<usize>, dir: &Path, what: &str) -> Result<Lock> {
-        let own = format!("loads-{:02}-{:02}.lock", loads.start, loads.end - 1);
-        let lock = self.lock(&folder.join(&own), Access::Exclusive, dir, what)?;
-        let entries = std::fs::read_dir(folder).map_err(|e| Error::io(folder, e))?;
-        for entry in entries {
-            let name = entry.map_err(|e| Error::io(folder, e))?.file_name();
-            let Some(name) = name.to_str() else { continue };
-            if let Some((first, last)) = lock_range(name) {
-                if name != own && first < loads.end && last >= loads.start {
-                    drop(self.lock(&folder.join(name), Access::Exclusive, dir, what)?);
-                }
-            }
-        }
-        Ok(lock)
-    }
-
     /// Refuse a `dir` that is an empty path, a file, or holds neither a study's solves nor only
     /// what a start killed before its fingerprint leaves (the solves folder, its locks,
     /// temporaries): the rules of every caller (`asperity run`, `slurm`, Python's `run_study`).
@@ -344,31 +372,47 @@ impl Study {
         Err(Error::invalid("--out", format!("{} is not empty and holds no study: choose another --out", dir.display())))
     }
 
-    fn fingerprint(&self) -> Result<Fingerprint> {
-        let mut study = self.config.clone();
-        let defaults = StudyConfig::default_study().output;
-        // Figures, their snapshots' fractions and the measured points do not change a solve.
-        study.output.figures = defaults.figures;
-        study.output.snapshot_fractions = defaults.snapshot_fractions;
-        study.output.experiments = None;
-        // Nor do the input limits.
-        study.limits = Default::default();
-        let heights = self
-            .topographies
-            .iter()
-            .map(|(_, t)| {
-                let mut h = DefaultHasher::new();
-                t.heights.dim().hash(&mut h);
-                t.physical_size.map(|(lx, ly)| (lx.to_bits(), ly.to_bits())).hash(&mut h);
-                t.heights.iter().for_each(|v| v.to_bits().hash(&mut h));
-                format!("{:016x}", h.finish())
-            })
-            .collect();
-        Ok(Fingerprint {
-            asperity: env!("CARGO_PKG_VERSION").to_string(),
-            study: serde_json::to_value(&study).map_err(|e| Error::invalid("study", e.to_string()))?,
-            heights,
-        })
+    /// The stem of the names of sweep `u`'s solve at load `k`, elastic or `plastic`: its load
+    /// and a digest of its identity, `<load>N-<digest>` (e.g. `1e-3N-0123456789abcdef`). The
+    /// identity is what the solve depends on: its topography as built ([`heights_digest`]),
+    /// the material, the contact settings and the kind of solve, the load [N], and the
+    /// asperity that computes it (whose solvers' own settings its rows depend on too); not the
+    /// other loads, laws or outputs of the study, so that a study that changes those finds it.
+    pub(super) fn stem(&self, u: usize, plastic: bool, k: usize) -> String {
+        let mut material = self.config.material.clone();
+        // Only the friction-drop figure's band reads it.
+        material.youngs_uncertainty = None;
+        let mut contact = self.config.contact.clone();
+        contact.plastic = Plastic::One(plastic);
+        let identity = serde_json::json!({
+            "asperity": env!("CARGO_PKG_VERSION"),
+            "heights": self.digests[u],
+            "material": material,
+            "contact": contact,
+            "load_n": self.loads[k],
+        });
+        format!("{:e}N-{}", self.loads[k], json_digest(&identity))
+    }
+
+    /// The key of a solve's row in `slot` ([`SolveRecord::rows`]): what the row depends on
+    /// beyond its solve, its sharing and its law (name, mu_s, mu_d) under its slip weakening
+    /// (an elastic onset's, and equal sharing's under the same weakening, which the onset's
+    /// stuck stiffness gives; the instant drop for the paper's equal sharing). The onsets'
+    /// own settings are the program's, not the study's.
+    pub(super) fn slot_key(&self, slot: &Slot) -> String {
+        let law = &self.laws[slot.law];
+        let weakening = match (slot.slip_distance, &self.weakenings[slot.law]) {
+            (Some(d), _) if slot.sharing == Sharing::Equal && d == 0.0 => serde_json::json!("instant"),
+            (_, Weakening::Instant) => serde_json::json!("instant"),
+            (_, Weakening::Linear(d)) => serde_json::json!({ "linear_m": d }),
+            (_, Weakening::Curve(points)) => serde_json::json!({ "curve": points }),
+        };
+        let key = serde_json::json!({
+            "sharing": slot.sharing.name(),
+            "law": { "name": law.name, "mu_s": law.mu_s, "mu_d": law.mu_d },
+            "weakening": weakening,
+        });
+        json_digest(&key)
     }
 
     /// The folder of sweep `u`'s solve records, elastic or plastic.
@@ -376,27 +420,65 @@ impl Study {
         plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(self.unit(u).1), plastic)
     }
 
-    /// Remove the parts of load `k`'s solve in `solves` ([`Study::sweep`]), once it is
-    /// recorded.
-    pub(super) fn remove_parts(&self, solves: &Path, k: usize) -> Result<()> {
-        remove_if_present(&solves.join(normal_name(k)))?;
-        (0..self.laws.len()).try_for_each(|l| remove_if_present(&solves.join(onset_name(k, l))))
+    /// The folder of the full pressure maps of sweep `u`, elastic or `plastic`, that
+    /// `output.pressure_maps` keeps, `<stem>.npy` each: `pressure/<topography>/`.
+    pub(super) fn maps_dir(&self, dir: &Path, u: usize, plastic: bool) -> PathBuf {
+        plastic_dir(dir.join("pressure").join(self.unit(u).3), plastic)
     }
 
-    /// Remove what no solve of `loads` in `solves` needs any more (a run killed between a
-    /// record and these removals leaves them): the maps of loads whose next load is
-    /// recorded, and of the chain's last load once recorded; the parts of recorded solves.
-    pub(super) fn tidy(&self, solves: &Path, loads: Range<usize>) -> Result<()> {
-        let last = self.loads.len() - 1;
+    /// The record of the solve named `stem` in `solves` at `load` [N], if one is there.
+    pub(super) fn read_solve(&self, solves: &Path, stem: &str, load: f64) -> Result<Option<SolveRecord>> {
+        let path = solves.join(record_name(stem));
+        if !path.is_file() {
+            return Ok(None);
+        }
+        let record: SolveRecord = read_record(&path)?;
+        if record.load_n != load {
+            return Err(foreign(&path));
+        }
+        Ok(Some(record))
+    }
+
+    /// Whether sweep `u`'s solve at load `k`, elastic or `plastic`, is done for this study:
+    /// recorded with a row for every slot of its layout, and with the pressure map and the
+    /// snapshot the study keeps of it.
+    pub(super) fn done(&self, dir: &Path, u: usize, plastic: bool, k: usize) -> Result<bool> {
+        let stem = self.stem(u, plastic, k);
+        let Some(record) = self.read_solve(&self.solves_dir(dir, u, plastic), &stem, self.loads[k])? else {
+            return Ok(false);
+        };
+        let rows = self.layout(u).iter().all(|s| record.row(&self.slot_key(s)).is_some());
+        let map = !self.keeps_maps(u) || self.maps_dir(dir, u, plastic).join(format!("{stem}.npy")).is_file();
+        let shown = self.shows(u, plastic) && self.snapshot_indices().contains(&k);
+        let snapshot = !shown || {
+            let stem = self.snapshot_stem(k);
+            ["json", "npy"].iter().all(|e| dir.join("snapshots").join(format!("{stem}.{e}")).is_file())
+        };
+        Ok(rows && map && snapshot)
+    }
+
+    /// Remove the parts of the solve named `stem` of sweep `u` in `solves` ([`Study::sweep`]),
+    /// once it is recorded.
+    pub(super) fn remove_parts(&self, solves: &Path, u: usize, stem: &str) -> Result<()> {
+        remove_if_present(&solves.join(normal_name(stem)))?;
+        self.layout(u)
+            .iter()
+            .filter(|s| s.sharing == Sharing::Elastic)
+            .try_for_each(|s| remove_if_present(&solves.join(onset_name(stem, &self.slot_key(s)))))
+    }
+
+    /// Remove what no solve of `loads` of sweep `u` in `solves` needs any more, once all are
+    /// recorded (a run killed between a record and these removals leaves them): their maps,
+    /// but the last one's while the load after it waits for its record (another piece goes
+    /// on from it); their parts. `stems` names the study's solves of the sweep, by load.
+    pub(super) fn tidy(&self, solves: &Path, u: usize, stems: &[String], loads: Range<usize>) -> Result<()> {
         for k in loads.clone() {
-            let next_recorded = k + 1 < loads.end && solves.join(record_name(k + 1)).is_file();
-            let recorded = solves.join(record_name(k)).is_file();
-            if next_recorded || (k == last && recorded) {
-                remove_if_present(&solves.join(warm_name(k)))?;
+            let next_waits =
+                k + 1 == loads.end && k + 1 < stems.len() && !solves.join(record_name(&stems[k + 1])).is_file();
+            if !next_waits {
+                remove_if_present(&solves.join(warm_name(&stems[k])))?;
             }
-            if recorded {
-                self.remove_parts(solves, k)?;
-            }
+            self.remove_parts(solves, u, &stems[k])?;
         }
         Ok(())
     }
@@ -406,25 +488,19 @@ impl Study {
         let mut rows = Vec::with_capacity(units.len() * self.rows_per_solve() * self.loads.len());
         for (u, plastic) in self.sweeps().into_iter().filter(|(u, _)| units.contains(u)) {
             let solves = self.solves_dir(dir, u, plastic);
+            let layout = self.layout(u);
+            let keys: Vec<String> = layout.iter().map(|s| self.slot_key(s)).collect();
             let records = (0..self.loads.len())
                 .map(|k| {
-                    let path = solves.join(record_name(k));
-                    let record: SolveRecord = read_record(&path)?;
-                    let layout = self.layout(u);
-                    let matches = record.rows.len() == layout.len()
-                        && record.rows.iter().zip(&layout).all(|(r, s)| {
-                            r.sharing == s.sharing
-                                && r.law == super::law_name(&self.laws[s.law])
-                                && r.slip_distance_m == s.slip_distance
-                        });
-                    if record.load_n != self.loads[k] || !matches {
-                        return Err(foreign(&path));
-                    }
-                    Ok(record)
+                    let stem = self.stem(u, plastic, k);
+                    let record = self.read_solve(&solves, &stem, self.loads[k])?;
+                    record
+                        .and_then(|r| keys.iter().map(|key| r.row(key).cloned()).collect::<Option<Vec<Row>>>())
+                        .ok_or_else(|| foreign(&solves.join(record_name(&stem))))
                 })
                 .collect::<Result<Vec<_>>>()?;
-            for l in 0..self.layout(u).len() {
-                rows.extend(records.iter().map(|r| r.rows[l].clone()));
+            for l in 0..layout.len() {
+                rows.extend(records.iter().map(|r| r[l].clone()));
             }
         }
         Ok(rows)
@@ -467,10 +543,9 @@ fn is_kept(path: &Path) -> bool {
 /// whole until the end, for the next `fresh` to go on); the solve records go first, so that
 /// what such a DIR resumes is solved again.
 fn discard(dir: &Path, mut recorded: Vec<output::Written>) -> Result<Vec<PathBuf>> {
-    let index = |s: &str| s.len() >= 2 && s.bytes().all(|b| b.is_ascii_digit());
     let is_record = |p: &Path| {
         p.starts_with(Path::new(SOLVES).join(TOPOGRAPHIES))
-            && p.file_name().and_then(|n| n.to_str()?.strip_suffix(".json")).is_some_and(index)
+            && p.file_name().and_then(|n| n.to_str()).is_some_and(is_record_name)
     };
     recorded.retain(|w| !is_kept(&w.path));
     recorded.sort_by_key(|w| !is_record(&w.path));
@@ -538,29 +613,37 @@ fn files_below(dir: &Path, at: &Path, found: &mut Vec<PathBuf>) -> Result<()> {
     Ok(())
 }
 
-/// The name of load `k`'s solve record in its sweep's folder.
-pub(super) fn record_name(k: usize) -> String {
-    format!("{k:02}.json")
+/// The name of the record of the solve named `stem` ([`Study::stem`]) in its sweep's folder.
+pub(super) fn record_name(stem: &str) -> String {
+    format!("{stem}.json")
 }
 
-/// The name of the pressure map of load `k` that a solve goes on from.
-pub(super) fn warm_name(k: usize) -> String {
-    format!("warm-{k:02}.npy")
+/// The name of the pressure map of the solve named `stem` that a solve goes on from.
+pub(super) fn warm_name(stem: &str) -> String {
+    format!("{stem}-warm.npy")
 }
 
-/// The name of load `k`'s normal solve while its elastic onsets are under way.
-pub(super) fn normal_name(k: usize) -> String {
-    format!("{k:02}-normal.json")
+/// The name of the normal solve named `stem` while its elastic onsets are under way.
+pub(super) fn normal_name(stem: &str) -> String {
+    format!("{stem}-normal.json")
 }
 
-/// The name of load `k`'s elastic onset under the study's law `l`, until the solve's record.
-pub(super) fn onset_name(k: usize, l: usize) -> String {
-    format!("{k:02}-elastic-{l:02}.json")
+/// The name of the elastic onset of the solve named `stem` in the slot keyed `key`
+/// ([`Study::slot_key`]), until the solve's record.
+pub(super) fn onset_name(stem: &str, key: &str) -> String {
+    format!("{stem}-elastic-{key}.json")
 }
 
-/// The error of a record in `path` that is not this study's.
+/// Whether `name` is a solve record's: `<stem>.json`, its stem ending in a digest.
+fn is_record_name(name: &str) -> bool {
+    name.strip_suffix(".json")
+        .and_then(|stem| stem.rsplit_once("N-"))
+        .is_some_and(|(_, digest)| digest.len() == 16 && digest.bytes().all(|b| b.is_ascii_hexdigit()))
+}
+
+/// The error of a record in `path` that is not the solve its name says.
 fn foreign(path: &Path) -> Error {
-    Error::file(path, "not a record of this study's solve: rerun with --fresh")
+    Error::file(path, "not the record of the solve its name says: rerun with --fresh")
 }
 
 /// Read a JSON record.
@@ -569,18 +652,18 @@ fn read_record<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     serde_json::from_str(&text).map_err(|e| Error::file(path, e.to_string()))
 }
 
-/// The normal solve of load `k` (`load` [N]) recorded in `solves`, with its pressure map
+/// The normal solve named `stem` at `load` [N] recorded in `solves`, with its pressure map
 /// [Pa] (row-major).
-pub(super) fn read_normal(solves: &Path, k: usize, load: f64) -> Result<(NormalRecord, Array2<f64>)> {
-    let path = solves.join(normal_name(k));
+pub(super) fn read_normal(solves: &Path, stem: &str, load: f64) -> Result<(NormalRecord, Array2<f64>)> {
+    let path = solves.join(normal_name(stem));
     let normal: NormalRecord = read_record(&path)?;
     if normal.load_n != load {
         return Err(foreign(&path));
     }
-    Ok((normal, read_map(&solves.join(warm_name(k)))?))
+    Ok((normal, read_map(&solves.join(warm_name(stem)))?))
 }
 
-/// A pressure map [Pa] a run kept (`warm-NN.npy`), row-major.
+/// A pressure map [Pa] a run kept (`<stem>-warm.npy`), row-major.
 pub(super) fn read_map(path: &Path) -> Result<Array2<f64>> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let pressure = io::npy::read_f64(&bytes).map_err(|r| Error::file(path, r))?;
@@ -605,12 +688,6 @@ pub(super) fn read_onset(path: &Path, name: &str, load: f64, law: &str, weakenin
     } else {
         Err(foreign(path))
     }
-}
-
-/// The first and last load of a piece's lock file `loads-AA-BB.lock`.
-fn lock_range(name: &str) -> Option<(usize, usize)> {
-    let (first, last) = name.strip_prefix("loads-")?.strip_suffix(".lock")?.split_once('-')?;
-    Some((first.parse().ok()?, last.parse().ok()?))
 }
 
 /// Remove the file `path`; a missing one is no error.

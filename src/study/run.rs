@@ -13,42 +13,46 @@
 //!   that order;
 //! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
 //!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
-//! - `snapshots/<topography>-NN.npy|json`: [`MapSnapshot`]s of the first topography at the
-//!   swept loads nearest to [`FIGURE_LOADS_N`] (NN: the load's index in increasing order),
-//!   the one the friction curve draws with its contact's stuck tangential stiffness K_t;
-//! - `pressure/<topography>/NN.npy`: every full pressure map \[Pa], when asked for (a plastic
-//!   sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
+//! - `snapshots/<topography>-<stem>.npy|json`: [`MapSnapshot`]s of the first topography at
+//!   the swept loads nearest to [`FIGURE_LOADS_N`] (the stem names the solve, see below), the
+//!   one the friction curve draws with its contact's stuck tangential stiffness K_t;
+//! - `pressure/<topography>/<stem>.npy`: every full pressure map \[Pa], when asked for (a
+//!   plastic sweep's in `pressure/<topography>/plastic/`, and its solve records likewise);
 //! - `figures/`, `index.html`: the figures and their report, written by `crate::report` while
 //!   the run's results lock is held (see [`Outcome::records`]);
-//! - `solves/`: what makes a run resumable — the study's `fingerprint.json`, the ledger
-//!   `written.jsonl` of every file the runs wrote in DIR ([`output::Ledger`]; `fresh` removes
-//!   those and nothing else), and below
-//!   `solves/topographies/<topography>/` one record `NN.json` per finished (topography, load)
-//!   solve (its rows for every sharing and law, elastic sharing's onsets included, and whether
-//!   the solve started cold) and the last pressure
-//!   map `warm-NN.npy` of an unfinished chain (float64, lossless). With elastic sharing, a
-//!   solve's parts are recorded as they finish until its record replaces them: its normal
-//!   solve `NN-normal.json` (with its map `warm-NN.npy`) and each law's onset
-//!   `NN-elastic-LL.json` (LL the law's index; a row of results.json). A killed run, run again
-//!   into the same DIR, picks up at the first missing record from that map, or from the parts
-//!   of its solve: the solver depends only on the pressure it starts from, and an onset only
-//!   on its solve's pressure, so the results equal an uninterrupted run's (apart from the
-//!   timings) and no finished part is computed again. Topography names appear only as folder
-//!   names there (and under `pressure/`), so no name collides with the run's own files.
+//! - `solves/`: what makes a run resumable and a DIR grow — `fingerprint.json` (how the
+//!   records are named), the ledger `written.jsonl` of every file the runs wrote in DIR
+//!   ([`output::Ledger`]; `fresh` removes those and nothing else), and below
+//!   `solves/topographies/<topography>/` one record `<stem>.json` per finished solve, its stem
+//!   `<load>N-<digest>` naming the solve's load and identity ([`Study::stem`]: topography as
+//!   built, material, contact settings, kind of solve, load). A record holds the solve's rows
+//!   each under its slot's key ([`Study::slot_key`]: sharing, law, slip weakening), elastic
+//!   sharing's onsets included, those of every study that recorded the solve, and whether
+//!   the solve started cold. So a run finds what any earlier study computed with the same
+//!   inputs, solves what is new, and leaves out of its table what it does not ask for (kept
+//!   until `fresh`). Beside them, the last pressure map `<stem>-warm.npy` of an unfinished
+//!   chain (float64, lossless). With elastic sharing, a solve's parts are recorded as they
+//!   finish until its record replaces them: its normal solve `<stem>-normal.json` (with its
+//!   map `<stem>-warm.npy`) and each law's onset `<stem>-elastic-<key>.json` (a row of
+//!   results.json). A killed run, run again into the same DIR, picks up at the first missing
+//!   record from that map, or from the parts of its solve: the solver depends only on the
+//!   pressure it starts from, and an onset only on its solve's pressure, so the results equal
+//!   an uninterrupted run's (apart from the timings) and no finished part is computed again.
+//!   Topography names appear only as folder names there (and under `pressure/`), so no name
+//!   collides with the run's own files.
 //!
 //! Units of work are pieces of a sweep's chain of loads: a whole chain, or with a
 //! [shard](super::shard) its share of the chains. A piece starts cold at its first load. A
 //! shard writes its solves only (records, snapshots, maps); a run without a shard solves what
-//! is missing, going on from the map a piece that ended before a gap kept, and writes the
-//! table and figures.
+//! is missing, going on from the map a piece that ended before a gap kept (or cold), and
+//! writes the table and figures.
 //!
-//! One writer per unit of work: a piece is locked by
-//! `solves/topographies/<topography>/loads-AA-BB.lock` (AA, BB its first and last load; a
-//! plastic sweep's in its `plastic/`) while it is solved, and taken only when no other
-//! process holds an overlapping piece. Every process
+//! One writer per solve: a run locks every solve of its pieces by
+//! `solves/topographies/<topography>/<stem>.lock` (a plastic sweep's in its `plastic/`), so
+//! no two processes, of one study or two, write the same record. Every process
 //! working in DIR holds `solves/study.lock` shared; claiming DIR (checking or writing the
-//! fingerprint, taking the pieces' locks, `fresh` discarding the earlier solves, which needs
-//! the study's lock exclusive) happens under `solves/claim.lock`, and the results, figures
+//! fingerprint, taking the solves' locks, `fresh` discarding the earlier solves, which needs
+//! that lock exclusive) happens under `solves/claim.lock`, and the results, figures
 //! and report are written under `solves/results.lock`. The locks are advisory (`flock`) and
 //! released by the kernel when a process ends, so a killed run never leaves a stale one.
 //!
@@ -69,7 +73,7 @@ use super::config::{Force, LawSpec, LoadsSpec, StudyConfig, SurfaceSpec};
 pub use super::plan::Study;
 pub use super::progress::Progress;
 use super::progress::Tally;
-use super::records::{onset_name, record_name, Claim, RESULTS_LOCK, SOLVES};
+use super::records::{heights_digest, onset_name, Claim, RESULTS_LOCK, SOLVES};
 use super::schedule::{Queue, Work};
 use super::shard::{Piece, Shard};
 use super::{FigureKind, MapSnapshot, Records, Row, Sharing, COARSENING};
@@ -97,8 +101,9 @@ pub struct Outcome {
     pub resumed: usize,
     /// Elastic onsets run now.
     pub onsets: usize,
-    /// Elastic onsets of the solves run now that an earlier run had finished (and recorded)
-    /// before it stopped.
+    /// Elastic onsets of the solves run now that an earlier run had recorded: one stopped
+    /// before the solve's record, or one that recorded the solve without a row this study
+    /// asks for (another law).
     pub onsets_resumed: usize,
     /// What the figures and the report are drawn from; none for a shard.
     pub records: Option<Records>,
@@ -167,6 +172,8 @@ impl Study {
                 }
             }
         }
+        let digests =
+            topographies.iter().map(|(_, t)| t).chain(coarse.iter().map(|(_, _, t)| t)).map(heights_digest).collect();
         let loads = config.load_values();
         let mut warnings = Vec::new();
         for ((name, topo), spec) in topographies.iter().zip(&config.topographies) {
@@ -190,6 +197,7 @@ impl Study {
             config,
             topographies,
             coarse,
+            digests,
             laws,
             weakenings,
             hold_times,
@@ -206,7 +214,7 @@ impl Study {
         &self.warnings
     }
 
-    /// When another process works in DIR on the same units, wait for it (`true`) instead of
+    /// When another process works in DIR on the same solves, wait for it (`true`) instead of
     /// refusing (the default).
     pub fn waiting(self, wait: bool) -> Study {
         Study { wait, ..self }
@@ -220,7 +228,7 @@ impl Study {
     }
 
     /// Make `dir` this study's without solving anything, as a run does first (for scripts
-    /// that run it later): new, or holding this study's solves; anything else is refused.
+    /// that run it later): new, or holding studies' solves; anything else is refused.
     pub fn claim_dir(&self, dir: &Path) -> Result<()> {
         self.claim(dir, false, &[]).map(drop)
     }
@@ -262,10 +270,11 @@ impl Study {
         &self.laws
     }
 
-    /// Run the study into `dir`, resuming the solves an earlier run of the same study left
-    /// there; `fresh` discards them (and only them: files put in `dir` by hand stay). A `dir`
-    /// holding another study, or anything that is not a study's output, is refused before
-    /// anything is solved; so is a `dir` where another process works on the same units, unless
+    /// Run the study into `dir`, reusing the solves earlier runs left there that were computed
+    /// with the same inputs ([`Study::stem`]), of this study or another; `fresh` discards them
+    /// (and only them: files put in `dir` by hand stay). A `dir` holding anything that is not
+    /// a study's output is refused before anything is solved; so is a `dir` where another
+    /// process works on the same solves, unless
     /// [waiting](Study::waiting). `progress` answers each event with `()`, or with a
     /// `ControlFlow` whose `Break` stops the run with [`Error::Interrupted`] once the solves
     /// under way are recorded (the run resumes from there); a `Break` answering an elastic
@@ -291,14 +300,22 @@ impl Study {
         for p in &pieces {
             let (u, plastic) = sweeps[p.sweep];
             let solves = self.solves_dir(dir, u, plastic);
+            let elastic: Vec<String> =
+                self.layout(u).iter().filter(|s| s.sharing == Sharing::Elastic).map(|s| self.slot_key(s)).collect();
             for k in p.loads.clone() {
                 work += self.solve_work(u, k);
-                if solves.join(record_name(k)).is_file() {
+                if self.done(dir, u, plastic, k)? {
                     resumed += 1;
                     onsets_done += per_solve(p);
                     work_done += self.solve_work(u, k);
                 } else {
-                    onsets_done += (0..per_solve(p)).filter(|&l| solves.join(onset_name(k, l)).is_file()).count();
+                    let stem = self.stem(u, plastic, k);
+                    let record = self.read_solve(&solves, &stem, self.loads[k])?;
+                    let kept = |key: &&String| {
+                        solves.join(onset_name(&stem, key)).is_file()
+                            || record.as_ref().is_some_and(|r| r.row(key).is_some())
+                    };
+                    onsets_done += elastic.iter().filter(kept).count();
                 }
             }
         }

@@ -19,7 +19,7 @@ use ndarray::Array2;
 use super::plan::Study;
 use super::progress::{Progress, Tally};
 use super::records::{
-    normal_name, onset_name, plastic_dir, read_map, read_normal, read_onset, record_name, remove_if_present, warm_name,
+    normal_name, onset_name, read_map, read_normal, read_onset, record_name, remove_if_present, warm_name, KeyedRow,
     NormalRecord, SolveRecord,
 };
 use super::{MapSnapshot, Row, Sharing, SolveFacts, FIGURE_LOADS_N, NEAR_DECADES};
@@ -77,6 +77,8 @@ struct OnsetJob {
     chain: Arc<Chain>,
     k: usize,
     l: usize,
+    /// The key of its elastic row ([`Study::slot_key`]), which names its record.
+    key: String,
     /// The places of its rows in the solve's: the elastic one, and equal sharing's under the
     /// same slip weakening (a law with a slip-weakening distance).
     slot: usize,
@@ -117,8 +119,10 @@ struct Chain {
     u: usize,
     label: String,
     name: String,
-    /// Its folder of solve records, its loads, and which of them an earlier run recorded.
+    /// Its folder of solve records, the names of its solves by load ([`Study::stem`]), its
+    /// loads, and which of them were done before this run ([`Study::done`]).
     solves: PathBuf,
+    stems: Vec<String>,
     loads: Range<usize>,
     recorded: Vec<bool>,
     /// Grid (ny, nx) and physical size (lx, ly) [m].
@@ -144,26 +148,35 @@ struct Pending {
     load: f64,
     cold: bool,
     facts: SolveFacts,
-    /// Its rows, sharing-major; the elastic ones as their onsets end.
+    /// Its rows, sharing-major, and their slots' keys; the elastic ones as their onsets end.
     rows: Vec<Option<Row>>,
+    keys: Vec<String>,
+    /// The rows of its earlier record that the study does not ask for, kept in the new one.
+    kept: Vec<KeyedRow>,
     /// Its onsets not done yet.
     left: usize,
 }
 
 impl Study {
-    /// Solve the loads `loads` of sweep `u` (elastic or plastic) that have no record yet, in
-    /// increasing order, each from the solution of the load before it (warm start). The
-    /// piece's first load starts cold; a gap in its records goes on from the map of the load
-    /// before it (kept by a killed run, or at the end of another run's piece), and when that
-    /// map is gone (a `--fresh` cut short) the piece starts over. Each record says whether its
-    /// solve started cold. The map of the piece's last load stays for whoever goes on from it.
+    /// Solve the loads `loads` of sweep `u` (elastic or plastic) that are not done yet
+    /// ([`Study::done`]), in increasing order, each from the solution of the load before it
+    /// (warm start). The piece's first load starts cold; a gap in its records goes on from the
+    /// map of the load before it when one is kept (by a killed run, or at the end of another
+    /// run's piece), and starts cold otherwise: a load added between two recorded ones, whose
+    /// maps the records do not keep (a grid of float64 each), converges from no pressure to
+    /// the same contact within the solver's tolerance. Each record says whether its solve
+    /// started cold. The map of the piece's last load stays for whoever goes on from it.
+    ///
+    /// A solve recorded without a row the study asks for (a law added) is solved again; the
+    /// rows of its elastic onsets recorded already are kept, and so are the rows of its
+    /// record that the study does not ask for (another study's laws).
     ///
     /// With elastic sharing a solve's parts are recorded as they finish, for a run stopped
-    /// before its record to go on from: the normal solve (`NN-normal.json`, with its map
-    /// `warm-NN.npy`) and each law's onset (`NN-elastic-LL.json`, LL the law's index). The
-    /// onsets go to the run's queue ([`Work`]) and the sweep goes on to its next load; the
-    /// solves are recorded in load order as their onsets finish ([`Study::flush`]), each
-    /// record replacing its parts.
+    /// before its record to go on from: the normal solve (`<stem>-normal.json`, with its map
+    /// `<stem>-warm.npy`) and each law's onset (`<stem>-elastic-<key>.json`, keyed by its
+    /// slot). The onsets go to the run's queue ([`Work`]) and the sweep goes on to its next
+    /// load; the solves are recorded in load order as their onsets finish ([`Study::flush`]),
+    /// each record replacing its parts.
     pub(super) fn sweep<'s, R: Proceed>(
         &'s self,
         scope: &rayon::Scope<'s>,
@@ -174,14 +187,14 @@ impl Study {
     ) -> Result<()> {
         let dir = work.dir;
         let solves = self.solves_dir(dir, u, plastic);
-        let warm = |k: usize| solves.join(warm_name(k));
-        let recorded: Vec<bool> = loads.clone().map(|k| solves.join(record_name(k)).is_file()).collect();
+        let stems: Vec<String> = (0..self.loads.len()).map(|k| self.stem(u, plastic, k)).collect();
+        let warm = |k: usize| solves.join(warm_name(&stems[k]));
+        let recorded: Vec<bool> = loads.clone().map(|k| self.done(dir, u, plastic, k)).collect::<Result<_>>()?;
         let is_recorded = |k: usize| loads.contains(&k) && recorded[k - loads.start];
         if recorded.iter().all(|&r| r) {
-            return self.tidy(&solves, loads);
+            return self.tidy(&solves, u, &stems, loads);
         }
         let (label, _, topo, name) = self.unit(u);
-        let main = u < self.topographies.len();
         std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
         let shape = topo.heights.dim();
         let size = topo.physical_size.expect("built with a physical size");
@@ -201,25 +214,24 @@ impl Study {
             options,
         )?;
         solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
-        let maps = plastic_dir(dir.join("pressure").join(name), plastic);
-        let keep_maps = self.config.output.pressure_maps && main;
+        let keep_maps = self.keeps_maps(u);
+        let maps = self.maps_dir(dir, u, plastic);
         if keep_maps {
             std::fs::create_dir_all(&maps).map_err(|e| Error::io(&maps, e))?;
         }
-        let shown = u == 0 && plastic == self.config.contact.plastic.modes()[0];
-        let snapshots = if shown { self.snapshot_indices() } else { Vec::new() };
+        let snapshots = if self.shows(u, plastic) { self.snapshot_indices() } else { Vec::new() };
         let elastic = self.sharings(u).contains(&Sharing::Elastic);
         // A normal solve an earlier run finished, its elastic onsets not all.
-        let kept = |k: usize| elastic && solves.join(normal_name(k)).is_file() && warm(k).is_file();
-        let mut todo: Vec<usize> = loads.clone().filter(|&k| !is_recorded(k)).collect();
-        if todo.iter().any(|&k| k > loads.start && is_recorded(k - 1) && !warm(k - 1).is_file() && !kept(k)) {
-            todo = loads.clone().collect();
-        }
+        let kept = |k: usize| elastic && solves.join(normal_name(&stems[k])).is_file() && warm(k).is_file();
+        let todo: Vec<usize> = loads.clone().filter(|&k| !is_recorded(k)).collect();
+        let layout = self.layout(u);
+        let keys: Vec<String> = layout.iter().map(|s| self.slot_key(s)).collect();
         let chain = Arc::new(Chain {
             u,
             label: label.clone(),
             name: name.to_string(),
             solves: solves.clone(),
+            stems: stems.clone(),
             loads: loads.clone(),
             recorded: recorded.clone(),
             shape,
@@ -233,9 +245,12 @@ impl Study {
                 break;
             }
             let load = self.loads[k];
+            let stem = &stems[k];
             let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
+            // The solve's record from an earlier study, whose elastic onsets stay good.
+            let earlier = self.read_solve(&solves, stem, load)?;
             let (pressure, cold, facts) = if kept(k) {
-                let (normal, pressure) = read_normal(&solves, k, load)?;
+                let (normal, pressure) = read_normal(&solves, stem, load)?;
                 // The next load goes on from it as from the solver's own solution.
                 solver.warm_start(pressure.as_slice().expect("row-major"))?;
                 (pressure, normal.cold, normal.solve)
@@ -266,7 +281,7 @@ impl Study {
                     facts.require_finite().map_err(context)?;
                     output::write_npy(&warm(k), &pressure)?;
                     output::write_json(
-                        &solves.join(normal_name(k)),
+                        &solves.join(normal_name(stem)),
                         &NormalRecord { load_n: load, cold, solve: facts },
                     )?;
                 }
@@ -275,7 +290,6 @@ impl Study {
             let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
             // The rows of the solve's layout: the paper's at once, the others as the elastic
             // onsets that give them end (or from an earlier run's record of them).
-            let layout = self.layout(u);
             let mut rows: Vec<Option<Row>> = vec![None; layout.len()];
             let mut onsets = Vec::new();
             for (slot, row) in layout.iter().enumerate() {
@@ -289,8 +303,22 @@ impl Study {
                         let weakening_slot = layout
                             .iter()
                             .position(|s| s.sharing == Sharing::Equal && s.law == l && s.slip_distance != Some(0.0));
-                        let path = solves.join(onset_name(k, l));
-                        if path.is_file() {
+                        // Recorded with the solve by an earlier study: both of its rows.
+                        let from_record = earlier.as_ref().and_then(|r| {
+                            let weakening = match weakening_slot {
+                                Some(w) => Some(r.row(&keys[w])?.clone()),
+                                None => None,
+                            };
+                            Some((r.row(&keys[slot])?.clone(), weakening))
+                        });
+                        let path = solves.join(onset_name(stem, &keys[slot]));
+                        if let Some((row, weakening)) = from_record {
+                            rows[slot] = Some(row);
+                            if let Some(w) = weakening_slot {
+                                rows[w] = weakening;
+                            }
+                            work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
+                        } else if path.is_file() {
                             let mut kept = read_onset(
                                 &path,
                                 name,
@@ -313,7 +341,7 @@ impl Study {
 
             // Everything of this solve first, its record last: a record means the solve is done.
             if keep_maps {
-                output::write_npy(&maps.join(format!("{k:02}.npy")), &pressure)?;
+                output::write_npy(&maps.join(format!("{stem}.npy")), &pressure)?;
             }
             if snapshots.contains(&k) {
                 let mut snap =
@@ -341,11 +369,14 @@ impl Study {
             if k + 1 < self.loads.len() && !is_recorded(k + 1) && !elastic {
                 output::write_npy(&warm(k), &pressure)?;
             }
-            let pending = Pending { load, cold, facts, rows, left: onsets.len() };
+            let kept_rows =
+                earlier.map_or_else(Vec::new, |r| r.rows.into_iter().filter(|r| !keys.contains(&r.key)).collect());
+            let pending = Pending { load, cold, facts, rows, keys: keys.clone(), kept: kept_rows, left: onsets.len() };
             chain.state.lock().expect("no panic holding it").pending.insert(k, pending);
             for (slot, weakening_slot, l) in onsets {
-                let job =
-                    OnsetJob { cost: facts.contact_points, chain: Arc::clone(&chain), k, l, slot, weakening_slot };
+                let key = keys[slot].clone();
+                let chain = Arc::clone(&chain);
+                let job = OnsetJob { cost: facts.contact_points, chain, k, l, key, slot, weakening_slot };
                 self.enqueue(scope, work, job);
             }
             self.flush(&chain, work)?;
@@ -388,7 +419,7 @@ impl Study {
         }
     }
 
-    /// Run the elastic onset `job`, record it (`NN-elastic-LL.json`) and report it to the
+    /// Run the elastic onset `job`, record it (`<stem>-elastic-<key>.json`) and report it to the
     /// progress callback, whose `Break` stops the run at once with [`Error::Interrupted`] (the
     /// onsets finished stay recorded, no solve's record is written); then record the sweep's
     /// solves whose onsets are all done. Errors name the topography, the load and the law.
@@ -408,7 +439,7 @@ impl Study {
                 e.to_string(),
             )
         };
-        let pressure = read_map(&chain.solves.join(warm_name(k)))?;
+        let pressure = read_map(&chain.solves.join(warm_name(&chain.stems[k])))?;
         let start = std::time::Instant::now();
         let compliance = ShearCompliance::of(&self.config.bodies());
         let options = TangentialOptions::default();
@@ -461,7 +492,7 @@ impl Study {
             rows.push(Row::equal_weakening(&chain.name, load, &facts, law, &slip, &equal));
         }
         rows.iter().try_for_each(Row::require_finite)?;
-        output::write_json(&chain.solves.join(onset_name(k, l)), &rows)?;
+        output::write_json(&chain.solves.join(onset_name(&chain.stems[k], &job.key)), &rows)?;
         work.tally.onsets.fetch_add(1, Ordering::Relaxed);
         let answer = (work.progress)(Progress::Slid {
             topography: &chain.label,
@@ -516,7 +547,7 @@ impl Study {
             };
             match ready {
                 Some((k, pending)) => self.record(chain, k, pending, work)?,
-                None => return self.tidy(&chain.solves, chain.loads.clone()),
+                None => return self.tidy(&chain.solves, chain.u, &chain.stems, chain.loads.clone()),
             }
         })();
         lock().flushing = false;
@@ -527,16 +558,22 @@ impl Study {
     /// goes on from, and report it to the progress callback, whose `Break` stops the run with
     /// [`Error::Interrupted`] (no later record is written).
     fn record<R: Proceed>(&self, chain: &Chain, k: usize, pending: Pending, work: &Work<'_, R>) -> Result<()> {
-        let Pending { load, cold, facts, rows, .. } = pending;
-        let rows: Vec<Row> = rows.into_iter().map(|r| r.expect("every onset done")).collect();
-        let warm = |k: usize| chain.solves.join(warm_name(k));
+        let Pending { load, cold, facts, rows, keys, kept, .. } = pending;
+        let rows: Vec<KeyedRow> = keys
+            .into_iter()
+            .zip(rows)
+            .map(|(key, r)| KeyedRow { key, row: r.expect("every onset done") })
+            .chain(kept)
+            .collect();
+        let warm = |k: usize| chain.solves.join(warm_name(&chain.stems[k]));
         // Never a NaN in a record (written as null): no later run could read it back.
-        rows.iter().try_for_each(Row::require_finite)?;
+        rows.iter().try_for_each(|r| r.row.require_finite())?;
+        let stem = &chain.stems[k];
         output::write_json(
-            &chain.solves.join(record_name(k)),
+            &chain.solves.join(record_name(stem)),
             &SolveRecord { load_n: load, cold, solve: facts, rows },
         )?;
-        self.remove_parts(&chain.solves, k)?;
+        self.remove_parts(&chain.solves, chain.u, stem)?;
         let next_recorded = chain.loads.contains(&(k + 1)) && chain.recorded[k + 1 - chain.loads.start];
         if k + 1 >= self.loads.len() || next_recorded {
             remove_if_present(&warm(k))?;

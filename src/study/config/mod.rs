@@ -549,7 +549,7 @@ mod tests {
         let c = StudyConfig::parse("[model]\nsharing = [\"elastic\"]\n", "study.toml").unwrap();
         assert_eq!(c.model.sharing, [Sharing::Elastic]);
         assert_eq!(StudyConfig::parse("[model]\n", "study.toml").unwrap().model.sharing, [Sharing::Equal]);
-        // The default is left out of the study as run, so that earlier runs' fingerprints hold.
+        // The default is left out of the study as run.
         let text = toml::to_string(&StudyConfig::default_study()).unwrap();
         assert!(!text.contains("[model]"), "{text}");
         let c = StudyConfig::parse("[model]\nsharing = [\"elastic\", \"equal\"]\n", "s.toml").unwrap();

@@ -74,7 +74,8 @@ impl FigureKind {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
-    /// Also keep every full pressure map \[Pa] as `DIR/pressure/<topography>/NN.npy`.
+    /// Also keep every full pressure map \[Pa] as `DIR/pressure/<topography>/<stem>.npy`, the
+    /// stem naming the load and its solve (`1e-3N-<digest>`, as its record in `DIR/solves`).
     #[serde(default)]
     pub pressure_maps: bool,
     /// A CSV of measured points (as `asperity shs --out` writes it) to overlay on the figures.
