@@ -53,9 +53,18 @@ fn the_quick_study_shows_the_friction_drop_falling_with_load() {
             assert_eq!(*cell, format!("{lo:.4}–{hi:.4}"), "{law} at {load} N: {line}");
         }
     }
-    // The first ball's maps at 0.1, 1, 10 and 100 mN (loads 3 to 6 of 7, one per decade).
-    for (k, load) in [(3, 1e-4), (4, 1e-3), (5, 1e-2), (6, 1e-1)] {
-        let snap = MapSnapshot::load(&out.join("snapshots"), &format!("ball-1-{k:02}")).unwrap();
+    // The first ball's maps at 0.1, 1, 10 and 100 mN (loads 3 to 6 of 7, one per decade), each
+    // named by its load and the digest of its solve.
+    let mut stems: Vec<String> = std::fs::read_dir(out.join("snapshots"))
+        .unwrap()
+        .filter_map(|e| e.unwrap().file_name().into_string().unwrap().strip_suffix(".json").map(str::to_owned))
+        .collect();
+    stems.sort();
+    assert_eq!(stems.len(), 4, "{stems:?}");
+    for load in [1e-4, 1e-3, 1e-2, 1e-1] {
+        let prefix = format!("ball-1-{load:e}N-");
+        let stem = stems.iter().find(|s| s.starts_with(&prefix)).unwrap_or_else(|| panic!("{prefix}: {stems:?}"));
+        let snap = MapSnapshot::load(&out.join("snapshots"), stem).unwrap();
         assert_eq!((snap.load_n, snap.grid), (load, (256, 256)));
     }
 }
