@@ -248,7 +248,9 @@ pub fn run(args: RunArgs) -> Result<()> {
         outcome.rows.len()
     ));
     if !figures.is_empty() {
-        super::message(&format!("wrote {} figures and {dir}/index.html", figures.len()));
+        // A figure is its image (with its vector copy) or its movie.
+        let drawn = figures.iter().filter(|f| f.extension().is_some_and(|e| e == "png" || e == "gif")).count();
+        super::message(&format!("wrote {drawn} figures and {dir}/index.html"));
     }
     super::print(&drop_summary(&outcome.rows))
 }
