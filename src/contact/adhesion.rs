@@ -434,35 +434,32 @@ impl AdhesiveSolver {
         (r, g > 0.0 || r < 0.0)
     }
 
-    /// The cohesive tension of the current iterate at every window point.
-    fn evaluate_cohesion(&mut self) {
+    /// v ← f(self, i, v) at every grid point i of the field `field` picks, rows in parallel
+    /// (`f` must not read that field: it is taken out meanwhile).
+    fn update(&mut self, field: fn(&mut Self) -> &mut Vec<f64>, f: impl Fn(&Self, usize, f64) -> f64 + Sync) {
         let gx = self.gx;
-        let mut cohesive = std::mem::take(&mut self.cohesive);
+        let mut values = std::mem::take(field(self));
         let this = &*self;
-        cohesive.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
-            for (j, t) in row.iter_mut().enumerate() {
-                let i = y * gx + j;
-                *t = if this.in_window(i) { this.law.tension(this.gap_at(i, this.x[i]).max(0.0)) } else { 0.0 };
+        values.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = f(this, y * gx + j, *v);
             }
         });
-        self.cohesive = cohesive;
+        *field(self) = values;
+    }
+
+    /// The cohesive tension of the current iterate at every window point.
+    fn evaluate_cohesion(&mut self) {
+        self.update(
+            |s| &mut s.cohesive,
+            |s, i, _| if s.in_window(i) { s.law.tension(s.gap_at(i, s.x[i]).max(0.0)) } else { 0.0 },
+        );
     }
 
     /// Make x admissible at the current separation: gap ≥ 0 on the window, and the mean gap
     /// imposed (periodic).
     fn admit(&mut self) {
-        let gx = self.gx;
-        let mut x = std::mem::take(&mut self.x);
-        let this = &*self;
-        x.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
-            for (j, v) in row.iter_mut().enumerate() {
-                let i = y * gx + j;
-                if this.in_window(i) {
-                    *v = v.max(this.floor_at(i));
-                }
-            }
-        });
-        self.x = x;
+        self.update(|s| &mut s.x, |s, i, v| if s.in_window(i) { v.max(s.floor_at(i)) } else { v });
         if self.boundary == Boundary::Periodic {
             self.impose_mean_gap();
         }
@@ -656,17 +653,17 @@ impl AdhesiveSolver {
 
     /// t ← f(r, t) at the free points (r the residual), 0 elsewhere.
     fn update_direction(&mut self, f: impl Fn(f64, f64) -> f64 + Sync) {
-        let gx = self.gx;
-        let mut t = std::mem::take(&mut self.direction);
-        let this = &*self;
-        t.par_chunks_mut(gx).enumerate().for_each(|(y, row)| {
-            for (j, t) in row.iter_mut().enumerate() {
-                let i = y * gx + j;
-                let (r, free) = this.residual_at(i);
-                *t = if free { f(r, *t) } else { 0.0 };
-            }
-        });
-        self.direction = t;
+        self.update(
+            |s| &mut s.direction,
+            |s, i, t| {
+                let (r, free) = s.residual_at(i);
+                if free {
+                    f(r, t)
+                } else {
+                    0.0
+                }
+            },
+        );
     }
 
     /// x ← max(x − τt, floor), M x ← M x − τ M t; the clipped part goes to `change`. Returns

@@ -90,15 +90,15 @@ impl AdhesiveSolver {
         // start a branch from, and a cold start presses first.
         let held_state = if self.warm { Some(self.forces()).filter(|r| r.contact_points > 0) } else { None };
         let held = held_state.is_some();
-        let mut stiffness = None;
-        let mut current = match held_state {
-            Some(state) => state,
+        // The first step's stiffness −dN/ds [N/m], where known.
+        let (mut current, stiffness) = match held_state {
+            Some(state) => (state, None),
             None if target > 0.0 => {
                 // The equilibrium without adhesion at the load sought is near the adhesive one
                 // (adhesion adds the tension of a thin zone around the contact): the march and
                 // the secant start a few steps from it, not from the first touch.
-                stiffness = Some(self.seed(target)?).filter(|k| k.is_finite() && *k > 0.0);
-                self.at(self.separation, tally)?
+                let k = Some(self.seed(target)?).filter(|k| k.is_finite() && *k > 0.0);
+                (self.at(self.separation, tally)?, k)
             }
             None => {
                 self.warm = false;
@@ -113,7 +113,7 @@ impl AdhesiveSolver {
                     r = self.at(self.closer(r.separation, step), tally)?;
                     step *= 2.0;
                 }
-                r
+                (r, None)
             }
         };
         let tolerance = |r: &AdhesiveReport, c: &Convergence| {
