@@ -56,8 +56,11 @@ pub fn handle_signals() -> std::io::Result<()> {
             } else {
                 ""
             };
+            // Held to the exit (it is reentrant: `message` takes it again): no other thread's
+            // line (a start line, a progress bar) comes after this one.
+            let mut stderr = std::io::stderr().lock();
             // On a line of its own, below a progress bar.
-            let _ = std::io::stderr().write_all(b"\n");
+            let _ = stderr.write_all(b"\n");
             message(&format!(
                 "asperity: stopped by {name}; its temporaries removed, nothing half-written kept{resume}"
             ));
