@@ -469,3 +469,106 @@ fn an_elastic_onset_finished_before_a_stop_is_not_run_again() {
         assert_eq!(record["cold"], true);
     }
 }
+
+#[test]
+fn a_band_of_slip_distances_adds_its_onsets_and_a_dir_grows_and_shrinks_with_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let ball = BALLS.split("\n[[topography]]").nth(1).unwrap();
+    let rest = small_rest();
+    let sharing = "sharing = [\"equal\", \"elastic\"]\n";
+    let banded = rest.replace(sharing, &format!("{sharing}slip_distance_band = [\"1 nm\", \"5 nm\"]\n"));
+    assert_ne!(banded, rest);
+    let write =
+        |rest: &str| std::fs::write(dir.path().join("study.toml"), format!("[[topography]]{ball}{rest}")).unwrap();
+    write(&rest);
+    let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    assert!(stderr(&o).contains("3 solved, 0 resumed; 6 elastic onsets run, in"), "{}", stderr(&o));
+    let out = dir.path().join("r");
+    let before = table(&out.join("results.csv"));
+    assert_eq!(before.len(), 18);
+
+    // The band added: its ends' onsets alone are computed, those at d_c kept from the records
+    // (each normal solve is solved again: the records keep no pressure map).
+    write(&banded);
+    let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    assert!(
+        stderr(&o).contains("3 solved, 0 resumed; 12 elastic onsets run, 6 recorded before kept, in"),
+        "{}",
+        stderr(&o)
+    );
+    let rows = table(&out.join("results.csv"));
+    // Per law and load: the paper's, and equal and elastic sharing at 2 nm, 1 nm and 5 nm.
+    assert_eq!(rows.len(), 3 * 2 * 7);
+    // The rows at d_c are those of the run without the band, bit for bit but the timings.
+    let untimed = |r: &HashMap<String, String>| {
+        let mut r = r.clone();
+        for c in ["seconds", "slide_seconds"] {
+            r.remove(c);
+        }
+        r
+    };
+    let at_dc: Vec<_> = rows.iter().filter(|r| !["1e-9", "5e-9"].contains(&r["slip_distance_m"].as_str())).collect();
+    assert_eq!(at_dc.iter().map(|r| untimed(r)).collect::<Vec<_>>(), before.iter().map(untimed).collect::<Vec<_>>());
+    let find = |r: &HashMap<String, String>, sharing: &str, d: f64| -> f64 {
+        let found: Vec<_> = rows
+            .iter()
+            .filter(|s| {
+                s["sharing"] == sharing
+                    && num(s, "slip_distance_m") == d
+                    && s["law"] == r["law"]
+                    && s["load_n"] == r["load_n"]
+            })
+            .collect();
+        assert_eq!(found.len(), 1, "{sharing} {d} {} {}", r["law"], r["load_n"]);
+        num(found[0], "friction_drop")
+    };
+    let papers = |r: &&HashMap<String, String>| r["sharing"] == "equal" && num(r, "slip_distance_m") == 0.0;
+    let mut rising = 0;
+    for paper in rows.iter().filter(papers) {
+        let limit = num(paper, "mu_s") / num(paper, "mu_d");
+        let elastic: Vec<f64> = [1e-9, 2e-9, 5e-9].iter().map(|&d| find(paper, "elastic", d)).collect();
+        let equal: Vec<f64> = [1e-9, 2e-9, 5e-9].iter().map(|&d| find(paper, "equal", d)).collect();
+        if paper["contact_points"] == "1" {
+            // One element: every model gives the local law's mu_s/mu_d at every d_c.
+            for d in elastic.iter().chain(&equal) {
+                assert!((d - limit).abs() < 1e-9 * limit, "{d} {limit}");
+            }
+            continue;
+        }
+        // On 3 and 12 elements: the drops never fall as d_c grows, move by less than 2e-4 from
+        // 1 to 2 nm, and the elastic one rises by 0.03–0.09 from 2 to 5 nm.
+        for drops in [&elastic, &equal] {
+            assert!(drops[0] <= drops[1] * (1.0 + 1e-9) && drops[1] <= drops[2] * (1.0 + 1e-9), "{drops:?}");
+            assert!(drops[1] - drops[0] < 2e-4, "{drops:?}");
+        }
+        assert!(elastic[2] - elastic[1] > 0.02, "{elastic:?}");
+        rising += 1;
+    }
+    assert_eq!(rising, 4);
+    // Measured at 3 mN for "hold 100 s": 1.1414, 1.1414, 1.1838 under elastic sharing.
+    let at = |d: f64| {
+        let r = rows.iter().find(|r| r["law"] == "hold 100 s" && r["load_n"] == "0.003").unwrap();
+        find(r, "elastic", d)
+    };
+    for (d, drop) in [(1e-9, 1.1414), (2e-9, 1.1414), (5e-9, 1.1838)] {
+        assert!((at(d) - drop).abs() < 1e-3, "{d}: {}", at(d));
+    }
+    let svg = std::fs::read_to_string(out.join("figures/friction-drop-sharing.svg")).unwrap();
+    // The band's legend entries (d_c typeset with its subscript).
+    for model in ["elastic sharing", "equal sharing, weakening"] {
+        assert!(svg.contains(&format!("hold 100 s: {model}, range over 1 topography and d")), "legend: {model}");
+    }
+    assert_eq!(svg.matches("1 nm to 5 nm").count(), 4, "a band per law and model");
+    let report = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(report.contains("from d_c = 1 nm to 5 nm (the lines stay at d_c = 2 nm)"), "caption");
+    assert!(report.contains("<th>elastic, d<sub>c</sub> 1 nm</th><th>elastic, d<sub>c</sub> 2 nm</th>"), "table");
+
+    // The band removed: nothing is solved, the table is the one before.
+    write(&rest);
+    let o = asperity(dir.path(), &["run", "study.toml", "--out", "r"]);
+    assert!(stderr(&o).contains("0 solved, 3 resumed, in"), "{}", stderr(&o));
+    let after = table(&out.join("results.csv"));
+    assert_eq!(after.iter().map(untimed).collect::<Vec<_>>(), before.iter().map(untimed).collect::<Vec<_>>());
+    let report = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(!report.contains("d<sub>c</sub> 1 nm"), "no band table without the band");
+}

@@ -17,7 +17,7 @@ use crate::plausible::MAX_FRICTION_COEFFICIENT;
 use crate::quantity::{show, FORCE, LENGTH};
 use crate::shs::ShsPoint;
 use crate::study::adhesion::{AdhesionLimit, ADHESION_SHARE};
-use crate::study::{law_name, ResolutionRow, Row, COARSENING};
+use crate::study::{law_name, ResolutionRow, Row, Sharing, COARSENING};
 use plotters::style::RGBColor;
 
 /// A measured point belongs to the law of its hold time when the two agree within this factor.
@@ -282,7 +282,8 @@ const LOWERED: f64 = 0.1;
 /// Friction drop vs load under equal sharing (the paper's), equal sharing with elastic
 /// sharing's slip weakening, and elastic sharing: per law a band over the topographies and
 /// their mean for each (solid, thin solid, dashed), and the single-element value mu_s/mu_d.
-/// `None` without elastic-sharing rows.
+/// With a band of d_c the two weakening models' bands span its ends too, as the friction-drop
+/// figure's band spans E ± ΔE. `None` without elastic-sharing rows.
 pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, String)> {
     if input.elastic_rows.is_empty() {
         return None;
@@ -293,16 +294,25 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
     let mut series = Vec::new();
     let mut levels: Vec<f64> = Vec::new();
     let (mut findings, mut weakened) = (Vec::new(), Vec::new());
+    let at_band_ends =
+        |sharing: Sharing| -> Vec<Row> { input.band_rows.iter().filter(|r| r.sharing == sharing).cloned().collect() };
+    let (equal_ends, elastic_ends) = (at_band_ends(Sharing::Equal), at_band_ends(Sharing::Elastic));
+    let dc_range = match input.slip_distance_band {
+        [low, high] => format!("d_c {} to {}", show(*low, &LENGTH), show(*high, &LENGTH)),
+        _ => String::new(),
+    };
     for (i, law) in input.laws.iter().enumerate() {
         let name = law_name(law);
         let colour = law_colour(i);
         let mut means = Vec::new();
+        // Each model's rows, the rows at the ends of the band of d_c, its band's opacity (with
+        // a band of d_c, and without it) and its marker.
         let sharings = [
-            (input.rows, "equal sharing", 0.25, Marker::Circle),
-            (input.weakening_rows, "equal sharing, weakening", 0.0, Marker::Triangle),
-            (input.elastic_rows, "elastic sharing", 0.12, Marker::Square),
+            (input.rows, &[][..], (0.25, 0.25), Marker::Circle, "equal sharing"),
+            (input.weakening_rows, &equal_ends[..], (0.1, 0.0), Marker::Triangle, "equal sharing, weakening"),
+            (input.elastic_rows, &elastic_ends[..], (0.12, 0.12), Marker::Square, "elastic sharing"),
         ];
-        for (s, (rows, what, opacity, marker)) in sharings.into_iter().enumerate() {
+        for (s, (rows, ends, (widened, opacity), marker, what)) in sharings.into_iter().enumerate() {
             let groups = by_load(rows, &name);
             if groups.is_empty() {
                 means.push(Vec::new());
@@ -311,12 +321,28 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
             let x: Vec<f64> = groups.iter().map(|g| g.0 * 1e3).collect();
             let stats: Vec<(f64, f64, f64)> =
                 groups.iter().map(|g| spread(g.1.iter().map(|r| r.friction_drop))).collect();
-            levels.extend(stats.iter().flat_map(|s| [s.0, s.2]));
-            let (lower, upper) = (stats.iter().map(|s| s.0).collect(), stats.iter().map(|s| s.2).collect());
+            let ends = by_load(ends, &name);
+            // The band: over the topographies, and at the ends of the band of d_c where the law
+            // has rows there.
+            let (lower, upper): (Vec<f64>, Vec<f64>) = groups
+                .iter()
+                .map(|(load, rows)| {
+                    let more = ends.iter().filter(|e| (e.0 / load - 1.0).abs() < 1e-9).flat_map(|e| &e.1);
+                    let (lo, _, hi) = spread(rows.iter().chain(more).map(|r| r.friction_drop));
+                    (lo, hi)
+                })
+                .unzip();
+            levels.extend(lower.iter().chain(&upper));
             let topographies = groups.iter().map(|g| g.1.len()).max().unwrap_or(0);
             let band =
                 if topographies == 1 { "1 topography".to_string() } else { format!("{topographies} topographies") };
-            if opacity > 0.0 {
+            if !ends.is_empty() {
+                series.push(
+                    Series::band(x.clone(), lower, upper, colour)
+                        .opacity(widened)
+                        .label(format!("{name}: {what}, range over {band} and {dc_range}")),
+                );
+            } else if opacity > 0.0 {
                 series.push(Series::band(x.clone(), lower, upper, colour).opacity(opacity));
             }
             let mean: Vec<(f64, f64)> = x.iter().copied().zip(stats.iter().map(|s| s.1)).collect();
@@ -377,6 +403,16 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
             weakened.join(", ")
         )
     };
+    let dc_band = match input.slip_distance_band {
+        [low, high] if !input.band_rows.is_empty() => format!(
+            " The bands of elastic sharing and of equal sharing with the weakening span the slip-weakening distance \
+             too, from d_c = {} to {} (the lines stay at d_c = {}).",
+            show(*low, &LENGTH),
+            show(*high, &LENGTH),
+            show(input.slip_distance_m, &LENGTH)
+        ),
+        _ => String::new(),
+    };
     let caption = format!(
         "The friction drop F_S/(μ_d N) against the normal load with the tangential force shared equally among the \
          stuck elements (the paper's model, μ_d from an element's first slip; thick solid, circles), shared equally \
@@ -385,7 +421,7 @@ pub(super) fn friction_drop_sharing(input: &FigureInput) -> Option<(Figure, Stri
          displaced rigidly along x, {weakening}): per law, the band spans the values over the topographies (paler for \
          elastic sharing) and the line joins their mean; dotted: the single-element value μ_s/μ_d, drawn below the \
          lowest load carried by more than one element. The interaction alone (elastic against equal sharing under the \
-         same weakening) lowers the mean excess drop − 1 by more than {}% at every load {}.{weakening_alone}{}",
+         same weakening) lowers the mean excess drop − 1 by more than {}% at every load {}.{weakening_alone}{dc_band}{}",
         tick_label(&(LOWERED * 100.0)),
         findings.join(", "),
         input.adhesion.map_or(String::new(), |a| format!(" {}", adhesion_sentence(&a)))

@@ -11,7 +11,7 @@ use super::shared::{by_load, signed, spread, stem, Drawn, FigureInput};
 use crate::error::Result;
 use crate::friction::{FrictionLaw, PRESETS};
 use crate::quantity::{show, FORCE, LENGTH};
-use crate::study::{law_name, FigureKind, Row};
+use crate::study::{law_name, FigureKind, Row, Sharing};
 
 /// What each figure is, and which figure of the paper it corresponds to.
 fn heading(kind: FigureKind) -> (&'static str, &'static str) {
@@ -231,6 +231,7 @@ fn results(w: &mut String, input: &FigureInput) {
     }
     let _ = writeln!(w, "</table>");
     apart(w, input);
+    slip_distance_band(w, input);
 }
 
 /// What the elastic interaction and the slip weakening each do: per law and load, the mean
@@ -279,6 +280,56 @@ fn apart(w: &mut String, input: &FigureInput) {
             }
         }
         let _ = writeln!(w, "</tr>");
+    }
+    let _ = writeln!(w, "</table>");
+}
+
+/// How the slip-weakening distance steers the weakening models: per law and load, the mean drop
+/// over the topographies under elastic sharing and under equal sharing with the weakening, at
+/// the band's low end, at d_c and at its high end.
+fn slip_distance_band(w: &mut String, input: &FigureInput) {
+    let [low, high] = input.slip_distance_band else { return };
+    if input.band_rows.is_empty() {
+        return;
+    }
+    let distances = [*low, input.slip_distance_m, *high];
+    let of = |sharing: Sharing, d: f64| -> Vec<Row> {
+        let rows = input.weakening_rows.iter().chain(input.elastic_rows).chain(input.band_rows);
+        rows.filter(|r| r.sharing == sharing && r.slip_distance_m == Some(d)).cloned().collect()
+    };
+    let models: Vec<Vec<Row>> =
+        [Sharing::Elastic, Sharing::Equal].iter().flat_map(|&sharing| distances.map(|d| of(sharing, d))).collect();
+    let dc = distances.map(|d| show(d, &LENGTH));
+    let _ = writeln!(
+        w,
+        "<p>The slip-weakening distance d<sub>c</sub>, which the paper's model does not have: the mean friction \
+         drop over the topographies under elastic sharing and under equal sharing with the same weakening, at \
+         d<sub>c</sub> = {}, {} (the study's) and {}.</p>\n<table>\n<tr><th>law</th><th>normal load</th>",
+        dc[0], dc[1], dc[2]
+    );
+    for what in ["elastic", "equal, weakening"] {
+        for d in &dc {
+            let _ = write!(w, "<th>{what}, d<sub>c</sub> {d}</th>");
+        }
+    }
+    let _ = writeln!(w, "</tr>");
+    for law in input.laws.iter().map(law_name) {
+        let columns: Vec<Vec<(f64, Vec<&Row>)>> = models.iter().map(|rows| by_load(rows, &law)).collect();
+        // The laws that follow a measured curve have no rows at the band's ends.
+        let Some(loads) = columns.iter().find(|c| !c.is_empty()).filter(|_| columns.iter().all(|c| !c.is_empty()))
+        else {
+            continue;
+        };
+        for (load, _) in loads {
+            let _ = write!(w, "<tr><td>{}</td><td>{}</td>", escape(&law), show(*load, &FORCE));
+            for groups in &columns {
+                let _ = match groups.iter().find(|g| (g.0 / load - 1.0).abs() < 1e-9) {
+                    Some((_, rows)) => write!(w, "<td>{:.4}</td>", spread(rows.iter().map(|r| r.friction_drop)).1),
+                    None => write!(w, "<td>–</td>"),
+                };
+            }
+            let _ = writeln!(w, "</tr>");
+        }
     }
     let _ = writeln!(w, "</table>");
 }

@@ -20,6 +20,9 @@ pub struct FigureInput<'a> {
     pub weakening_rows: &'a [Row],
     /// The result rows under elastic sharing (empty unless the study asks for them).
     pub elastic_rows: &'a [Row],
+    /// The rows at the ends of the band of d_c: equal sharing under the weakening and elastic
+    /// sharing (empty without a band).
+    pub band_rows: &'a [Row],
     /// Topography names, in the study's order.
     pub topographies: &'a [String],
     /// Friction laws, in the study's order; maps, curves and movies use the first.
@@ -44,6 +47,8 @@ pub struct FigureInput<'a> {
     /// Elastic sharing's slip-weakening distance d_c \[m] (0: the instant drop); a law given by
     /// a measured curve follows its own.
     pub slip_distance_m: f64,
+    /// The ends of the band of d_c \[m], low then high (empty without a band).
+    pub slip_distance_band: &'a [f64],
     /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
     pub grid: Option<(usize, usize)>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`](crate::study::FIGURE_LOADS_N).
@@ -66,6 +71,7 @@ impl<'a> FigureInput<'a> {
             rows: &records.rows,
             weakening_rows: &records.weakening_rows,
             elastic_rows: &records.elastic_rows,
+            band_rows: &records.band_rows,
             topographies: &records.topographies,
             laws: &records.laws,
             hold_times: &records.hold_times,
@@ -77,6 +83,7 @@ impl<'a> FigureInput<'a> {
             log_density: records.log_density,
             hardness_pa: records.hardness_pa,
             slip_distance_m: records.slip_distance_m,
+            slip_distance_band: &records.slip_distance_band,
             grid: records.grid,
             maps: &records.maps,
             experiments,

@@ -548,6 +548,9 @@ pub struct Records {
     pub weakening_rows: Vec<Row>,
     /// The result rows under elastic sharing (empty unless the study asks for them).
     pub elastic_rows: Vec<Row>,
+    /// The rows at the ends of the band of d_c: equal sharing under the weakening and elastic
+    /// sharing (empty without a band).
+    pub band_rows: Vec<Row>,
     /// Topography names, in the study's order.
     pub topographies: Vec<String>,
     /// Friction laws, in the study's order; maps, curves and movies use the first.
@@ -574,6 +577,8 @@ pub struct Records {
     /// Elastic sharing's slip-weakening distance d_c \[m] (0: the instant drop); a law given by
     /// a measured curve follows its own.
     pub slip_distance_m: f64,
+    /// The ends of the band of d_c \[m], low then high (empty without a band).
+    pub slip_distance_band: Vec<f64>,
     /// The contact grid (nx, ny) every topography was resampled to, when the study sets one.
     pub grid: Option<(usize, usize)>,
     /// Snapshots of the first topography at the loads nearest to [`FIGURE_LOADS_N`].

@@ -1,7 +1,7 @@
 //! The prepared study, [`Study`] (every topography built, every law resolved), and what it
 //! computes from its config alone: its sweeps (a topography or a coarser copy, elastic or
 //! plastic) and the pieces of their load chains a run takes, the rows of each solve
-//! (sharings × laws, [`Slot`]), the elastic onsets each solve runs, the estimated work of a
+//! (sharings × laws, and the band of d_c: [`Slot`]), the elastic onsets each solve runs, the estimated work of a
 //! solve, the loads whose maps the figures keep, and the figures' other counterface.
 //!
 //! Nothing here touches the disk. The runner's other rooms build on it; it must import none of
@@ -144,13 +144,9 @@ impl Study {
         }
     }
 
-    /// The elastic-sharing onsets of each solve of sweep `u`: one per law, or none.
+    /// The elastic-sharing onsets of each solve of sweep `u`: one per elastic row of its layout.
     pub(super) fn onsets_per_solve(&self, u: usize) -> usize {
-        if self.sharings(u).contains(&Sharing::Elastic) {
-            self.laws.len()
-        } else {
-            0
-        }
+        self.layout(u).iter().filter(|s| s.sharing == Sharing::Elastic).count()
     }
 
     /// Rows of a solve of the study's own grid ([`Study::layout`]).
@@ -160,32 +156,44 @@ impl Study {
 
     /// The rows of each solve of sweep `u`, in order: per sharing listed, one per law; before
     /// the elastic ones, per law with a slip-weakening distance, equal sharing under the same
-    /// weakening, so that the interaction and the weakening show apart.
+    /// weakening, so that the interaction and the weakening show apart; last, at each end of
+    /// the band of d_c, equal then elastic sharing for those laws.
     pub(super) fn layout(&self, u: usize) -> Vec<Slot> {
         let laws = 0..self.laws.len();
+        let linear = |l: &usize| matches!(self.weakenings[*l], Weakening::Linear(_));
+        let at = |sharing, d: f64| move |l| Slot { sharing, law: l, slip_distance: Some(d) };
+        let dc = self.config.model.slip_distance.0;
         let mut slots = Vec::new();
         for &sharing in self.sharings(u) {
             if sharing == Sharing::Elastic {
-                let weakening = laws.clone().filter_map(|l| match self.weakenings[l] {
-                    Weakening::Linear(dc) => Some(Slot { sharing: Sharing::Equal, law: l, slip_distance: Some(dc) }),
-                    _ => None,
-                });
-                slots.extend(weakening);
+                slots.extend(laws.clone().filter(linear).map(at(Sharing::Equal, dc)));
             }
-            let slip_distance = |l: usize| match sharing {
-                Sharing::Equal => Some(0.0),
-                Sharing::Elastic => self.slip_law(l).slip_distance(),
+            let slip_distance = |l: usize| match (sharing, &self.weakenings[l]) {
+                (Sharing::Equal, _) | (_, Weakening::Instant) => Some(0.0),
+                (_, Weakening::Linear(d)) => Some(*d),
+                (_, Weakening::Curve(_)) => None,
             };
             slots.extend(laws.clone().map(|l| Slot { sharing, law: l, slip_distance: slip_distance(l) }));
+        }
+        if self.sharings(u).contains(&Sharing::Elastic) {
+            for d in self.config.model.band() {
+                for sharing in [Sharing::Equal, Sharing::Elastic] {
+                    slots.extend(laws.clone().filter(linear).map(at(sharing, d)));
+                }
+            }
         }
         slots
     }
 
-    /// The local law of elastic sharing for law `l`: mu_s to mu_d over the model's
-    /// slip-weakening distance, or along the law's measured curve.
-    pub(super) fn slip_law(&self, l: usize) -> SlipLaw {
-        let law = &self.laws[l];
-        SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening: self.weakenings[l].clone() }
+    /// The local law of `slot`'s weakening models: mu_s to mu_d over the slot's slip-weakening
+    /// distance, or along the law's measured curve, or at once.
+    pub(super) fn slip_law(&self, slot: &Slot) -> SlipLaw {
+        let law = &self.laws[slot.law];
+        let weakening = match (&self.weakenings[slot.law], slot.slip_distance) {
+            (Weakening::Linear(_), Some(d)) => Weakening::Linear(d),
+            (w, _) => w.clone(),
+        };
+        SlipLaw { mu_s: law.mu_s, mu_d: law.mu_d, weakening }
     }
 
     /// Indices of the swept loads nearest (in log scale) to [`FIGURE_LOADS_N`], ascending.

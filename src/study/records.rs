@@ -401,7 +401,7 @@ impl Study {
     /// own settings are the program's, not the study's.
     pub(super) fn slot_key(&self, slot: &Slot) -> String {
         let law = &self.laws[slot.law];
-        let weakening = match (slot.slip_distance, &self.weakenings[slot.law]) {
+        let weakening = match (slot.slip_distance, self.slip_law(slot).weakening) {
             (Some(d), _) if slot.sharing == Sharing::Equal && d == 0.0 => serde_json::json!("instant"),
             (_, Weakening::Instant) => serde_json::json!("instant"),
             (_, Weakening::Linear(d)) => serde_json::json!({ "linear_m": d }),

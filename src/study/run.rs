@@ -10,7 +10,7 @@
 //! - `study.toml`: the study as run (paths absolute, loads explicit);
 //! - `results.csv`, `results.json`: one [`Row`] per topography × solve (elastic, plastic, as
 //!   `contact.plastic` lists them) × sharing (as `model.sharing` lists them) × law × load, in
-//!   that order;
+//!   that order, the rows at the ends of `model.slip_distance_band` last;
 //! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
 //!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
 //! - `snapshots/<topography>-<stem>.npy|json`: [`MapSnapshot`]s of the first topography at
@@ -410,10 +410,13 @@ impl Study {
         let shown = |which: &dyn Fn(&Row) -> bool| -> Vec<Row> {
             rows.iter().filter(|r| r.plastic == first && which(r)).cloned().collect()
         };
+        let band = self.config.model.band();
+        let in_band = |r: &Row| r.slip_distance_m.is_some_and(|d| band.contains(&d));
         let records = Records {
             rows: shown(&Row::papers),
-            weakening_rows: shown(&|r| r.sharing == Sharing::Equal && !r.papers()),
-            elastic_rows: shown(&|r| r.sharing == Sharing::Elastic),
+            weakening_rows: shown(&|r| r.sharing == Sharing::Equal && !r.papers() && !in_band(r)),
+            elastic_rows: shown(&|r| r.sharing == Sharing::Elastic && !in_band(r)),
+            band_rows: shown(&in_band),
             topographies: names,
             laws: self.laws.clone(),
             hold_times: self.hold_times.clone(),
@@ -425,6 +428,7 @@ impl Study {
             log_density: self.config.output.log_density,
             hardness_pa: self.config.hardness(),
             slip_distance_m: self.config.model.slip_distance.0,
+            slip_distance_band: band.clone(),
             grid: self.config.contact.grid,
             maps,
             figures: self.config.output.figures.clone(),

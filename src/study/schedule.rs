@@ -28,9 +28,11 @@ use crate::contact::{
 };
 use crate::error::{Error, Result};
 use crate::friction::{
-    elastic_onset, element_stiffness, spring_slider_onset, stuck_stiffness, ElementLoads, Onset, PEAK_TOLERANCE,
+    elastic_onset, element_stiffness, spring_slider_onset, stuck_stiffness, ElementLoads, Onset, SlipLaw,
+    PEAK_TOLERANCE,
 };
 use crate::output;
+use crate::quantity::{show, LENGTH};
 
 /// Pixels kept around the contact points in a [`MapSnapshot`].
 const SNAPSHOT_MARGIN: usize = 8;
@@ -69,14 +71,15 @@ pub(super) struct Queue {
     workers: usize,
 }
 
-/// One elastic onset to run: law `l` on load `k`'s solve of a sweep, its row going to `slot`
-/// of the solve's rows.
+/// One elastic onset to run: law `l` on load `k`'s solve of a sweep under the local law `slip`,
+/// its row going to `slot` of the solve's rows.
 struct OnsetJob {
     /// The solve's contact points: the larger contact set first (its onset takes longest).
     cost: usize,
     chain: Arc<Chain>,
     k: usize,
     l: usize,
+    slip: SlipLaw,
     /// The key of its elastic row ([`Study::slot_key`]), which names its record.
     key: String,
     /// The places of its rows in the solve's: the elastic one, and equal sharing's under the
@@ -300,9 +303,13 @@ impl Study {
                     Sharing::Equal => {}
                     Sharing::Elastic => {
                         let l = row.law;
-                        let weakening_slot = layout
-                            .iter()
-                            .position(|s| s.sharing == Sharing::Equal && s.law == l && s.slip_distance != Some(0.0));
+                        // Equal sharing's row under the same weakening (at the same d_c).
+                        let weakening_slot = layout.iter().position(|s| {
+                            s.sharing == Sharing::Equal
+                                && s.law == l
+                                && s.slip_distance != Some(0.0)
+                                && s.slip_distance == row.slip_distance
+                        });
                         // Recorded with the solve by an earlier study: both of its rows.
                         let from_record = earlier.as_ref().and_then(|r| {
                             let weakening = match weakening_slot {
@@ -333,7 +340,7 @@ impl Study {
                             }
                             work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
                         } else {
-                            onsets.push((slot, weakening_slot, l));
+                            onsets.push((slot, weakening_slot, l, self.slip_law(row)));
                         }
                     }
                 }
@@ -373,10 +380,10 @@ impl Study {
                 earlier.map_or_else(Vec::new, |r| r.rows.into_iter().filter(|r| !keys.contains(&r.key)).collect());
             let pending = Pending { load, cold, facts, rows, keys: keys.clone(), kept: kept_rows, left: onsets.len() };
             chain.state.lock().expect("no panic holding it").pending.insert(k, pending);
-            for (slot, weakening_slot, l) in onsets {
+            for (slot, weakening_slot, l, slip) in onsets {
                 let key = keys[slot].clone();
                 let chain = Arc::clone(&chain);
-                let job = OnsetJob { cost: facts.contact_points, chain, k, l, key, slot, weakening_slot };
+                let job = OnsetJob { cost: facts.contact_points, chain, k, l, slip, key, slot, weakening_slot };
                 self.enqueue(scope, work, job);
             }
             self.flush(&chain, work)?;
@@ -433,9 +440,15 @@ impl Study {
         };
         let law = &self.laws[l];
         let law_label = super::law_name(law);
+        let slip = &job.slip;
+        // A band's onset names its d_c.
+        let dc = match slip.slip_distance() {
+            Some(d) if d > 0.0 && d != self.config.model.slip_distance.0 => format!(", d_c {}", show(d, &LENGTH)),
+            _ => String::new(),
+        };
         let failed = |e: Error| {
             Error::invalid(
-                format!("topography \"{}\" at {load} N: elastic sharing, law \"{law_label}\"", chain.label),
+                format!("topography \"{}\" at {load} N: elastic sharing{dc}, law \"{law_label}\"", chain.label),
                 e.to_string(),
             )
         };
@@ -452,9 +465,8 @@ impl Study {
             options,
         )
         .map_err(failed)?;
-        let slip = self.slip_law(l);
         let normal = solver.normal_force();
-        let onset = elastic_onset(&mut solver, &slip, PEAK_TOLERANCE, |p| {
+        let onset = elastic_onset(&mut solver, slip, PEAK_TOLERANCE, |p| {
             let answer = (work.progress)(Progress::Sliding {
                 topography: &chain.label,
                 load_n: load,
@@ -481,15 +493,15 @@ impl Study {
         };
         drop(solver);
         let seconds = start.elapsed().as_secs_f64();
-        let mut rows = vec![Row::elastic(&chain.name, load, &facts, law, &slip, &onset, seconds)];
+        let mut rows = vec![Row::elastic(&chain.name, load, &facts, law, slip, &onset, seconds)];
         if job.weakening_slot.is_some() {
             // Equal sharing under the same weakening: each element a spring–slider of the
             // contact's stuck stiffness shared equally.
             let area = chain.size.0 * chain.size.1 / (chain.shape.0 * chain.shape.1) as f64;
             let elements = ElementLoads::from_pressure(&pressure, area).map_err(failed)?;
             let stiffness = element_stiffness(onset.stuck_stiffness, elements.len());
-            let equal = spring_slider_onset(&elements, &slip, stiffness).map_err(failed)?;
-            rows.push(Row::equal_weakening(&chain.name, load, &facts, law, &slip, &equal));
+            let equal = spring_slider_onset(&elements, slip, stiffness).map_err(failed)?;
+            rows.push(Row::equal_weakening(&chain.name, load, &facts, law, slip, &equal));
         }
         rows.iter().try_for_each(Row::require_finite)?;
         output::write_json(&chain.solves.join(onset_name(&chain.stems[k], &job.key)), &rows)?;

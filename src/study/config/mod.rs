@@ -612,6 +612,60 @@ mod tests {
     }
 
     #[test]
+    fn the_band_of_slip_distances_brackets_d_c_and_needs_elastic_sharing() {
+        // Off by default, and left out of the study as run.
+        assert_eq!(StudyConfig::default_study().model.slip_distance_band, None);
+        assert!(StudyConfig::default_study().model.band().is_empty());
+        let elastic = "[model]\nsharing = [\"equal\", \"elastic\"]\n";
+        let c = StudyConfig::parse(elastic, "s.toml").unwrap();
+        assert!(!toml::to_string(&c).unwrap().contains("slip_distance_band"));
+        // Units as slip_distance takes them; reads back as itself.
+        let c = StudyConfig::parse(&format!("{elastic}slip_distance_band = [\"1 nm\", 5e-9]\n"), "s.toml").unwrap();
+        assert_eq!(c.model.slip_distance_band, Some(vec![Length(1e-9), Length(5e-9)]));
+        assert_eq!(c.model.band(), [1e-9, 5e-9]);
+        assert_eq!(StudyConfig::parse(&toml::to_string(&c).unwrap(), "s.toml").unwrap(), c);
+        let text = format!("{elastic}slip_distance = \"10 nm\"\nslip_distance_band = [\"5 nm\", \"0.02 µm\"]\n");
+        assert_eq!(StudyConfig::parse(&text, "s.toml").unwrap().model.band(), [5e-9, 2e-8]);
+
+        // Refused in one line at the key, with the reason.
+        let band = |b: &str| err(&format!("{elastic}slip_distance_band = {b}\n"));
+        let e = band("[\"3 nm\", \"5 nm\"]");
+        assert!(
+            e.starts_with(
+                "study.toml:3:1: model.slip_distance_band: [3 nm, 5 nm] does not bracket slip_distance = 2 nm"
+            ),
+            "{e}"
+        );
+        let e = band("[\"1 nm\", \"2 nm\"]");
+        assert!(e.contains("model.slip_distance_band: [1 nm, 2 nm] does not bracket"), "{e}");
+        let e = band("[\"5 nm\", \"1 nm\"]");
+        assert!(e.contains("does not bracket"), "{e}");
+        let e = band("[\"1 nm\"]");
+        assert!(
+            e.starts_with("study.toml:3:1: model.slip_distance_band: give two lengths, low and high, not 1"),
+            "{e}"
+        );
+        let e = band("[\"1 nm\", \"3 nm\", \"5 nm\"]");
+        assert!(e.contains("model.slip_distance_band: give two lengths, low and high, not 3"), "{e}");
+        let e = band("\"1 nm\"");
+        assert!(e.contains("model.slip_distance_band: invalid type"), "{e}");
+        let e = band("[\"1 mN\", \"5 nm\"]");
+        assert!(e.contains("model.slip_distance_band") && e.contains("'1 mN' is a force"), "{e}");
+        let e = band("[0, \"5 nm\"]");
+        assert!(e.contains("model.slip_distance_band[0]: 0 m is not a positive length"), "{e}");
+        let e = band("[\"1 nm\", \"5 m\"]");
+        assert!(e.starts_with("study.toml:3:") && e.contains("model.slip_distance_band[1]: "), "{e}");
+        // Without elastic sharing there is nothing to band, and d_c = 0 has no band around it.
+        let e = err("[model]\nslip_distance_band = [\"1 nm\", \"5 nm\"]\n");
+        assert!(e.starts_with("study.toml:2:1: model.slip_distance_band: a band of d_c needs elastic sharing"), "{e}");
+        let e = err(&format!("{elastic}slip_distance = 0\nslip_distance_band = [\"1 nm\", \"5 nm\"]\n"));
+        assert!(e.contains("does not bracket slip_distance = 0 m"), "{e}");
+        for e in [e, band("[\"1 nm\"]"), band("[\"5 nm\", \"1 nm\"]")] {
+            assert!(!e.contains('\n') && e.len() < 300, "{e}");
+        }
+    }
+
+    #[test]
     fn the_resolved_study_reads_back_as_itself() {
         let c = StudyConfig::default_study().quick().with_paths_from(Path::new("/data"));
         let text = toml::to_string(&c).unwrap();

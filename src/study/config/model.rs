@@ -1,5 +1,5 @@
 //! `[model]`: how the tangential force is shared among the contact elements ([`Sharing`]), and
-//! elastic sharing's slip weakening.
+//! elastic sharing's slip weakening with the band of slip-weakening distances around it.
 //!
 //! Of the study file it may import only `defaults`, `quantities`, `places` and `laws`; it must
 //! not import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`,
@@ -13,6 +13,7 @@ use super::quantities::Length;
 use crate::error::Result;
 use crate::friction::{slip_curve_file, Weakening, DEFAULT_SLIP_DISTANCE_M};
 use crate::plausible::{self, Spelling};
+use crate::quantity;
 
 /// How the tangential force is shared among the contact elements at the onset of sliding.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -49,11 +50,16 @@ pub struct ModelSpec {
     /// onset depends on the pixel). A `curve` law with its `curve_unit` follows its curve.
     #[serde(default = "default_slip_distance")]
     pub slip_distance: Length,
+    /// Two slip-weakening distances \[m], low < `slip_distance` < high: the models that weaken
+    /// over d_c (elastic sharing, equal sharing with the same weakening) are computed at each
+    /// end too, for laws without a measured curve. None: d_c alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slip_distance_band: Option<Vec<Length>>,
 }
 
 impl Default for ModelSpec {
     fn default() -> Self {
-        ModelSpec { sharing: equal_sharing(), slip_distance: default_slip_distance() }
+        ModelSpec { sharing: equal_sharing(), slip_distance: default_slip_distance(), slip_distance_band: None }
     }
 }
 
@@ -92,7 +98,39 @@ impl ModelSpec {
         plausible::slip_distance(dc, Spelling::StudyFile)
             .map(drop)
             .or_else(|r| at(&[key("model"), key("slip_distance")], r))?;
+        let Some(band) = &self.slip_distance_band else { return Ok(()) };
+        let path = [key("model"), key("slip_distance_band")];
+        if !sharing.contains(&Sharing::Elastic) {
+            return at(&path, "a band of d_c needs elastic sharing: add \"elastic\" to [model] sharing".into());
+        }
+        if band.len() != 2 {
+            return at(&path, format!("give two lengths, low and high, not {}", band.len()));
+        }
+        for (i, Length(d)) in band.iter().enumerate() {
+            let mut path = path.to_vec();
+            path.push(Segment::Index(i));
+            if !(*d > 0.0 && d.is_finite()) {
+                return at(&path, format!("{d} m is not a positive length"));
+            }
+            plausible::slip_distance(*d, Spelling::StudyFile).map(drop).or_else(|r| at(&path, r))?;
+        }
+        let (low, high) = (band[0].0, band[1].0);
+        if !(low < dc && dc < high) {
+            let show = |m: f64| quantity::show(m, &quantity::LENGTH);
+            let reason = format!(
+                "[{}, {}] does not bracket slip_distance = {}: give low < slip_distance < high",
+                show(low),
+                show(high),
+                show(dc)
+            );
+            return at(&path, reason);
+        }
         Ok(())
+    }
+
+    /// The slip-weakening distances \[m] the band adds, low then high (none without one).
+    pub fn band(&self) -> Vec<f64> {
+        self.slip_distance_band.iter().flatten().map(|l| l.0).collect()
     }
 }
 
