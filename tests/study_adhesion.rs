@@ -192,3 +192,28 @@ fn adding_adhesion_to_a_finished_study_resumes_its_solves() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(stderr.contains("0 solved, 4 resumed"), "{stderr}");
 }
+
+/// Elastic sharing on the adhesive solves: the tangential solver runs on each one's compressive
+/// map, its rows carry both drops with their relation, and the equal-sharing rows under the
+/// same weakening beside them.
+#[test]
+fn elastic_sharing_runs_on_the_adhesive_solves() {
+    let dir = tempfile::tempdir().unwrap();
+    let text =
+        study("periodic", ADHESION).replace("[output]", "[model]\nsharing = [\"equal\", \"elastic\"]\n\n[output]");
+    run(dir.path(), "study.toml", &text);
+    let rows = table(&dir.path().join("out/results.csv"));
+    // Per load: the paper's equal sharing, equal sharing under d_c, elastic sharing; with and
+    // without adhesion.
+    assert_eq!(rows.len(), 4 * 3 * 2);
+    let elastic: Vec<_> =
+        rows.iter().filter(|r| r["sharing"] == "elastic" && !r["adhesive_force_n"].is_empty()).collect();
+    assert_eq!(elastic.len(), 4);
+    for r in elastic {
+        let (load, na) = (number(r, "load_n"), number(r, "adhesive_force_n"));
+        let (drop, total) = (number(r, "friction_drop"), number(r, "friction_drop_total_load"));
+        assert!((total / (drop * load / (load + na)) - 1.0).abs() < 1e-12, "{load} N");
+        // Any interface's drop over the force its elements carry lies between 1 and μ_s/μ_d.
+        assert!(total > 1.0 && total <= 0.6 / 0.4 + 1e-9, "{load} N: {total}");
+    }
+}
