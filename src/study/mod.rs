@@ -397,23 +397,21 @@ impl SolveFacts {
 
     /// The facts of a solve from its contact statistics and the solver's report.
     pub fn new(summary: &ContactSummary, report: &SolveReport) -> SolveFacts {
-        SolveFacts {
-            plastic: report.hardness.is_some(),
-            contact_points: summary.contact_points,
-            patches: summary.patch_sizes.len(),
-            contact_fraction: summary.contact_fraction,
-            max_pressure_pa: summary.max_pressure,
-            edge_load_fraction: summary.edge_load_fraction,
-            load_above_hardness_fraction: summary.load_above_hardness_fraction,
-            iterations: report.iterations,
-            seconds: report.seconds,
-            adhesive_force_n: None,
-        }
+        SolveFacts { plastic: report.hardness.is_some(), ..SolveFacts::of(summary, report.iterations, report.seconds) }
     }
 
     /// The facts of an adhesive solve from the statistics of its compressive pressure and the
     /// solver's report.
     pub fn adhesive(summary: &ContactSummary, report: &AdhesiveReport) -> SolveFacts {
+        SolveFacts {
+            adhesive_force_n: Some(report.adhesive_force),
+            ..SolveFacts::of(summary, report.iterations, report.seconds)
+        }
+    }
+
+    /// The facts of an elastic solve without adhesion from its statistics, its iterations and
+    /// its time \[s].
+    fn of(summary: &ContactSummary, iterations: usize, seconds: f64) -> SolveFacts {
         SolveFacts {
             plastic: false,
             contact_points: summary.contact_points,
@@ -422,9 +420,9 @@ impl SolveFacts {
             max_pressure_pa: summary.max_pressure,
             edge_load_fraction: summary.edge_load_fraction,
             load_above_hardness_fraction: summary.load_above_hardness_fraction,
-            iterations: report.iterations,
-            seconds: report.seconds,
-            adhesive_force_n: Some(report.adhesive_force),
+            iterations,
+            seconds,
+            adhesive_force_n: None,
         }
     }
 }
