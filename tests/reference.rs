@@ -207,13 +207,14 @@ fn studies(table: &str, entry: &str) -> Vec<String> {
         ],
         "crop" => vec![format!("{measured}crop = {{ x = [0, 1e-6], y = [0, 1e-6]{inline} }}\n")],
         "material" | "contact" | "loads" | "model" | "output" | "limits" => vec![format!("[{table}]\n{line}")],
+        "adhesion" => vec![format!("[contact]\nadhesion = {{ work = \"50 mJ/m2\", range = \"1 nm\"{inline} }}\n")],
         "law" => vec![format!("[[law]]\npreset = \"hold 100 s\"\n{line}")],
         other => panic!("docs/study.md has a key table `{other}` this test does not know: add it to `studies`"),
     }
 }
 
 /// Every table docs/study.md must have.
-const TABLES: [&str; 13] = [
+const TABLES: [&str; 14] = [
     "sections",
     "topography",
     "synthetic",
@@ -222,6 +223,7 @@ const TABLES: [&str; 13] = [
     "crop",
     "material",
     "contact",
+    "adhesion",
     "loads",
     "law",
     "model",

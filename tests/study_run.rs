@@ -93,6 +93,7 @@ fn direct_rows() -> Vec<Row> {
                 load_above_hardness_fraction: None,
                 iterations: report.iterations,
                 seconds: 0.0,
+                adhesive_force_n: None,
             };
             let p = Array2::from_shape_vec((64, 64), solver.pressure().to_vec()).unwrap();
             let elements = ElementLoads::from_pressure(&p, (size.0 / 64.0) * (size.1 / 64.0)).unwrap();

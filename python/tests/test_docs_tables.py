@@ -75,6 +75,8 @@ def row(load, topography, law, drop, points, sharing="equal"):
         "seconds": 0.01,
         "slide_iterations": None,
         "slide_seconds": None,
+        "adhesive_force_n": None,
+        "friction_drop_total_load": None,
     }
 
 

@@ -212,7 +212,11 @@ pub fn run(args: RunArgs) -> Result<()> {
     let seconds = start.elapsed().as_secs_f64();
     let (topographies, loads) = (study.topographies().len(), study.loads().len());
     // What the solves are: the topographies, in each kind of solve, and their coarser copies.
-    let kinds = if study.config().contact.plastic.modes().len() > 1 { ", each elastic and plastic," } else { "" };
+    let kinds = match (study.config().contact.plastic.modes().len() > 1, study.config().contact.adhesion.is_some()) {
+        (true, _) => ", each elastic and plastic,",
+        (false, true) => ", each with and without adhesion,",
+        (false, false) => "",
+    };
     let topographies = match topographies {
         1 => "1 topography".to_string(),
         n => format!("{n} topographies"),

@@ -12,9 +12,10 @@ use super::series::{Marker, Series};
 use super::shared::{by_load, signed, spread, FigureInput, LOAD_COLOURS};
 use super::style;
 use super::ticks::tick_label;
+use crate::contact::CohesiveLaw;
 use crate::friction::{ElementLoads, FrictionLaw, Onset};
 use crate::plausible::MAX_FRICTION_COEFFICIENT;
-use crate::quantity::{show, FORCE, LENGTH};
+use crate::quantity::{show, FORCE, LENGTH, PRESSURE, SURFACE_ENERGY};
 use crate::shs::ShsPoint;
 use crate::study::adhesion::{AdhesionLimit, ADHESION_SHARE};
 use crate::study::{law_name, ResolutionRow, Row, Sharing, COARSENING};
@@ -90,14 +91,91 @@ pub(super) fn adhesion_sentence(limit: &AdhesionLimit) -> String {
         "Below N = {} (shaded grey) a non-adhesive model does not describe the contact: there the DMT pull-off \
          force 2πRw of a single contacting summit, {} for a work of adhesion w = {} J/m² (assumed: of the order of a \
          water film's capillary adhesion on silicon oxide) and a summit radius R = {} (1/κ, κ the RMS mean \
-         curvature of the topography; the largest over the topographies), exceeds {}% of the load, and the study \
-         solves no adhesion.",
+         curvature of the topography; the largest over the topographies), exceeds {}% of the load, which a solve \
+         without adhesion leaves out.",
         show(estimate(limit.load_n), &FORCE),
         show(estimate(limit.pull_off_n), &FORCE),
         tick_label(&limit.work_of_adhesion),
         show(estimate(limit.summit_radius_m), &LENGTH),
         tick_label(&(ADHESION_SHARE * 100.0))
     )
+}
+
+/// Adhesion moves the drop by more than this fraction below the load the report states.
+pub(super) const ADHESION_MOVES: f64 = 0.01;
+
+/// Where adhesion moves the mean drop of a law by more than [`ADHESION_MOVES`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum AdhesionReach {
+    /// At no load of the study.
+    Nowhere,
+    /// Below this load \[N]: where the relative difference of the mean drops with and without
+    /// adhesion, linear in log load between the study's loads, last falls through the
+    /// threshold going up in load.
+    Below(f64),
+    /// At every load up to the study's highest.
+    Everywhere,
+}
+
+/// Where adhesion moves the mean drop (over the applied load, over the topographies) by more
+/// than [`ADHESION_MOVES`]: from the curves without (`plain`) and with adhesion (`adhesive`),
+/// (load \[N], mean drop) in increasing load, compared at the loads both have.
+pub(super) fn adhesion_reach(plain: &[(f64, f64)], adhesive: &[(f64, f64)]) -> AdhesionReach {
+    let excess: Vec<(f64, f64)> = adhesive
+        .iter()
+        .filter_map(|&(load, with)| {
+            let without = plain.iter().find(|p| (p.0 / load - 1.0).abs() < 1e-9)?.1;
+            Some((load, (with / without - 1.0).abs() - ADHESION_MOVES))
+        })
+        .collect();
+    match excess.iter().rposition(|e| e.1 > 0.0) {
+        None => AdhesionReach::Nowhere,
+        Some(k) if k + 1 == excess.len() => AdhesionReach::Everywhere,
+        Some(k) => {
+            let ((l0, d0), (l1, d1)) = (excess[k], excess[k + 1]);
+            let t = d0 / (d0 - d1);
+            AdhesionReach::Below((l0.ln() + t * (l1.ln() - l0.ln())).exp())
+        }
+    }
+}
+
+/// The cohesive law of the adhesive solves and, per law, where adhesion moves the mean drop by
+/// more than [`ADHESION_MOVES`], as a phrase for the report and the caption; `None` without
+/// adhesive rows.
+pub(super) fn adhesion_solved(input: &FigureInput) -> Option<String> {
+    let law = input.cohesive_law.filter(|_| !input.adhesive_rows.is_empty())?;
+    let cohesive = match law {
+        CohesiveLaw::Maugis { work, stress } => format!(
+            "the Maugis–Dugdale law, w = {}, σ₀ = {}, h₀ = {}",
+            show(work, &SURFACE_ENERGY),
+            show(stress, &PRESSURE),
+            show(law.range(), &LENGTH)
+        ),
+        CohesiveLaw::Exponential { work, range } => {
+            format!("the exponential law, w = {}, ρ = {}", show(work, &SURFACE_ENERGY), show(range, &LENGTH))
+        }
+    };
+    let mean = |rows: &[Row], name: &str| -> Vec<(f64, f64)> {
+        by_load(rows, name).iter().map(|g| (g.0, spread(g.1.iter().map(|r| r.friction_drop)).1)).collect()
+    };
+    let reach: Vec<String> = input
+        .laws
+        .iter()
+        .map(|law| {
+            let name = law_name(law);
+            let found = match adhesion_reach(&mean(input.rows, &name), &mean(input.adhesive_rows, &name)) {
+                AdhesionReach::Nowhere => "none in the range".to_string(),
+                AdhesionReach::Below(load) => format!("below N = {}", show(estimate(load), &FORCE)),
+                AdhesionReach::Everywhere => "at every load of the range".to_string(),
+            };
+            format!("\"{name}\": {found}")
+        })
+        .collect();
+    Some(format!(
+        "{cohesive}; adhesion moves the mean drop over the applied load by more than {}% — {}",
+        tick_label(&(ADHESION_MOVES * 100.0)),
+        reach.join("; ")
+    ))
 }
 
 /// `x` to the two significant digits an order-of-magnitude estimate has.
@@ -190,6 +268,30 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
             levels.extend(means.iter().map(|m| m.1));
             series.push(Series::line(means, colour).width(1).dashed().label(format!("{name}: model, on {other}")));
         }
+        let adhesive = by_load(input.adhesive_rows, &name);
+        if !adhesive.is_empty() {
+            // The same solves with adhesion: the drop over the applied load and over the total
+            // normal force (the paper's AFM definition), each the mean over the topographies.
+            let mean = |value: fn(&Row) -> f64| -> Vec<(f64, f64)> {
+                adhesive.iter().map(|g| (g.0 * 1e3, spread(g.1.iter().map(|r| value(r))).1)).collect()
+            };
+            let (applied, total) =
+                (mean(|r| r.friction_drop), mean(|r| r.friction_drop_total_load.unwrap_or(f64::NAN)));
+            levels.extend(applied.iter().chain(&total).map(|p| p.1));
+            series.push(
+                Series::line(applied.clone(), colour)
+                    .width(3)
+                    .dashed()
+                    .label(format!("{name}: with adhesion, F_S/(μ^D N)")),
+            );
+            series.push(Series::scatter(applied, Marker::Triangle, colour).hollow());
+            series.push(
+                Series::line(total.clone(), colour)
+                    .width(1)
+                    .label(format!("{name}: with adhesion, F_S/(μ^D (N + N_a))")),
+            );
+            series.push(Series::scatter(total, Marker::Square, colour).hollow());
+        }
         let limit = law.drop();
         levels.push(limit);
         series.push(single_element_line(input.rows, &name, limit, (x0, x1), colour));
@@ -261,15 +363,27 @@ pub(super) fn friction_drop(input: &FigureInput) -> Option<(Figure, String)> {
         ),
         None => String::new(),
     };
+    let adhesive = match adhesion_solved(input) {
+        Some(found) => format!(
+            " The band and its line are the solves without adhesion. With adhesion ({found}), the thick dashed line \
+             with triangles is the mean drop over the applied load, F_S/(μ_d N), and the thin line with squares the \
+             mean over the total normal force, F_S/(μ_d (N + N_a)) with N_a the adhesive force (the paper's AFM \
+             definition); the friction model sees the compressive pressure only."
+        ),
+        None => String::new(),
+    };
     let caption = format!(
         "The friction drop F_S/(μ_d N) as a function of normal load (the paper's Fig. 2): per friction law, the \
          shaded band spans the values over the {topographies} topograph{}{modulus}, the line is the mean over the \
          topographies, and the dotted line is the single-element value μ_s/μ_d, drawn below the lowest load carried \
-         by more than one element.{counterface}{experiments} Short ticks along the top mark the loads of the p(σ) \
-         figure ({}), coloured as its curves.{}",
+         by more than one element.{adhesive}{counterface}{experiments} Short ticks along the top mark the loads of \
+         the p(σ) figure ({}), coloured as its curves.{}",
         if topographies == 1 { "y" } else { "ies" },
         marked.join(", "),
-        input.adhesion.map_or(String::new(), |a| format!(" {}", adhesion_sentence(&a)))
+        input.adhesion.map_or(String::new(), |a| {
+            let curve = if input.adhesive_rows.is_empty() { "" } else { " (for the solves without adhesion)" };
+            format!(" {}{curve}", adhesion_sentence(&a))
+        })
     );
     Some((Figure::new(panel).with_size(1800, 850), caption))
 }
@@ -785,6 +899,18 @@ fn single_element_line(rows: &[Row], name: &str, limit: f64, (x0, x1): (f64, f64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The 1 % crossing of the two curves, linear in log load: 3 % at 1 mN and 0 % at 100 mN
+    /// cross at 2/3 of the way, 10^(−3 + 4/3) N; none and every load are told apart.
+    #[test]
+    fn adhesion_reach_interpolates_in_log_load() {
+        let plain = [(1e-3, 1.0), (1e-1, 1.0)];
+        let reach = adhesion_reach(&plain, &[(1e-3, 1.03), (1e-1, 1.0)]);
+        let AdhesionReach::Below(load) = reach else { panic!("{reach:?}") };
+        assert!((load / 10f64.powf(-3.0 + 4.0 / 3.0) - 1.0).abs() < 1e-12, "{load}");
+        assert_eq!(adhesion_reach(&plain, &[(1e-3, 1.009), (1e-1, 0.995)]), AdhesionReach::Nowhere);
+        assert_eq!(adhesion_reach(&plain, &[(1e-3, 1.2), (1e-1, 0.98)]), AdhesionReach::Everywhere);
+    }
 
     #[test]
     fn interpolation_is_linear_in_log_load() {

@@ -85,13 +85,17 @@ pub(super) fn write(path: &Path, input: &FigureInput, drawn: &[Drawn]) -> Result
         if input.topographies.len() == 1 { "y" } else { "ies" },
         input.laws.len(),
         if input.laws.len() == 1 { "" } else { "s" },
-        input.rows.len() + input.elastic_rows.len(),
+        input.rows.len() + input.elastic_rows.len() + input.adhesive_rows.len(),
         crate::VERSION,
         escape(crate::COMMIT)
     );
 
     if let Some(limit) = &input.adhesion {
         let _ = writeln!(w, "<p class=\"adhesion\">{}</p>", escape(&super::coefficients::adhesion_sentence(limit)));
+    }
+    if let Some(found) = super::coefficients::adhesion_solved(input) {
+        let sentence = format!("Every topography is also solved with adhesion, {found}.");
+        let _ = writeln!(w, "<p class=\"adhesion-solved\">{}</p>", escape(&sentence));
     }
 
     // Plausibility first: a result a physicist knows is doubtful says so before any figure.

@@ -4,6 +4,7 @@
 //!
 //! Must not import report: plot draws what study, friction, contact and shs hand it.
 
+use crate::contact::CohesiveLaw;
 use crate::friction::FrictionLaw;
 use crate::shs::ShsPoint;
 use crate::study::adhesion::AdhesionLimit;
@@ -23,6 +24,10 @@ pub struct FigureInput<'a> {
     /// The rows at the ends of the band of d_c: equal sharing under the weakening and elastic
     /// sharing (empty without a band).
     pub band_rows: &'a [Row],
+    /// The result rows of the adhesive solves under equal sharing (empty without adhesion).
+    pub adhesive_rows: &'a [Row],
+    /// The cohesive law of the adhesive solves, if any.
+    pub cohesive_law: Option<CohesiveLaw>,
     /// Topography names, in the study's order.
     pub topographies: &'a [String],
     /// Friction laws, in the study's order; maps, curves and movies use the first.
@@ -72,6 +77,8 @@ impl<'a> FigureInput<'a> {
             weakening_rows: &records.weakening_rows,
             elastic_rows: &records.elastic_rows,
             band_rows: &records.band_rows,
+            adhesive_rows: &records.adhesive_rows,
+            cohesive_law: records.cohesive_law,
             topographies: &records.topographies,
             laws: &records.laws,
             hold_times: &records.hold_times,

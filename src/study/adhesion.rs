@@ -1,7 +1,7 @@
 //! Where the study's non-adhesive model stops holding: the loads at which the pull-off force
-//! of a single contacting summit is no longer small beside the load. The study solves
-//! non-adhesive contacts; `asperity contact --adhesion-work` solves adhesive ones but the study
-//! does not use it, so its figures and report mark this range instead.
+//! of a single contacting summit is no longer small beside the load. The figures and the report
+//! mark this range for the solves without adhesion, whether or not `[contact] adhesion` solves
+//! the adhesive contact beside them.
 //!
 //! Must not import plot, report, cli or python.
 

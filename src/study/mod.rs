@@ -22,7 +22,7 @@ use std::path::Path;
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
-use crate::contact::{ContactSummary, SolveReport};
+use crate::contact::{AdhesiveReport, ContactSummary, SolveReport};
 use crate::error::{Error, Result};
 use crate::friction::{ClassShare, ElasticOnset, FrictionLaw, Onset, SlipLaw, WeakeningOnset};
 
@@ -137,6 +137,16 @@ pub struct Row {
     /// Elastic sharing only: the path's wall-clock time \[s].
     #[serde(default)]
     pub slide_seconds: Option<f64>,
+    /// With adhesion only: the adhesive force N_a = N_c − N \[N] of the solve, N_c the
+    /// compressive force the friction model's elements carry. Then `friction_drop` and
+    /// `static_coefficient` are over the applied load N, and the class fractions of N are
+    /// fractions of N_c.
+    #[serde(default)]
+    pub adhesive_force_n: Option<f64>,
+    /// With adhesion only: the paper's AFM definition F_S/(μ_d (N + N_a)), over the total
+    /// normal force (applied load and adhesion force).
+    #[serde(default)]
+    pub friction_drop_total_load: Option<f64>,
 }
 
 impl Row {
@@ -162,19 +172,27 @@ impl Row {
         Row::of(topography, load_n, solve, law, (Sharing::Equal, slip.slip_distance()), model, shares)
     }
 
+    /// Whether the row comes from an adhesive solve.
+    pub fn adhesive(&self) -> bool {
+        self.adhesive_force_n.is_some()
+    }
+
     /// Whether the row is the paper's model: equal sharing with the instant drop.
     pub fn papers(&self) -> bool {
         self.sharing == Sharing::Equal && self.slip_distance_m == Some(0.0)
     }
 
-    /// The row's model as a label: its sharing and, unless instant, its weakening ("equal
-    /// sharing", "elastic sharing, d_c 2 nm").
+    /// The row's model as a label: its sharing, unless instant its weakening, and adhesion
+    /// ("equal sharing", "elastic sharing, d_c 2 nm", "equal sharing, adhesive").
     pub fn model(&self) -> String {
         let sharing = self.sharing.name();
+        let adhesion = if self.adhesive() { ", adhesive" } else { "" };
         match self.slip_distance_m {
-            Some(d) if d == 0.0 => format!("{sharing} sharing"),
-            Some(d) => format!("{sharing} sharing, d_c {}", crate::quantity::show(d, &crate::quantity::LENGTH)),
-            None => format!("{sharing} sharing, measured curve"),
+            Some(d) if d == 0.0 => format!("{sharing} sharing{adhesion}"),
+            Some(d) => {
+                format!("{sharing} sharing, d_c {}{adhesion}", crate::quantity::show(d, &crate::quantity::LENGTH))
+            }
+            None => format!("{sharing} sharing, measured curve{adhesion}"),
         }
     }
 
@@ -210,7 +228,10 @@ impl Row {
     }
 
     /// A row from the solve's facts, the model's (static coefficient, dynamic coefficient,
-    /// friction drop) and its critical, pre-sliding and subcritical shares.
+    /// friction drop) over the normal force its elements carry, and its critical, pre-sliding
+    /// and subcritical shares. With adhesion the elements carry N_c = N + N_a: the model's drop
+    /// is the paper's AFM definition, and the drop and static coefficient over the applied
+    /// load N are it times N_c/N.
     fn of(
         topography: &str,
         load_n: f64,
@@ -220,6 +241,7 @@ impl Row {
         (static_coefficient, dynamic_coefficient, friction_drop): (f64, f64, f64),
         [critical, pre_sliding, subcritical]: [&ClassShare; 3],
     ) -> Row {
+        let total = solve.adhesive_force_n.map(|a| (load_n + a) / load_n).unwrap_or(1.0);
         Row {
             load_n,
             topography: topography.to_string(),
@@ -235,9 +257,9 @@ impl Row {
             max_pressure_pa: solve.max_pressure_pa,
             edge_load_fraction: solve.edge_load_fraction,
             load_above_hardness_fraction: solve.load_above_hardness_fraction,
-            static_coefficient,
+            static_coefficient: static_coefficient * total,
             dynamic_coefficient,
-            friction_drop,
+            friction_drop: friction_drop * total,
             critical_count: critical.count,
             critical_normal_fraction: critical.normal_fraction,
             critical_friction_fraction: critical.friction_fraction,
@@ -254,6 +276,8 @@ impl Row {
             seconds: solve.seconds,
             slide_iterations: None,
             slide_seconds: None,
+            adhesive_force_n: solve.adhesive_force_n,
+            friction_drop_total_load: solve.adhesive_force_n.map(|_| friction_drop),
         }
     }
 
@@ -281,6 +305,8 @@ impl Row {
             ("load_above_hardness_fraction", self.load_above_hardness_fraction.unwrap_or(0.0)),
             ("seconds", self.seconds),
             ("slide_seconds", self.slide_seconds.unwrap_or(0.0)),
+            ("adhesive_force_n", self.adhesive_force_n.unwrap_or(0.0)),
+            ("friction_drop_total_load", self.friction_drop_total_load.unwrap_or(0.0)),
         ];
         let at = format!("topography \"{}\" at {:e} N, law \"{}\"", self.topography, self.load_n, self.law);
         match numbers.iter().find(|(_, v)| !v.is_finite()) {
@@ -347,6 +373,9 @@ pub struct SolveFacts {
     pub iterations: usize,
     /// Wall-clock time of the solve \[s].
     pub seconds: f64,
+    /// With adhesion: the adhesive force N_a = N_c − N \[N] (absent without).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adhesive_force_n: Option<f64>,
 }
 
 impl SolveFacts {
@@ -358,6 +387,7 @@ impl SolveFacts {
             ("edge_load_fraction", self.edge_load_fraction),
             ("load_above_hardness_fraction", self.load_above_hardness_fraction.unwrap_or(0.0)),
             ("seconds", self.seconds),
+            ("adhesive_force_n", self.adhesive_force_n.unwrap_or(0.0)),
         ];
         match numbers.iter().find(|(_, v)| !v.is_finite()) {
             Some((name, v)) => Err(Error::invalid("contact solve", format!("{name} is {v}: not recorded"))),
@@ -367,16 +397,32 @@ impl SolveFacts {
 
     /// The facts of a solve from its contact statistics and the solver's report.
     pub fn new(summary: &ContactSummary, report: &SolveReport) -> SolveFacts {
+        SolveFacts { plastic: report.hardness.is_some(), ..SolveFacts::of(summary, report.iterations, report.seconds) }
+    }
+
+    /// The facts of an adhesive solve from the statistics of its compressive pressure and the
+    /// solver's report.
+    pub fn adhesive(summary: &ContactSummary, report: &AdhesiveReport) -> SolveFacts {
         SolveFacts {
-            plastic: report.hardness.is_some(),
+            adhesive_force_n: Some(report.adhesive_force),
+            ..SolveFacts::of(summary, report.iterations, report.seconds)
+        }
+    }
+
+    /// The facts of an elastic solve without adhesion from its statistics, its iterations and
+    /// its time \[s].
+    fn of(summary: &ContactSummary, iterations: usize, seconds: f64) -> SolveFacts {
+        SolveFacts {
+            plastic: false,
             contact_points: summary.contact_points,
             patches: summary.patch_sizes.len(),
             contact_fraction: summary.contact_fraction,
             max_pressure_pa: summary.max_pressure,
             edge_load_fraction: summary.edge_load_fraction,
             load_above_hardness_fraction: summary.load_above_hardness_fraction,
-            iterations: report.iterations,
-            seconds: report.seconds,
+            iterations,
+            seconds,
+            adhesive_force_n: None,
         }
     }
 }
@@ -551,6 +597,11 @@ pub struct Records {
     /// The rows at the ends of the band of d_c: equal sharing under the weakening and elastic
     /// sharing (empty without a band).
     pub band_rows: Vec<Row>,
+    /// The result rows of the adhesive solves under equal sharing (the paper's model; empty
+    /// without `contact.adhesion`); the rows above are the solves without adhesion.
+    pub adhesive_rows: Vec<Row>,
+    /// The cohesive law of the adhesive solves, if any.
+    pub cohesive_law: Option<crate::contact::CohesiveLaw>,
     /// Topography names, in the study's order.
     pub topographies: Vec<String>,
     /// Friction laws, in the study's order; maps, curves and movies use the first.
@@ -610,6 +661,7 @@ mod tests {
             load_above_hardness_fraction: None,
             iterations: 3,
             seconds: 0.1,
+            adhesive_force_n: None,
         };
         let row = Row::new("ball", 1e-3, &facts, &onset);
         assert!(row.require_finite().is_ok() && facts.require_finite().is_ok());

@@ -10,6 +10,7 @@
 use super::config::{Counterface, StudyConfig};
 use super::shard::{self, Piece, Shard};
 use super::{Sharing, FIGURE_LOADS_N};
+use crate::contact::CohesiveLaw;
 use crate::friction::{FrictionLaw, SlipLaw, Weakening};
 use crate::quantity::{show, PRESSURE};
 use crate::topography::Topography;
@@ -50,11 +51,42 @@ pub(super) struct Slot {
     pub(super) slip_distance: Option<f64>,
 }
 
+/// An adhesive solve costs about this many non-adhesive ones of its grid (docs/adhesion.md,
+/// "Cost"): the weight of its points in the time left and in the shards' shares.
+const ADHESIVE_COST: usize = 25;
+
 impl Study {
-    /// How many sweeps the study runs: one per topography, and for the resolution figure one
-    /// per topography and coarsening.
-    fn units(&self) -> usize {
-        self.topographies.len() + self.coarse.len()
+    /// How many sweeps the study runs: one per topography, for the resolution figure one per
+    /// topography and coarsening, and with adhesion one more per topography (the adhesive
+    /// solves, after the coarser copies).
+    pub(super) fn units(&self) -> usize {
+        let adhesive = if self.config.contact.adhesion.is_some() { self.topographies.len() } else { 0 };
+        self.topographies.len() + self.coarse.len() + adhesive
+    }
+
+    /// Whether sweep `u` solves with adhesion.
+    pub(super) fn adhesive(&self, u: usize) -> bool {
+        u >= self.topographies.len() + self.coarse.len()
+    }
+
+    /// The index of sweep `u`'s topography as built among [`Study::digests`]'s: an adhesive
+    /// sweep solves its topography's.
+    pub(super) fn built(&self, u: usize) -> usize {
+        if self.adhesive(u) {
+            u - self.topographies.len() - self.coarse.len()
+        } else {
+            u
+        }
+    }
+
+    /// The cohesive law of the adhesive sweeps, if the study has them.
+    pub(super) fn cohesive_law(&self) -> Option<CohesiveLaw> {
+        self.config.contact.adhesion.as_ref().map(|a| a.cohesive_law().expect("checked with the study file"))
+    }
+
+    /// Sweep `u`'s grid points, weighted by the cost of its kind of solve.
+    fn weighted_points(&self, u: usize) -> usize {
+        self.unit(u).2.heights.len() * if self.adhesive(u) { ADHESIVE_COST } else { 1 }
     }
 
     /// Sweep `u`'s name in progress reports, folder under `solves/`, topography, and the name
@@ -64,6 +96,10 @@ impl Study {
             None => {
                 let (name, topo) = &self.topographies[u];
                 (name.clone(), name.clone(), topo, name)
+            }
+            Some(_) if self.adhesive(u) => {
+                let (name, topo) = &self.topographies[self.built(u)];
+                (format!("{name} (adhesive)"), format!("{name}/adhesive"), topo, name)
             }
             Some(c) => {
                 let (t, factor, topo) = &self.coarse[c];
@@ -94,7 +130,7 @@ impl Study {
     pub(super) fn solve_work(&self, u: usize, k: usize) -> u64 {
         let lowest = self.loads.iter().copied().fold(f64::INFINITY, f64::min);
         let decades = (self.loads[k] / lowest).log10().max(0.0);
-        (self.unit(u).2.heights.len() as f64 * (1.0 + decades)).round() as u64
+        (self.weighted_points(u) as f64 * (1.0 + decades)).round() as u64
     }
 
     /// The other counterface of the friction-drop figure: the same material when the study's
@@ -120,24 +156,28 @@ impl Study {
     /// This run's pieces of work ([`shard::assign`]): every sweep's whole chain, or a shard's
     /// share. Indices into [`Study::sweeps`].
     pub(super) fn pieces(&self) -> Vec<Piece> {
-        let points: Vec<usize> = self.sweeps().iter().map(|&(u, _)| self.unit(u).2.heights.len()).collect();
+        let points: Vec<usize> = self.sweeps().iter().map(|&(u, _)| self.weighted_points(u)).collect();
         let shard = self.shard.unwrap_or(Shard { index: 1, count: 1 });
         shard::assign(&points, self.loads.len(), shard.count).swap_remove(shard.index - 1)
     }
 
     /// The sweeps of the run, (unit, plastic): every topography in each kind of solve listed,
-    /// the coarser copies of the resolution figure in the first kind only.
+    /// then the adhesive ones (elastic: the study file refuses adhesion with a plastic solve),
+    /// then the coarser copies of the resolution figure in the first kind only: the costly
+    /// sweeps first, the cheap ones filling in at the end.
     pub(super) fn sweeps(&self) -> Vec<(usize, bool)> {
         let modes = self.config.contact.plastic.modes();
         let main =
             (0..self.topographies.len()).flat_map(|t| modes.clone().into_iter().map(move |plastic| (t, plastic)));
-        main.chain((self.topographies.len()..self.units()).map(|u| (u, modes[0]))).collect()
+        let (adhesive, coarse): (Vec<usize>, Vec<usize>) =
+            (self.topographies.len()..self.units()).partition(|&u| self.adhesive(u));
+        main.chain(adhesive.into_iter().chain(coarse).map(|u| (u, modes[0]))).collect()
     }
 
     /// The sharings of sweep `u`'s rows: the study's, or for a coarser copy of the resolution
     /// figure equal sharing only.
     pub(super) fn sharings(&self, u: usize) -> &[Sharing] {
-        if u < self.topographies.len() {
+        if u < self.topographies.len() || self.adhesive(u) {
             &self.config.model.sharing
         } else {
             &[Sharing::Equal]
@@ -211,9 +251,9 @@ impl Study {
     }
 
     /// Whether the study keeps every full pressure map of sweep `u`'s solves: a topography's,
-    /// when `output.pressure_maps` asks.
+    /// adhesive or not, when `output.pressure_maps` asks.
     pub(super) fn keeps_maps(&self, u: usize) -> bool {
-        self.config.output.pressure_maps && u < self.topographies.len()
+        self.config.output.pressure_maps && (u < self.topographies.len() || self.adhesive(u))
     }
 
     /// Whether the figures' snapshots come from sweep `u`, elastic or `plastic`: the first

@@ -375,7 +375,8 @@ impl Study {
     /// The stem of the names of sweep `u`'s solve at load `k`, elastic or `plastic`: its load
     /// and a digest of its identity, `<load>N-<digest>` (e.g. `1e-3N-0123456789abcdef`). The
     /// identity is what the solve depends on: its topography as built ([`heights_digest`]),
-    /// the material, the contact settings and the kind of solve, the load [N], and the
+    /// the material, the contact settings (the cohesive law for an adhesive sweep only) and the
+    /// kind of solve, the load [N], and the
     /// asperity that computes it (whose solvers' own settings its rows depend on too); not the
     /// other loads, laws or outputs of the study, so that a study that changes those finds it.
     pub(super) fn stem(&self, u: usize, plastic: bool, k: usize) -> String {
@@ -384,9 +385,13 @@ impl Study {
         material.youngs_uncertainty = None;
         let mut contact = self.config.contact.clone();
         contact.plastic = Plastic::One(plastic);
+        // A solve without adhesion keeps the identity it had in a study without the key.
+        if !self.adhesive(u) {
+            contact.adhesion = None;
+        }
         let identity = serde_json::json!({
             "asperity": env!("CARGO_PKG_VERSION"),
-            "heights": self.digests[u],
+            "heights": self.digests[self.built(u)],
             "material": material,
             "contact": contact,
             "load_n": self.loads[k],
@@ -421,9 +426,11 @@ impl Study {
     }
 
     /// The folder of the full pressure maps of sweep `u`, elastic or `plastic`, that
-    /// `output.pressure_maps` keeps, `<stem>.npy` each: `pressure/<topography>/`.
+    /// `output.pressure_maps` keeps, `<stem>.npy` each: `pressure/<topography>/` (an adhesive
+    /// sweep's compressive pressure in its `adhesive/`).
     pub(super) fn maps_dir(&self, dir: &Path, u: usize, plastic: bool) -> PathBuf {
-        plastic_dir(dir.join("pressure").join(self.unit(u).3), plastic)
+        let maps = dir.join("pressure").join(self.unit(u).3);
+        plastic_dir(if self.adhesive(u) { maps.join("adhesive") } else { maps }, plastic)
     }
 
     /// The record of the solve named `stem` in `solves` at `load` [N], if one is there.

@@ -10,7 +10,9 @@
 //! - `study.toml`: the study as run (paths absolute, loads explicit);
 //! - `results.csv`, `results.json`: one [`Row`] per topography × solve (elastic, plastic, as
 //!   `contact.plastic` lists them) × sharing (as `model.sharing` lists them) × law × load, in
-//!   that order, the rows at the ends of `model.slip_distance_band` last;
+//!   that order, the rows at the ends of `model.slip_distance_band` last; then with
+//!   `contact.adhesion` the same for the adhesive solves (their `adhesive_force_n` set; records
+//!   in `solves/topographies/<topography>/adhesive/`);
 //! - `resolution.csv`: with the resolution figure, the friction drop of every topography × law
 //!   × load at the study's pixel size and [`COARSENING`] times coarser ([`ResolutionRow`]);
 //! - `snapshots/<topography>-<stem>.npy|json`: [`MapSnapshot`]s of the first topography at
@@ -375,8 +377,10 @@ impl Study {
         let results = Lock::acquire(&dir.join(SOLVES).join(RESULTS_LOCK), Access::Exclusive, true)?;
         output::remove_stale_temporaries(dir)?;
         output::remove_stale_temporaries(&dir.join("figures"))?;
-        let rows = self.rows(dir, 0..self.topographies.len())?;
+        let mut rows = self.rows(dir, 0..self.topographies.len())?;
         let resolution = self.resolution_rows(dir, &rows)?;
+        // The adhesive solves' rows after the others (their sweeps follow the coarser copies).
+        rows.extend(self.rows(dir, self.topographies.len() + self.coarse.len()..self.units())?);
         if !resolution.is_empty() {
             output::write_atomic(&dir.join("resolution.csv"), |w| {
                 let mut csv = csv::Writer::from_writer(w);
@@ -407,16 +411,18 @@ impl Study {
         // The figures show the first kind of solve listed; the table has them all. Every figure
         // but the sharing comparison draws the equal-sharing rows.
         let first = self.config.contact.plastic.modes()[0];
-        let shown = |which: &dyn Fn(&Row) -> bool| -> Vec<Row> {
-            rows.iter().filter(|r| r.plastic == first && which(r)).cloned().collect()
+        let shown = |adhesive: bool, which: &dyn Fn(&Row) -> bool| -> Vec<Row> {
+            rows.iter().filter(|r| r.plastic == first && r.adhesive() == adhesive && which(r)).cloned().collect()
         };
         let band = self.config.model.band();
         let in_band = |r: &Row| r.slip_distance_m.is_some_and(|d| band.contains(&d));
         let records = Records {
-            rows: shown(&Row::papers),
-            weakening_rows: shown(&|r| r.sharing == Sharing::Equal && !r.papers() && !in_band(r)),
-            elastic_rows: shown(&|r| r.sharing == Sharing::Elastic && !in_band(r)),
-            band_rows: shown(&in_band),
+            rows: shown(false, &Row::papers),
+            weakening_rows: shown(false, &|r| r.sharing == Sharing::Equal && !r.papers() && !in_band(r)),
+            elastic_rows: shown(false, &|r| r.sharing == Sharing::Elastic && !in_band(r)),
+            band_rows: shown(false, &in_band),
+            adhesive_rows: shown(true, &Row::papers),
+            cohesive_law: self.cohesive_law(),
             topographies: names,
             laws: self.laws.clone(),
             hold_times: self.hold_times.clone(),

@@ -24,7 +24,8 @@ use super::records::{
 };
 use super::{MapSnapshot, Row, Sharing, SolveFacts, FIGURE_LOADS_N, NEAR_DECADES};
 use crate::contact::{
-    self, ContactSolver, Convergence, Proceed, ShearCompliance, SolverOptions, TangentialOptions, TangentialSolver,
+    self, AdhesiveSolver, ContactSolver, Convergence, Proceed, ShearCompliance, SolverOptions, TangentialOptions,
+    TangentialSolver,
 };
 use crate::error::{Error, Result};
 use crate::friction::{
@@ -36,6 +37,11 @@ use crate::quantity::{show, LENGTH};
 
 /// Pixels kept around the contact points in a [`MapSnapshot`].
 const SNAPSHOT_MARGIN: usize = 8;
+
+/// The largest share of its load by which an adhesive solve may miss it: the load jumps with
+/// the separation where a pixel enters or leaves the cohesive zone, and load control returns
+/// the state nearest the load; a row stands for its load only while the jump is small.
+const LOAD_MISS: f64 = 1e-3;
 
 /// What the workers of a run share: its tallies, its progress callback, and the queue of the
 /// elastic onsets whose solves are done. Each onset depends only on its solve's pressure, so
@@ -170,6 +176,9 @@ impl Study {
     /// the same contact within the solver's tolerance. Each record says whether its solve
     /// started cold. The map of the piece's last load stays for whoever goes on from it.
     ///
+    /// An adhesive sweep starts every load cold and hands the friction model, and elastic
+    /// sharing's tangential solver, the compressive part of the traction.
+    ///
     /// A solve recorded without a row the study asks for (a law added) is solved again; the
     /// rows of its elastic onsets recorded already are kept, and so are the rows of its
     /// record that the study does not ask for (another study's laws).
@@ -208,15 +217,21 @@ impl Study {
             convergence: Convergence { tolerance: c.tolerance, max_iterations: c.max_iterations },
             device: c.device,
         };
-        let mut solver = ContactSolver::new(
-            heights.as_slice().expect("standard layout"),
-            shape,
-            size,
-            self.config.effective_modulus(),
-            c.boundary,
-            options,
-        )?;
-        solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
+        let heights = heights.as_slice().expect("standard layout");
+        let e_star = self.config.effective_modulus();
+        // An adhesive sweep's solver, or the non-adhesive one: one of the two.
+        let mut adhesive = match self.cohesive_law().filter(|_| self.adhesive(u)) {
+            Some(law) => Some(AdhesiveSolver::new(heights, shape, size, e_star, c.boundary, law, options.convergence)?),
+            None => None,
+        };
+        let mut solver = match adhesive {
+            Some(_) => None,
+            None => {
+                let mut solver = ContactSolver::new(heights, shape, size, e_star, c.boundary, options)?;
+                solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
+                Some(solver)
+            }
+        };
         let keep_maps = self.keeps_maps(u);
         let maps = self.maps_dir(dir, u, plastic);
         if keep_maps {
@@ -255,29 +270,51 @@ impl Study {
             let (pressure, cold, facts) = if kept(k) {
                 let (normal, pressure) = read_normal(&solves, stem, load)?;
                 // The next load goes on from it as from the solver's own solution.
-                solver.warm_start(pressure.as_slice().expect("row-major"))?;
+                if let Some(solver) = solver.as_mut() {
+                    solver.warm_start(pressure.as_slice().expect("row-major"))?;
+                }
                 (pressure, normal.cold, normal.solve)
             } else {
-                // An elastic onset follows its solve's pressure to the last bit, and a warm
-                // start leaves the solution dependent on where a chain was cut (by shards, by
-                // a killed run) within the tolerance: with elastic sharing every solve starts
-                // cold, so that its rows are the same however the study was run.
-                let cold = if elastic {
-                    solver.reset();
-                    true
-                } else if k > 0 && held == Some(k - 1) {
-                    false
-                } else if k > loads.start && warm(k - 1).is_file() {
-                    solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
-                    false
+                let (pressure, cold, facts) = if let Some(adhesive) = adhesive.as_mut() {
+                    // Every adhesive solve starts cold, from the equilibrium without adhesion
+                    // at its load (a loading, as the ball pressed on the wafer): where several
+                    // equilibria carry one load, the one reached then depends on the load
+                    // alone, not on where a chain was cut. The friction model sees the
+                    // compressive pressure: the tension outside the contact carries none.
+                    adhesive.reset();
+                    let report = adhesive.solve(load).map_err(context)?;
+                    if (report.load - load).abs() > LOAD_MISS * load {
+                        let missed = report.missed(load).unwrap_or_default();
+                        return Err(context(Error::invalid("contact.adhesion", missed)));
+                    }
+                    let pressure = adhesive.compressive_pressure();
+                    let summary = contact::summarize(&pressure, shape, size, c.boundary, self.config.hardness());
+                    let pressure = Array2::from_shape_vec(shape, pressure).expect("the grid's shape");
+                    (pressure, true, SolveFacts::adhesive(&summary, &report))
                 } else {
-                    solver.reset();
-                    true
+                    let solver = solver.as_mut().expect("a sweep without adhesion has its solver");
+                    // An elastic onset follows its solve's pressure to the last bit, and a warm
+                    // start leaves the solution dependent on where a chain was cut (by shards,
+                    // by a killed run) within the tolerance: with elastic sharing every solve
+                    // starts cold, so that its rows are the same however the study was run.
+                    let cold = if elastic {
+                        solver.reset();
+                        true
+                    } else if k > 0 && held == Some(k - 1) {
+                        false
+                    } else if k > loads.start && warm(k - 1).is_file() {
+                        solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
+                        false
+                    } else {
+                        solver.reset();
+                        true
+                    };
+                    let report = solver.solve(load, |_, _| ()).map_err(context)?;
+                    let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
+                    let summary =
+                        contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
+                    (pressure, cold, SolveFacts::new(&summary, &report))
                 };
-                let report = solver.solve(load, |_, _| ()).map_err(context)?;
-                let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
-                let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
-                let facts = SolveFacts::new(&summary, &report);
                 if elastic {
                     // The onsets read the solve from its map, and a run stopped before its
                     // record goes on from it: the map first, then the record that names it.
@@ -372,8 +409,9 @@ impl Study {
                 snap.save(&dir, &self.snapshot_stem(k))?;
             }
             // The map the next load goes on from, should this run stop before it (or this piece
-            // end there); with elastic sharing it is written already.
-            if k + 1 < self.loads.len() && !is_recorded(k + 1) && !elastic {
+            // end there); with elastic sharing it is written already, and an adhesive solve
+            // goes on from none.
+            if k + 1 < self.loads.len() && !is_recorded(k + 1) && !elastic && adhesive.is_none() {
                 output::write_npy(&warm(k), &pressure)?;
             }
             let kept_rows =

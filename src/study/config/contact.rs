@@ -1,5 +1,5 @@
 //! `[contact]`: the normal contact solver — boundary, convergence, grid, elastic or plastic
-//! solves, device — with its defaults and checks.
+//! solves, device, adhesion — with its defaults and checks.
 //!
 //! Of the study file it may import only `defaults`, `quantities` and `places`; it must not
 //! import `config/mod.rs`, which ties the sections, nor the study's runner, `plot`, `report`,
@@ -9,9 +9,10 @@ use serde::{Deserialize, Serialize};
 
 use super::defaults;
 use super::places::{at, key, reason_of, Checked};
-use super::quantities::Stress;
-use crate::contact::{Boundary, Convergence, Device};
+use super::quantities::{Length, Stress, SurfaceEnergy};
+use crate::contact::{Boundary, CohesiveLaw, Convergence, Device};
 use crate::error::Error;
+use crate::plausible::{self, Spelling};
 
 /// Contact solver settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -38,6 +39,71 @@ pub struct ContactSpec {
     /// Where the normal solves run: "cpu" or "gpu" (a build with the `gpu` feature).
     #[serde(default, skip_serializing_if = "is_cpu")]
     pub device: Device,
+    /// Adhesive contact besides the non-adhesive one: every topography is solved again at every
+    /// load with this cohesive law (on the CPU, elastic). Absent: no adhesion.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adhesion: Option<AdhesionSpec>,
+}
+
+/// `adhesion = { work, stress | range, law }`: the cohesive law of an adhesive solve, as
+/// `asperity contact`'s `--adhesion-*` options give it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdhesionSpec {
+    /// Work of adhesion w \[J/m²].
+    pub work: SurfaceEnergy,
+    /// The law's strength \[Pa]: σ₀ (Maugis–Dugdale) or the peak tension w/ρ (exponential).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stress: Option<Stress>,
+    /// The law's range \[m]: h₀ = w/σ₀ (Maugis–Dugdale) or ρ (exponential).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<Length>,
+    /// `"maugis"` (the default) or `"exponential"`.
+    #[serde(default = "maugis")]
+    pub law: String,
+}
+
+fn maugis() -> String {
+    "maugis".to_string()
+}
+
+impl AdhesionSpec {
+    /// The cohesive law, its keys checked; a refusal names the key (below `contact.adhesion`)
+    /// and the reason.
+    pub fn cohesive_law(&self) -> std::result::Result<CohesiveLaw, (&'static str, String)> {
+        let positive = |key: &'static str, v: f64, unit: &str| {
+            if v > 0.0 && v.is_finite() {
+                Ok(v)
+            } else {
+                Err((key, format!("must be positive, got {v} {unit}")))
+            }
+        };
+        let work = positive("work", self.work.0, "J/m²")?;
+        plausible::adhesion_work(work, Spelling::StudyFile).map_err(|r| ("work", r))?;
+        let exponential = match self.law.as_str() {
+            "maugis" => false,
+            "exponential" => true,
+            other => return Err(("law", format!("'{other}' is not \"maugis\" or \"exponential\""))),
+        };
+        let (stress, range) = match (self.stress, self.range) {
+            (Some(s), None) => {
+                let s = positive("stress", s.0, "Pa")?;
+                (s, work / s)
+            }
+            (None, Some(r)) => {
+                let r = positive("range", r.0, "m")?;
+                (work / r, r)
+            }
+            (Some(_), Some(_)) => {
+                return Err(("stress", "give the law's strength `stress` or its `range`, not both".into()))
+            }
+            (None, None) => {
+                return Err(("work", "needs `stress` or `range`: the cohesive law's strength or range".into()))
+            }
+        };
+        let law = if exponential { CohesiveLaw::exponential(work, range) } else { CohesiveLaw::maugis(work, stress) };
+        law.map_err(|e| ("work", reason_of(e)))
+    }
 }
 
 // Keys a file leaves out take the default study's: called only for a key left out, so the
@@ -141,6 +207,15 @@ impl ContactSpec {
                 return at(&plastic, "a plastic solve needs `hardness` in [material]".into());
             }
             _ => {}
+        }
+        if let Some(adhesion) = &self.adhesion {
+            let place = |k: &str| [key("contact"), key("adhesion"), key(k)];
+            if let Err((k, reason)) = adhesion.cohesive_law() {
+                return at(&place(k), reason);
+            }
+            if modes.contains(&true) {
+                return at(&plastic, "is not solved with adhesion: the adhesive solver is elastic".into());
+            }
         }
         Ok(())
     }

@@ -19,7 +19,8 @@
 //!
 //! [contact]                       # boundary "periodic" | "free", tolerance, max_iterations, grid;
 //! boundary = "periodic"           # plastic = true | [false, true] (needs material.hardness);
-//!                                 # device = "cpu" | "gpu" (a build with the gpu feature)
+//!                                 # device = "cpu" | "gpu" (a build with the gpu feature);
+//!                                 # adhesion = { work, stress | range, law } (solved besides)
 //!
 //! [loads]                         # values = [...], or min, max, count (log-spaced) [N]
 //! min = "0.1 mN"
@@ -73,7 +74,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use toml::de::DeTable;
 
-pub use self::contact::{ContactSpec, Plastic};
+pub use self::contact::{AdhesionSpec, ContactSpec, Plastic};
 pub use self::defaults::DEFAULT_STUDY;
 use self::laws::check_laws;
 pub use self::laws::LawSpec;
@@ -332,6 +333,9 @@ impl StudyConfig {
         }
         if let Some(h) = m.hardness {
             note("material.hardness".into(), plausible::hardness(h.0, Spelling::StudyFile));
+        }
+        if let Some(a) = &self.contact.adhesion {
+            note("contact.adhesion.work".into(), plausible::adhesion_work(a.work.0, Spelling::StudyFile));
         }
         let heaviest = self.load_values().last().copied().unwrap_or(0.0);
         for (i, t) in self.topographies.iter().enumerate() {

@@ -1,6 +1,6 @@
 //! Quantities of the study file: a bare number in SI units, or a string with its unit
 //! (`"0.1 mN"`, `"31.13 µm"`); a unit of the wrong kind for its key is refused. Lengths,
-//! forces, stresses, times, and a window's size.
+//! forces, stresses, times, works of adhesion, and a window's size.
 //!
 //! It must not import the study file's sections, nor the study's runner, `plot`, `report`,
 //! `cli` or `python`.
@@ -10,7 +10,7 @@ use std::fmt;
 use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize};
 
-use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE, TIME};
+use crate::quantity::{self, Dimension, FORCE, LENGTH, PRESSURE, SURFACE_ENERGY, TIME};
 
 /// Deserialise a bare number (SI) or a string with its unit.
 fn deserialize_quantity<'de, D: Deserializer<'de>>(d: D, dim: &'static Dimension) -> Result<f64, D::Error> {
@@ -70,6 +70,11 @@ quantity!(
     /// A time \[s].
     Time,
     TIME
+);
+quantity!(
+    /// A work of adhesion \[J/m²].
+    SurfaceEnergy,
+    SURFACE_ENERGY
 );
 
 /// A physical size (lx, ly) \[m]: one length for a square, or two.
