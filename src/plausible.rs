@@ -116,6 +116,24 @@ const SLIP_DISTANCE: Kind = Kind {
     meant: &[("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)],
 };
 
+const ADHESION_STRESS: Kind = Kind {
+    what: "a cohesive stress",
+    dim: &PRESSURE,
+    possible: (1e4, 1e12),
+    usual: (1e6, 1e11),
+    typical: 1e9,
+    meant: &[("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9)],
+};
+
+const ADHESION_RANGE: Kind = Kind {
+    what: "the range of a cohesive law",
+    dim: &LENGTH,
+    possible: (1e-12, 1e-6),
+    usual: (1e-11, 1e-7),
+    typical: 1e-9,
+    meant: &[("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)],
+};
+
 const ADHESION_WORK: Kind = Kind {
     what: "a work of adhesion",
     dim: &SURFACE_ENERGY,
@@ -124,6 +142,19 @@ const ADHESION_WORK: Kind = Kind {
     typical: 0.05,
     meant: &[("mJ/m2", 1e-3)],
 };
+
+/// The stress of a cohesive law \[Pa] (σ₀, or the exponential law's peak tension): 10 kPa to
+/// 1 TPa (usually 1 MPa to 100 GPa; a solid's theoretical strength is of order E/10).
+pub fn adhesion_stress(pa: f64, spelling: Spelling) -> Verdict {
+    check(&ADHESION_STRESS, pa, spelling)
+}
+
+/// The range of a cohesive law \[m] (h₀, or the exponential law's ρ): 1 pm to 1 µm (usually
+/// 10 pm to 100 nm; van der Waals forces act over a few tenths of a nanometre, a water meniscus
+/// over about a nanometre).
+pub fn adhesion_range(m: f64, spelling: Spelling) -> Verdict {
+    check(&ADHESION_RANGE, m, spelling)
+}
 
 /// A work of adhesion w \[J/m²]: 0.1 mJ/m² to 10 J/m² (usually 1 mJ/m² to 2 J/m²; silicon on
 /// silicon in air is of order 0.01–0.1 J/m²).

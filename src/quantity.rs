@@ -24,7 +24,7 @@ pub struct Dimension {
 pub const LENGTH: Dimension = Dimension {
     name: "length",
     si: "m",
-    units: "m, mm, µm (um), nm, Å",
+    units: "m, cm, mm, µm (um), nm, Å, pm",
     per_unit: metres_per,
     shown: &[("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9), ("pm", 1e-12)],
 };

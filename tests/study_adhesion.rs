@@ -100,6 +100,11 @@ fn the_adhesion_key_reads_as_the_command_lines_options_and_refuses_in_one_line()
     assert!(e.contains("contact.adhesion.law: 'jkr' is not \"maugis\" or \"exponential\""), "{e}");
     let e = parse_err(r#"{ work = "50 mJ/m2", range = "-1 nm" }"#);
     assert!(e.contains("contact.adhesion.range: must be positive"), "{e}");
+    // A range or stress typed without its unit lands decades away: refused with the unit meant.
+    let e = parse_err(r#"{ work = 0.05, range = 0.3 }"#);
+    assert!(e.contains("contact.adhesion.range: 300 mm is not the range of a cohesive law") && e.contains("\"0.3 nm\""), "{e}");
+    let e = parse_err(r#"{ work = 0.05, stress = 1 }"#);
+    assert!(e.contains("contact.adhesion.stress: 1 Pa is not a cohesive stress") && e.contains("\"1 GPa\""), "{e}");
     let e = parse_err(r#"{ work = "50 mJ/m2", range = "1 nm", tension = 1 }"#);
     assert!(e.contains("unknown field `tension`"), "{e}");
     let e = StudyConfig::parse(

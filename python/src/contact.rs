@@ -154,7 +154,8 @@ struct Solved {
 /// core) or "gpu" (the first NVIDIA GPU; a build with the ``gpu`` feature).
 ///
 /// Adhesion, as ``asperity contact --adhesion-work``: ``adhesion_work`` [J/m²] (default None:
-/// none; plausible from 1e-4 to 10) with ``adhesion_stress`` [Pa] or ``adhesion_range`` [m],
+/// none; plausible from 1e-4 to 10) with ``adhesion_stress`` [Pa] (1e4 to 1e12) or
+/// ``adhesion_range`` [m] (1e-12 to 1e-6),
 /// ``adhesion_law`` "maugis" (default) or "exponential"; loads may then be zero or negative
 /// (tensile) and are solved from the largest down, each solution carrying
 /// ``compressive_force``, ``adhesive_force``, ``traction`` and ``separation``; ``pull_off=True``
@@ -215,6 +216,12 @@ pub(crate) fn contact(
         Some(w) => {
             let law = CohesiveLaw::from_options(adhesion_law, w, adhesion_stress, adhesion_range).map_err(named)?;
             judge(py, "adhesion_work", w, plausible::adhesion_work(w, Spelling::Python))?;
+            if let Some(s) = adhesion_stress {
+                judge(py, "adhesion_stress", s, plausible::adhesion_stress(s, Spelling::Python))?;
+            }
+            if let Some(r) = adhesion_range {
+                judge(py, "adhesion_range", r, plausible::adhesion_range(r, Spelling::Python))?;
+            }
             if plastic {
                 return Err(invalid("plastic", "is not solved with adhesion (adhesion_work)"));
             }

@@ -185,6 +185,8 @@ def test_adhesive_contact_matches_the_command_line(tmp_path):
         ap.contact(t, loads=[2 * sols[0].pull_off], **adhesion)
     with pytest.raises(ap.Error, match=r"^adhesion_work=50: 50 J/m² is not a work of adhesion .*did you mean 0.05 \(50 mJ/m²\)\?"):
         ap.contact(t, loads=[1e-4], adhesion_work=50.0, adhesion_range=5e-9)
+    with pytest.raises(ap.Error, match=r"^adhesion_range=0.3: 300 mm is not the range of a cohesive law .*did you mean 3e-10 \(300 pm\)\?"):
+        ap.contact(t, loads=[1e-4], adhesion_work=0.05, adhesion_range=0.3)
     with pytest.raises(ap.Error, match=r"^adhesion_work: needs adhesion_stress"):
         ap.contact(t, loads=[1e-4], adhesion_work=0.05)
 

@@ -103,11 +103,13 @@ pub struct AdhesionArgs {
     #[arg(long, value_name = "W", value_parser = super::surface_energy)]
     pub adhesion_work: Option<f64>,
     /// Cohesive stress [Pa, or with a unit: 100MPa]: σ₀ of the Maugis–Dugdale law (its range
-    /// h₀ = w/σ₀), the peak tension w/ρ of the exponential law.
+    /// h₀ = w/σ₀), the peak tension w/ρ of the exponential law; judged plausible from 10 kPa
+    /// to 1 TPa.
     #[arg(long, value_name = "S", value_parser = super::pressure, requires = "adhesion_work", conflicts_with = "adhesion_range")]
     pub adhesion_stress: Option<f64>,
     /// Range of the cohesive law [m, or with a unit: 1nm]: h₀ of the Maugis–Dugdale law
-    /// (σ₀ = w/h₀), ρ of the exponential law.
+    /// (σ₀ = w/h₀), ρ of the exponential law; judged plausible from 1 pm to 1 µm (van der Waals:
+    /// a few tenths of a nanometre).
     #[arg(long, value_name = "R", value_parser = super::length, requires = "adhesion_work")]
     pub adhesion_range: Option<f64>,
     /// The cohesive law: maugis (a tension σ₀ while the gap is below h₀) or exponential (a
@@ -126,6 +128,12 @@ impl AdhesionArgs {
         let Some(w) = self.adhesion_work else { return Ok(None) };
         let law = CohesiveLaw::from_options(&self.adhesion_law, w, self.adhesion_stress, self.adhesion_range)?;
         super::judge("--adhesion-work", plausible::adhesion_work(w, Spelling::CommandLine))?;
+        if let Some(s) = self.adhesion_stress {
+            super::judge("--adhesion-stress", plausible::adhesion_stress(s, Spelling::CommandLine))?;
+        }
+        if let Some(r) = self.adhesion_range {
+            super::judge("--adhesion-range", plausible::adhesion_range(r, Spelling::CommandLine))?;
+        }
         Ok(Some(law))
     }
 }

@@ -32,7 +32,7 @@ use asperity::Result;
 /// `--print-default` shows it as a commented study file to start from.
 ///
 /// Writes into DIR: results.csv and results.json (one row per topography × sharing × law ×
-/// load: contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
+/// load, and per end of a band of d_c and adhesive solve when the study asks: contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
 /// element classes with their fractions of N and F_S, solver iterations and seconds), study.toml
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
 /// and 100 mN, the 0.1 mN one with its contact's stuck tangential stiffness K_t [N/m], which

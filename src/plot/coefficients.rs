@@ -101,26 +101,25 @@ pub(super) fn adhesion_sentence(limit: &AdhesionLimit) -> String {
     )
 }
 
-/// Adhesion moves the drop by more than this fraction below the load the report states.
+/// Adhesion moves the drop by more than this fraction in the load ranges the report states.
 pub(super) const ADHESION_MOVES: f64 = 0.01;
 
-/// Where adhesion moves the mean drop of a law by more than [`ADHESION_MOVES`].
+/// A range of loads \[N] where adhesion moves the mean drop of a law by more than
+/// [`ADHESION_MOVES`]: from `from` to `to`, each `None` where the range reaches the study's
+/// lowest or highest load.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum AdhesionReach {
-    /// At no load of the study.
-    Nowhere,
-    /// Below this load \[N]: where the relative difference of the mean drops with and without
-    /// adhesion, linear in log load between the study's loads, last falls through the
-    /// threshold going up in load.
-    Below(f64),
-    /// At every load up to the study's highest.
-    Everywhere,
+pub(super) struct AdhesionRange {
+    pub from: Option<f64>,
+    pub to: Option<f64>,
 }
 
 /// Where adhesion moves the mean drop (over the applied load, over the topographies) by more
 /// than [`ADHESION_MOVES`]: from the curves without (`plain`) and with adhesion (`adhesive`),
-/// (load \[N], mean drop) in increasing load, compared at the loads both have.
-pub(super) fn adhesion_reach(plain: &[(f64, f64)], adhesive: &[(f64, f64)]) -> AdhesionReach {
+/// (load \[N], mean drop) in increasing load, compared at the loads both have. Each range's
+/// ends are where the relative difference of the two, linear in log load between the study's
+/// loads, crosses the threshold; none when it never exceeds it. At the lowest loads a contact
+/// of a pixel or two may catch no cohesive tension at all, so the ranges need not start there.
+pub(super) fn adhesion_reach(plain: &[(f64, f64)], adhesive: &[(f64, f64)]) -> Vec<AdhesionRange> {
     let excess: Vec<(f64, f64)> = adhesive
         .iter()
         .filter_map(|&(load, with)| {
@@ -128,14 +127,44 @@ pub(super) fn adhesion_reach(plain: &[(f64, f64)], adhesive: &[(f64, f64)]) -> A
             Some((load, (with / without - 1.0).abs() - ADHESION_MOVES))
         })
         .collect();
-    match excess.iter().rposition(|e| e.1 > 0.0) {
-        None => AdhesionReach::Nowhere,
-        Some(k) if k + 1 == excess.len() => AdhesionReach::Everywhere,
-        Some(k) => {
-            let ((l0, d0), (l1, d1)) = (excess[k], excess[k + 1]);
-            let t = d0 / (d0 - d1);
-            AdhesionReach::Below((l0.ln() + t * (l1.ln() - l0.ln())).exp())
+    let crossing = |(l0, d0): (f64, f64), (l1, d1): (f64, f64)| {
+        let t = d0 / (d0 - d1);
+        (l0.ln() + t * (l1.ln() - l0.ln())).exp()
+    };
+    let mut ranges = Vec::new();
+    let mut open: Option<Option<f64>> = excess.first().filter(|e| e.1 > 0.0).map(|_| None);
+    for w in excess.windows(2) {
+        match (w[0].1 > 0.0, w[1].1 > 0.0) {
+            (false, true) => open = Some(Some(crossing(w[0], w[1]))),
+            (true, false) => {
+                let from = open.take().expect("a range is open while the excess is positive");
+                ranges.push(AdhesionRange { from, to: Some(crossing(w[0], w[1])) });
+            }
+            _ => {}
         }
+    }
+    if let Some(from) = open {
+        ranges.push(AdhesionRange { from, to: None });
+    }
+    ranges
+}
+
+/// The ranges of [`adhesion_reach`] in words.
+fn reach_phrase(ranges: &[AdhesionRange]) -> String {
+    let at = |load: f64| show(estimate(load), &FORCE);
+    let each: Vec<String> = ranges
+        .iter()
+        .map(|r| match (r.from, r.to) {
+            (None, None) => "at every load of the range".to_string(),
+            (None, Some(to)) => format!("below N = {}", at(to)),
+            (Some(from), None) => format!("above N = {}", at(from)),
+            (Some(from), Some(to)) => format!("from N = {} to {}", at(from), at(to)),
+        })
+        .collect();
+    if each.is_empty() {
+        "none in the range".to_string()
+    } else {
+        each.join(" and ")
     }
 }
 
@@ -163,11 +192,7 @@ pub(super) fn adhesion_solved(input: &FigureInput) -> Option<String> {
         .iter()
         .map(|law| {
             let name = law_name(law);
-            let found = match adhesion_reach(&mean(input.rows, &name), &mean(input.adhesive_rows, &name)) {
-                AdhesionReach::Nowhere => "none in the range".to_string(),
-                AdhesionReach::Below(load) => format!("below N = {}", show(estimate(load), &FORCE)),
-                AdhesionReach::Everywhere => "at every load of the range".to_string(),
-            };
+            let found = reach_phrase(&adhesion_reach(&mean(input.rows, &name), &mean(input.adhesive_rows, &name)));
             format!("\"{name}\": {found}")
         })
         .collect();
@@ -900,16 +925,24 @@ fn single_element_line(rows: &[Row], name: &str, limit: f64, (x0, x1): (f64, f64
 mod tests {
     use super::*;
 
-    /// The 1 % crossing of the two curves, linear in log load: 3 % at 1 mN and 0 % at 100 mN
-    /// cross at 2/3 of the way, 10^(−3 + 4/3) N; none and every load are told apart.
+    /// The 1 % crossings of the two curves, linear in log load: 3 % at 1 mN and 0 % at 100 mN
+    /// cross at 2/3 of the way, 10^(−3 + 4/3) N; none, every load, and a range that starts
+    /// above the lowest load (a contact catching no tension there) are told apart.
     #[test]
     fn adhesion_reach_interpolates_in_log_load() {
         let plain = [(1e-3, 1.0), (1e-1, 1.0)];
         let reach = adhesion_reach(&plain, &[(1e-3, 1.03), (1e-1, 1.0)]);
-        let AdhesionReach::Below(load) = reach else { panic!("{reach:?}") };
+        let [AdhesionRange { from: None, to: Some(load) }] = reach[..] else { panic!("{reach:?}") };
         assert!((load / 10f64.powf(-3.0 + 4.0 / 3.0) - 1.0).abs() < 1e-12, "{load}");
-        assert_eq!(adhesion_reach(&plain, &[(1e-3, 1.009), (1e-1, 0.995)]), AdhesionReach::Nowhere);
-        assert_eq!(adhesion_reach(&plain, &[(1e-3, 1.2), (1e-1, 0.98)]), AdhesionReach::Everywhere);
+        assert_eq!(reach_phrase(&reach), "below N = 22 mN");
+        assert!(adhesion_reach(&plain, &[(1e-3, 1.009), (1e-1, 0.995)]).is_empty());
+        assert_eq!(adhesion_reach(&plain, &[(1e-3, 1.2), (1e-1, 0.98)]), [AdhesionRange { from: None, to: None }]);
+        let plain = [(1e-7, 1.5), (1e-6, 1.5), (1e-5, 1.0), (1e-4, 1.0)];
+        let reach = adhesion_reach(&plain, &[(1e-7, 1.5), (1e-6, 1.53), (1e-5, 1.1), (1e-4, 1.0)]);
+        let [AdhesionRange { from: Some(from), to: Some(to) }] = reach[..] else { panic!("{reach:?}") };
+        assert!((from / 10f64.powf(-6.5) - 1.0).abs() < 1e-9, "{from}");
+        assert!((to / 10f64.powf(-5.0 + 0.9) - 1.0).abs() < 1e-9, "{to}");
+        assert_eq!(reach_phrase(&reach), "from N = 320 nN to 79 µN");
     }
 
     #[test]

@@ -88,10 +88,12 @@ impl AdhesionSpec {
         let (stress, range) = match (self.stress, self.range) {
             (Some(s), None) => {
                 let s = positive("stress", s.0, "Pa")?;
+                plausible::adhesion_stress(s, Spelling::StudyFile).map_err(|r| ("stress", r))?;
                 (s, work / s)
             }
             (None, Some(r)) => {
                 let r = positive("range", r.0, "m")?;
+                plausible::adhesion_range(r, Spelling::StudyFile).map_err(|r| ("range", r))?;
                 (work / r, r)
             }
             (Some(_), Some(_)) => {
