@@ -42,8 +42,8 @@ pub enum Error {
     /// An iterative solver stopped at its iteration limit above its tolerance.
     #[error(
         "{solver} did not converge: residual {residual:.3e} above tolerance {tolerance:.1e} \
-         after {iterations} iterations (raise the iteration limit or loosen the tolerance: \
-         --max-iter and --tolerance, in a study [contact] max_iterations and tolerance)"
+         after {iterations} iterations (raise --max-iter or loosen --tolerance; in a study file \
+         [contact] max_iterations and tolerance)"
     )]
     NotConverged {
         /// The solver that stopped, as the message names it.
