@@ -390,8 +390,7 @@ pub(crate) fn contact(
     let (solved, pull_off) = solved.map_err(|e| signals.error(e))?;
     let mut solutions = Vec::with_capacity(solved.len());
     for (s, mut said) in solved.into_iter().zip(warnings) {
-        let missed = s.adhesive.as_ref().and_then(|(r, _)| r.missed(loads[s.index]));
-        for w in s.summary.warnings(&remedies).into_iter().chain(missed) {
+        for w in s.summary.warnings(&remedies) {
             let line = format!("at {}: {w}", asperity::quantity::show(s.report.load, &asperity::quantity::FORCE));
             warn(py, &line, 1)?;
             said.push(line);

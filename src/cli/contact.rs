@@ -194,10 +194,6 @@ struct LoadEntry {
     /// With adhesion: N_a = N_c − N, the integral of the tension, positive [N].
     #[serde(skip_serializing_if = "Option::is_none")]
     adhesive_force_n: Option<f64>,
-    /// With adhesion: the load reached, N_c − N_a [N], where a jump of the load with the
-    /// separation keeps it from the load asked.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    load_reached_n: Option<f64>,
     /// With adhesion: points at zero gap (contact_points counts those with compressive traction).
     #[serde(skip_serializing_if = "Option::is_none")]
     touching_points: Option<usize>,
@@ -336,7 +332,6 @@ pub fn run(args: ContactArgs) -> Result<()> {
             load_above_hardness_fraction: summary.load_above_hardness_fraction,
             compressive_force_n: None,
             adhesive_force_n: None,
-            load_reached_n: None,
             touching_points: None,
             separation_m: None,
             iterations: report.iterations,
@@ -454,9 +449,7 @@ fn run_adhesive(
         let report = solver.solve(load)?;
         let pressure = solver.compressive_pressure();
         let summary = contact::summarize(&pressure, shape, size, boundary, args.hardness);
-        let mut said = summary.warnings(&remedies);
-        let missed = report.missed(load);
-        said.extend(missed.clone());
+        let said = summary.warnings(&remedies);
         for w in said {
             bar.suspend(|| super::message(&format!("warning: at {shown}: {w}")));
             warnings.push(format!("at {shown}: {w}"));
@@ -482,7 +475,6 @@ fn run_adhesive(
             load_above_hardness_fraction: summary.load_above_hardness_fraction,
             compressive_force_n: Some(report.compressive_force),
             adhesive_force_n: Some(report.adhesive_force),
-            load_reached_n: missed.map(|_| report.load),
             touching_points: Some(report.contact_points),
             separation_m: Some(report.separation),
             iterations: report.iterations,

@@ -207,9 +207,7 @@ impl CpuSolver {
         };
         let mut heights_buffer = large_buffer(n, 0.0);
         heights_buffer.copy_from_slice(heights);
-        // |F⁻¹[|q| ĥ]| ≤ q_max Σ|ĥ(q)|/n ≤ q_max √n h_rms (Parseval), and h_rms ≤ max − min.
-        let q_max = std::f64::consts::PI * ((nx as f64 / lx).powi(2) + (ny as f64 / ly).powi(2)).sqrt();
-        let flat_spread = 0.5 * e_star * q_max * (n as f64).sqrt() * height_range(heights);
+        let flat_spread = flat_spread(heights, (ny, nx), (lx, ly), e_star);
         Ok(CpuSolver {
             ny,
             nx,
@@ -319,6 +317,17 @@ impl Engine for CpuSolver {
         self.hardness = hardness;
     }
 
+    fn set_tolerance(&mut self, tolerance: f64) {
+        self.options.convergence.tolerance = tolerance;
+    }
+
+    fn set_heights(&mut self, heights: &[f64], h_rms: f64) -> Result<()> {
+        self.heights.copy_from_slice(heights);
+        self.h_rms = h_rms;
+        self.flat_spread = flat_spread(heights, (self.ny, self.nx), self.size, self.e_star);
+        Ok(())
+    }
+
     fn solve(&mut self, load: f64, proceed: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         // The dense pressure is rebuilt at the end: the iteration needs only the contact set.
         self.pressure_field = Vec::new();
@@ -365,6 +374,13 @@ impl Engine for CpuSolver {
         c.index.shrink_to_fit();
         report
     }
+}
+
+/// The bound `flat_spread` of [`CpuSolver`] for `heights` [m].
+fn flat_spread(heights: &[f64], (ny, nx): (usize, usize), (lx, ly): (f64, f64), e_star: f64) -> f64 {
+    // |F⁻¹[|q| ĥ]| ≤ q_max Σ|ĥ(q)|/n ≤ q_max √n h_rms (Parseval), and h_rms ≤ max − min.
+    let q_max = std::f64::consts::PI * ((nx as f64 / lx).powi(2) + (ny as f64 / ly).powi(2)).sqrt();
+    0.5 * e_star * q_max * ((ny * nx) as f64).sqrt() * height_range(heights)
 }
 
 /// The range of `heights`, max − min [m].

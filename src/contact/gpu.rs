@@ -549,6 +549,17 @@ impl Engine for GpuSolver {
         self.hardness = hardness;
     }
 
+    fn set_tolerance(&mut self, tolerance: f64) {
+        self.options.convergence.tolerance = tolerance;
+    }
+
+    fn set_heights(&mut self, heights: &[f64], h_rms: f64) -> Result<()> {
+        self.stream.memcpy_htod(heights, &mut self.h).map_err(|e| gpu_error("copy to the GPU", e))?;
+        self.heights.copy_from_slice(heights);
+        self.h_rms = h_rms;
+        Ok(())
+    }
+
     fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
         self.upload_pressure(pressure)?;
         self.pressure.copy_from_slice(pressure);

@@ -366,6 +366,11 @@ pub(crate) trait Engine: Send + Sync {
     fn warm_start(&mut self, pressure: &[f64]) -> Result<()>;
     /// Cap the pressure at `hardness` \[Pa] from the next solve on, or lift the cap.
     fn set_hardness(&mut self, hardness: Option<f64>);
+    /// Replace the heights \[m] (already checked) and their RMS `h_rms` \[m], keeping the last
+    /// pressure as the next solve's start.
+    fn set_heights(&mut self, heights: &[f64], h_rms: f64) -> Result<()>;
+    /// Solve to `tolerance` (already checked) from the next solve on.
+    fn set_tolerance(&mut self, tolerance: f64);
     /// Solve for `load` \[N], already checked; `proceed` hears the iteration count and the
     /// residual after every iteration and answers whether to go on.
     fn solve(&mut self, load: f64, proceed: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport>;

@@ -51,9 +51,7 @@ impl ContactSolver {
     ) -> Result<Self> {
         check_problem(heights, (ny, nx), (lx, ly), e_star)?;
         options.convergence.check()?;
-        let n = ny * nx;
-        let mean = heights.iter().sum::<f64>() / n as f64;
-        let h_rms = (heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n as f64).sqrt();
+        let h_rms = rms(heights);
         let engine: Box<dyn Engine> = match options.device {
             Device::Cpu => {
                 check_solve_memory((ny, nx), boundary).map_err(|r| Error::invalid("surface", r))?;
@@ -137,6 +135,22 @@ impl ContactSolver {
         Ok(())
     }
 
+    /// Replace the heights \[m] (row-major (ny, nx)), keeping the operator and the last pressure
+    /// as the next solve's start: the adhesive solver's frozen tension shifts them by its
+    /// displacement.
+    pub(crate) fn set_heights(&mut self, heights: &[f64]) -> Result<()> {
+        check_problem(heights, self.shape(), self.size(), self.engine.e_star())?;
+        self.engine.set_heights(heights, rms(heights))
+    }
+
+    /// Solve to `tolerance` from the next solve on: the adhesive solver's early steps, far from
+    /// their equilibrium, need no more than a rough one.
+    pub(crate) fn set_tolerance(&mut self, tolerance: f64) -> Result<()> {
+        crate::contact::options::Convergence { tolerance, max_iterations: 1 }.check()?;
+        self.engine.set_tolerance(tolerance);
+        Ok(())
+    }
+
     /// Solve for the normal load `load` \[N]. `progress` is called after every iteration with
     /// the iteration count and the current residual; it answers `()`, or a [`ControlFlow`]
     /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
@@ -146,6 +160,13 @@ impl ContactSolver {
         let mut proceed = |it: usize, residual: f64| progress(it, residual).proceed();
         self.engine.solve(load, &mut proceed)
     }
+}
+
+/// The RMS of `heights` about their mean \[m].
+fn rms(heights: &[f64]) -> f64 {
+    let n = heights.len() as f64;
+    let mean = heights.iter().sum::<f64>() / n;
+    (heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n).sqrt()
 }
 
 /// The gap of a solution (see [`ContactSolver::gap`]) from its pressure, displacement and

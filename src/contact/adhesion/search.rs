@@ -1,39 +1,73 @@
-//! Load control and the pull-off search of the adhesive solver: a march and a bracketing
-//! regula falsi (Illinois) on the separation to reach a load, and the sweep of the separation
-//! that finds the pull-off force (see the parent module).
+//! Load control and the pull-off search of the adhesive solver.
 //!
-//! Imports its parent (`adhesion`), `influence`, `options` and `solver` (the start without
-//! adhesion) inside `contact`; must not import
-//! friction, study, report, plot, shs, cli.
+//! Load control is the difference-of-convex algorithm (DCA; Pham Dinh & Le Thi, Acta Math.
+//! Vietnam. 22, 1997; the concave–convex procedure of Yuille & Rangarajan, Neural Comput. 15,
+//! 2003): the energy is the elastic energy with the contact constraint and the load's work
+//! (convex) plus the cohesive potential Σφ(g) (concave: the tension falls as the gap opens).
+//! Each step freezes the cohesive tension τ = t(g) of the last gap, which linearises the concave
+//! part, and minimises what is left exactly: a contact without adhesion under the load N + Στ
+//! on the heights shifted by the frozen tension's displacement Gτ, solved by the non-adhesive
+//! solver (Polonsky & Keer, load control inside its conjugate gradient) from its last pressure.
+//! A linearised concave term lies above the term itself, so every step lowers the energy: the
+//! steps converge to an equilibrium, the Maugis–Dugdale law's in finitely many (its tension
+//! takes two values), and what they reach is the one downhill of the start, the branch a ball
+//! follows when the load is applied. Where no equilibrium holds the load the contact opens
+//! (the frozen tension no longer carries the load): the pull-off decides, found by the sweep.
+//!
+//! The pull-off sweep runs at imposed separation, on the parent module's iteration: the
+//! separation, not the load, is what passes the least load of a branch.
+//!
+//! Imports its parent (`adhesion`), `influence`, `options` and `solver` (the steps without
+//! adhesion) inside `contact`; must not import friction, study, report, plot, shs, cli.
 
 use std::time::Instant;
 
 use super::{AdhesiveReport, AdhesiveSolver, PullOff};
 use crate::contact::influence::Boundary;
-use crate::contact::options::{Convergence, Device, SolverOptions};
+use crate::contact::options::{Device, SolverOptions};
 use crate::contact::solver::ContactSolver;
 use crate::error::{Error, Result};
 
-/// The loosest tolerance of load control's steps far from the load sought.
-const LOOSE: f64 = 1e-4;
+/// The loosest tolerance of the steps without adhesion far from the equilibrium sought.
+const LOOSE: f64 = 1e-3;
 
-/// Steps of the load control's secant before it gives up.
-const MAX_SECANT: usize = 100;
+/// Steps of the DCA before it gives up.
+const MAX_STEPS: usize = 2_000;
 
-/// Steps of the pull-off sweep, or of load control's march, before it gives up.
+/// Doublings of the first press of a cold start before it gives up.
+const MAX_PRESS: usize = 60;
+
+/// Steps of the pull-off sweep before it gives up.
 const MAX_SWEEP: usize = 400;
 
-/// Iterations and solves at imposed separation, summed over a load-controlled solve or a sweep.
+/// Iterations and solves, summed over a load-controlled solve or a sweep.
 #[derive(Default)]
 struct Tally {
     iterations: usize,
     solves: usize,
 }
 
+/// Load control's state: the solver without adhesion on the heights shifted by the frozen
+/// tension's displacement, and that tension.
+pub(super) struct Frozen {
+    plain: ContactSolver,
+    /// The window's heights \[m], as the adhesive solver holds them.
+    heights: Vec<f64>,
+    /// The frozen tension τ \[Pa] on the window.
+    tension: Vec<f64>,
+    /// The next step's tension \[Pa], and the shifted heights h + Gτ \[m].
+    next: Vec<f64>,
+    shifted: Vec<f64>,
+    /// Whether the solver's heights are shifted by the tension frozen now.
+    shifted_now: bool,
+    /// Whether `plain` and `tension` hold the adhesive solver's state.
+    pub(super) current: bool,
+}
+
 impl AdhesiveSolver {
     /// Solve for the normal load `load` \[N] (compressive positive, tensile negative), from
-    /// the last state, or cold from a compressive one. A load below the pull-off force is
-    /// refused with the pull-off force in the message.
+    /// the last state, or cold from the equilibrium without adhesion at a compressive load. A
+    /// load below the pull-off force is refused with the pull-off force in the message.
     pub fn solve(&mut self, load: f64) -> Result<AdhesiveReport> {
         let start = Instant::now();
         if !load.is_finite() {
@@ -41,12 +75,36 @@ impl AdhesiveSolver {
         }
         let mut tally = Tally::default();
         self.pressure_scale = load.abs() / (self.size.0 * self.size.1);
-        let last = self.reach_load(load, &mut tally)?;
+        let held = match self.hold_load(load, &mut tally)? {
+            Some(report) => report,
+            None => {
+                // Apart: below the pull-off, or past the end of the branch the start led to.
+                let pull_off = self.sweep_to_pull_off(&mut tally)?;
+                if load < pull_off.load {
+                    return Err(Error::invalid(
+                        "--load",
+                        format!(
+                            "{} N is below the pull-off force {} N: no equilibrium holds the surfaces together",
+                            crate::quantity::human(load),
+                            crate::quantity::human(pull_off.load)
+                        ),
+                    ));
+                }
+                // The sweep left the solver at the pull-off, on the branch: unload from there.
+                self.pressure_scale = load.abs() / (self.size.0 * self.size.1);
+                self.hold_load(load, &mut tally)?.ok_or(Error::NotConverged {
+                    solver: "adhesive load control",
+                    iterations: tally.solves,
+                    residual: 1.0,
+                    tolerance: self.convergence.tolerance,
+                })?
+            }
+        };
         Ok(AdhesiveReport {
             iterations: tally.iterations,
             solves: tally.solves,
             seconds: start.elapsed().as_secs_f64(),
-            ..last
+            ..held
         })
     }
 
@@ -59,11 +117,11 @@ impl AdhesiveSolver {
     pub fn pull_off(&mut self) -> Result<PullOff> {
         let mut tally = Tally::default();
         self.pressure_scale = 0.0;
-        let (_, pull_off) = self.sweep_to_pull_off(&mut tally)?;
+        let pull_off = self.sweep_to_pull_off(&mut tally)?;
         Ok(pull_off)
     }
 
-    /// One solve at separation `s`, counted, to the tolerance set.
+    /// One solve at separation `s`, counted.
     fn at(&mut self, s: f64, tally: &mut Tally) -> Result<AdhesiveReport> {
         let report = self.at_separation(s)?;
         tally.iterations += report.iterations;
@@ -71,197 +129,200 @@ impl AdhesiveSolver {
         Ok(report)
     }
 
-    /// A separation `step` \[m] closer than `s`: periodic, the mean gap stays positive.
-    fn closer(&self, s: f64, step: f64) -> f64 {
-        match self.boundary {
-            Boundary::Periodic => (s - step).max(0.25 * s),
-            Boundary::Free => s - step,
+    /// The equilibrium at `load` \[N] downhill of the state held (or of a cold start), or
+    /// `None` where the contact opens on the way.
+    fn hold_load(&mut self, load: f64, tally: &mut Tally) -> Result<Option<AdhesiveReport>> {
+        if !self.frozen.as_ref().is_some_and(|f| f.current) {
+            let held = self.warm && self.forces().contact_points > 0;
+            self.make_frozen()?;
+            if held {
+                self.freeze()?;
+            } else {
+                self.press(load, tally)?;
+            }
+        }
+        self.descend(load, tally)
+    }
+
+    /// The load control's state, made on first use.
+    fn make_frozen(&mut self) -> Result<()> {
+        if self.frozen.is_none() {
+            let heights = self.window_map(|s, i| s.heights[i]);
+            let options = SolverOptions { convergence: self.convergence, device: Device::Cpu };
+            let plain = ContactSolver::new(&heights, self.shape(), self.size, self.e_star, self.boundary, options)?;
+            let n = heights.len();
+            self.frozen = Some(Frozen {
+                plain,
+                heights,
+                tension: vec![0.0; n],
+                next: vec![0.0; n],
+                shifted: vec![0.0; n],
+                shifted_now: false,
+                current: false,
+            });
+        }
+        Ok(())
+    }
+
+    /// A cold start: the equilibrium without adhesion at the load sought (a compressive one),
+    /// or at a load pressed harder (four times at a time, from the larger of the load's size
+    /// and one pixel at the cohesive strength) until the tension of its gap carries the load
+    /// sought, so that a tensile load is reached unloading.
+    fn press(&mut self, load: f64, tally: &mut Tally) -> Result<()> {
+        let pixel = self.size.0 * self.size.1 / (self.ny * self.nx) as f64;
+        let law = self.law;
+        let f = self.frozen.as_mut().expect("made");
+        f.plain.set_heights(&f.heights)?;
+        f.shifted_now = false;
+        f.plain.set_tolerance(LOOSE.max(self.convergence.tolerance))?;
+        f.plain.reset();
+        let mut press = if load > 0.0 { load } else { (-load).max(law.strength() * pixel) };
+        for _ in 0..MAX_PRESS {
+            let report = f.plain.solve(press, |_, _| ())?;
+            tally.iterations += report.iterations;
+            tally.solves += 1;
+            let gap = f.plain.gap();
+            f.tension.iter_mut().zip(&gap).for_each(|(t, g)| *t = law.tension(*g));
+            if load + pixel * f.tension.iter().sum::<f64>() > 0.0 {
+                f.current = true;
+                return Ok(());
+            }
+            press *= 4.0;
+        }
+        Err(Error::NotConverged {
+            solver: "adhesive load control's press",
+            iterations: MAX_PRESS,
+            residual: 1.0,
+            tolerance: 0.0,
+        })
+    }
+
+    /// Load control's state from the equilibrium held at imposed separation: the tension of
+    /// its gap, frozen, and its compressive pressure, σ + τ where the surfaces touch.
+    fn freeze(&mut self) -> Result<()> {
+        let gap = self.gap();
+        let traction = self.traction();
+        let law = self.law;
+        let f = self.frozen.as_mut().expect("made");
+        f.tension.iter_mut().zip(&gap).for_each(|(t, g)| *t = law.tension(*g));
+        f.shifted_now = false;
+        let pressure: Vec<f64> =
+            (0..gap.len()).map(|i| if gap[i] <= 0.0 { (traction[i] + f.tension[i]).max(0.0) } else { 0.0 }).collect();
+        self.shift_heights()?;
+        let f = self.frozen.as_mut().expect("made");
+        if pressure.iter().any(|p| *p > 0.0) {
+            f.plain.warm_start(&pressure)?;
+        } else {
+            f.plain.reset();
+        }
+        f.current = true;
+        Ok(())
+    }
+
+    /// The frozen solver's heights: h + Gτ, unless they are already.
+    fn shift_heights(&mut self) -> Result<()> {
+        let f = self.frozen.as_mut().expect("made");
+        if !f.shifted_now {
+            self.fft_plan.apply(&f.tension, &mut f.shifted);
+            f.shifted.iter_mut().zip(&f.heights).for_each(|(s, h)| *s += h);
+            f.plain.set_heights(&f.shifted)?;
+            f.shifted_now = true;
+        }
+        Ok(())
+    }
+
+    /// The DCA's steps at `load` \[N] from the frozen state, until the tension of the gap
+    /// reached is the one frozen: the residual of the parent module (σ + t(g) where the
+    /// surfaces are apart) within the tolerance.
+    fn descend(&mut self, load: f64, tally: &mut Tally) -> Result<Option<AdhesiveReport>> {
+        let n = self.ny * self.nx;
+        let pixel = self.size.0 * self.size.1 / n as f64;
+        let floor = self.law.strength().max(self.pressure_scale) * (n as f64).sqrt();
+        let law = self.law;
+        let tight = self.convergence.tolerance;
+        let mut residual = f64::INFINITY;
+        // Each step is solved to a hundredth of the last residual, between the convergence's
+        // tolerance and LOOSE: the step whose tension is reached is solved again to the
+        // convergence's before it is accepted.
+        let mut inner = LOOSE.max(tight);
+        for _ in 0..MAX_STEPS {
+            let carried = load + pixel * self.frozen.as_ref().expect("made").tension.iter().sum::<f64>();
+            if !(carried > 0.0) {
+                self.lose_state();
+                return Ok(None);
+            }
+            self.shift_heights()?;
+            let f = self.frozen.as_mut().expect("made");
+            f.plain.set_tolerance(inner)?;
+            let report = match f.plain.solve(carried, |_, _| ()) {
+                Ok(report) => report,
+                Err(e) => {
+                    self.lose_state();
+                    return Err(e);
+                }
+            };
+            tally.iterations += report.iterations;
+            tally.solves += 1;
+            let gap = f.plain.gap();
+            let pressure = f.plain.pressure();
+            if !pressure.iter().any(|p| *p > 0.0) {
+                self.lose_state();
+                return Ok(None);
+            }
+            let (mut change, mut traction) = (0.0, 0.0);
+            for i in 0..n {
+                let (old, new) = (f.tension[i], law.tension(gap[i]));
+                f.next[i] = new;
+                if pressure[i] == 0.0 {
+                    change += (new - old) * (new - old);
+                }
+                traction += (pressure[i] - old) * (pressure[i] - old);
+            }
+            residual = change.sqrt() / (traction.sqrt() + floor);
+            if residual <= tight && inner > tight {
+                inner = tight;
+                continue;
+            }
+            inner = (0.01 * residual).clamp(tight, LOOSE.max(tight));
+            if residual <= tight {
+                let traction: Vec<f64> = pressure.iter().zip(&f.tension).map(|(p, t)| p - t).collect();
+                self.adopt(&traction, &gap, load);
+                return Ok(Some(AdhesiveReport { residual, ..self.forces() }));
+            }
+            std::mem::swap(&mut f.tension, &mut f.next);
+            f.shifted_now = false;
+        }
+        self.lose_state();
+        Err(Error::NotConverged {
+            solver: "adhesive load control",
+            iterations: MAX_STEPS,
+            residual,
+            tolerance: self.convergence.tolerance,
+        })
+    }
+
+    /// Neither state holds an equilibrium any more.
+    pub(super) fn lose_state(&mut self) {
+        self.warm = false;
+        if let Some(f) = self.frozen.as_mut() {
+            f.current = false;
         }
     }
 
-    /// See [`solve`](Self::solve): the last solve's report.
-    fn reach_load(&mut self, target: f64, tally: &mut Tally) -> Result<AdhesiveReport> {
-        // Far from the load sought a step needs no more than a rough solve: the tolerance of
-        // each is a hundredth of the last relative load error, between the convergence's and
-        // LOOSE, so that the solve that is accepted has the convergence's.
-        let tight = self.convergence.tolerance;
-        self.tolerance = LOOSE.max(tight);
-        // A state held in contact is the start; one apart (past a pull-off) carries no load to
-        // start a branch from, and a cold start presses first.
-        let held_state = if self.warm { Some(self.forces()).filter(|r| r.contact_points > 0) } else { None };
-        let held = held_state.is_some();
-        // The first step's stiffness −dN/ds [N/m], where known.
-        let (mut current, stiffness) = match held_state {
-            Some(state) => (state, None),
-            None if target > 0.0 => {
-                // The equilibrium without adhesion at the load sought is near the adhesive one
-                // (adhesion adds the tension of a thin zone around the contact): the march and
-                // the secant start a few steps from it, not from the first touch.
-                let k = Some(self.seed(target)?).filter(|k| k.is_finite() && *k > 0.0);
-                (self.at(self.separation, tally)?, k)
-            }
+    /// The sweep of [`pull_off`](Self::pull_off).
+    fn sweep_to_pull_off(&mut self, tally: &mut Tally) -> Result<PullOff> {
+        self.pressure_scale = 0.0;
+        let zero = match self.hold_load(0.0, tally)? {
+            Some(zero) => zero,
+            // Nothing holds at zero load: from the first touch.
             None => {
-                self.warm = false;
                 let s = match self.boundary {
                     Boundary::Periodic => self.touching,
                     Boundary::Free => 0.0,
                 };
-                let mut r = self.at(s, tally)?;
-                // Pressed first, so that a tensile load is reached unloading.
-                let mut step = self.law.range();
-                while r.load < target.max(0.0) {
-                    r = self.at(self.closer(r.separation, step), tally)?;
-                    step *= 2.0;
-                }
-                (r, None)
+                self.at(s, tally)?
             }
         };
-        let tolerance = |r: &AdhesiveReport, c: &Convergence| {
-            (100.0 * c.tolerance).max(1e-13) * (r.compressive_force + r.adhesive_force)
-        };
-        let loosen = |this: &mut Self, r: &AdhesiveReport| {
-            let error = (r.load - target).abs() / (r.compressive_force + r.adhesive_force).max(f64::MIN_POSITIVE);
-            this.tolerance = (0.01 * error).clamp(tight, LOOSE.max(tight));
-        };
-        if held && (current.load - target).abs() <= tolerance(&current, &self.convergence) {
-            // The state held (at the tolerance its solve had) already carries the load.
-            return Ok(current);
-        }
-        loosen(self, &current);
-        // March towards the target, each step the secant's estimate of the distance left
-        // (at first the law's range), at most twice the last and at least a thousandth of the
-        // range, until the load crosses it: the first crossing from the state held. Bracket:
-        // (separation, load) closer, with the load above the target, and farther, at or below.
-        let outward = current.load > target;
-        let range = self.law.range();
-        let mut step = range;
-        let mut last_step = f64::INFINITY;
-        let mut slope: Option<f64> = stiffness;
-        let mut marched = 0;
-        let (mut near, mut far) = loop {
-            marched += 1;
-            if marched > MAX_SWEEP {
-                return Err(Error::NotConverged {
-                    solver: "adhesive load control",
-                    iterations: MAX_SWEEP,
-                    residual: (current.load - target).abs() / target.abs().max(f64::MIN_POSITIVE),
-                    tolerance: 100.0 * self.convergence.tolerance,
-                });
-            }
-            if let Some(k) = slope {
-                step = (1.2 * (current.load - target).abs() / k).min(2.0 * last_step).max(1e-3 * range);
-            }
-            let s = if outward { current.separation + step } else { self.closer(current.separation, step) };
-            let next = self.at(s, tally)?;
-            if outward && next.load <= target {
-                break ((current.separation, current.load), (next.separation, next.load));
-            }
-            if !outward && next.load >= target {
-                break ((next.separation, next.load), (current.separation, current.load));
-            }
-            if outward && target < 0.0 && next.load >= current.load {
-                // Past the least load of the branch, or apart, or a jump of the load: the
-                // pull-off decides (a load of zero or more lies above it: no sweep, whose own
-                // first step is the load zero).
-                let (zero, pull_off) = self.sweep_to_pull_off(tally)?;
-                if target < pull_off.load {
-                    return Err(Error::invalid(
-                        "--load",
-                        format!(
-                            "{} N is below the pull-off force {} N: no equilibrium holds the surfaces together",
-                            crate::quantity::human(target),
-                            crate::quantity::human(pull_off.load)
-                        ),
-                    ));
-                }
-                break ((zero, 0.0), (pull_off.separation, pull_off.load));
-            }
-            loosen(self, &next);
-            let k = ((next.load - current.load) / (next.separation - current.separation)).abs();
-            slope = Some(k).filter(|k| *k > 0.0);
-            last_step = (next.separation - current.separation).abs();
-            current = next;
-        };
-        // Regula falsi, Illinois: the end that stays has its load difference halved. A solve
-        // that meets the load loosely is done again at the convergence's tolerance; a bracket
-        // narrower than a billionth of the law's range ends it (the Maugis–Dugdale law's load
-        // jumps where a pixel leaves its zone: the load nearest the target is returned).
-        let (mut f_near, mut f_far) = (near.1 - target, far.1 - target);
-        let mut side = 0;
-        for _ in 0..MAX_SECANT {
-            let s = far.0 - f_far * (far.0 - near.0) / (f_far - f_near);
-            let mut r = self.at(s, tally)?;
-            let narrow = (far.0 - near.0).abs() <= 1e-9 * self.law.range();
-            if ((r.load - target).abs() <= tolerance(&r, &self.convergence) || narrow) && self.tolerance > tight {
-                self.tolerance = tight;
-                r = self.at(s, tally)?;
-            }
-            if (r.load - target).abs() <= tolerance(&r, &self.convergence) || narrow {
-                return Ok(r);
-            }
-            loosen(self, &r);
-            let f = r.load - target;
-            if f > 0.0 {
-                (near, f_near) = ((s, r.load), f);
-                if side == 1 {
-                    f_far *= 0.5;
-                }
-                side = 1;
-            } else {
-                (far, f_far) = ((s, r.load), f);
-                if side == -1 {
-                    f_near *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        Err(Error::NotConverged {
-            solver: "adhesive load control",
-            iterations: MAX_SECANT,
-            residual: (near.1 - target).abs().min((far.1 - target).abs()) / target.abs().max(f64::MIN_POSITIVE),
-            tolerance: 100.0 * self.convergence.tolerance,
-        })
-    }
-
-    /// Start from the equilibrium without adhesion at the compressive load `load` \[N]:
-    /// its gap, and its separation (periodic, the mean gap; free, the rigid body's position
-    /// from the first touch of the highest point, minus the mean of u − h over the contact).
-    /// Returns the contact's stiffness there, −dN/ds \[N/m], from a second solve at a load 1 %
-    /// lower: the first step of load control. Solved to the loosest tolerance of load
-    /// control's steps: the adhesive solves refine it.
-    fn seed(&mut self, load: f64) -> Result<f64> {
-        let heights = self.window_map(|s, i| s.heights[i]);
-        let options = SolverOptions {
-            convergence: Convergence { tolerance: LOOSE, max_iterations: self.convergence.max_iterations },
-            device: Device::Cpu,
-        };
-        let mut plain = ContactSolver::new(&heights, self.shape(), self.size, self.e_star, self.boundary, options)?;
-        let boundary = self.boundary;
-        let separation = |plain: &ContactSolver, gap: &[f64]| match boundary {
-            Boundary::Periodic => gap.iter().sum::<f64>() / gap.len() as f64,
-            Boundary::Free => {
-                let (u, p) = (plain.displacement(), plain.pressure());
-                let (sum, count) = (0..gap.len())
-                    .filter(|&i| p[i] > 0.0)
-                    .fold((0.0, 0usize), |(sum, count), i| (sum + u[i] - heights[i], count + 1));
-                -sum / count.max(1) as f64
-            }
-        };
-        let lighter = 0.99 * load;
-        plain.solve(lighter, |_, _| ())?;
-        let apart = separation(&plain, &plain.gap());
-        plain.solve(load, |_, _| ())?;
-        let gap = plain.gap();
-        let at = separation(&plain, &gap);
-        drop(plain);
-        self.warm_start(&gap, at)?;
-        Ok((load - lighter) / (apart - at))
-    }
-
-    /// The sweep of [`pull_off`](Self::pull_off): (the separation at zero load, the pull-off).
-    fn sweep_to_pull_off(&mut self, tally: &mut Tally) -> Result<(f64, PullOff)> {
-        let zero = self.reach_load(0.0, tally)?;
-        self.tolerance = self.convergence.tolerance;
         let scale = zero.adhesive_force.max(f64::MIN_POSITIVE);
         // States kept: the sample before the least load, and the last sample.
         let mut before = self.x.clone();
@@ -316,9 +377,6 @@ impl AdhesiveSolver {
         self.x.copy_from_slice(&before);
         (self.separation, self.warm) = (s_before, true);
         self.at(best.0, tally)?;
-        Ok((
-            zero.separation,
-            PullOff { load: best.1, separation: best.0, contact_points: best.2, solves: tally.solves },
-        ))
+        Ok(PullOff { load: best.1, separation: best.0, contact_points: best.2, solves: tally.solves })
     }
 }
