@@ -38,6 +38,12 @@ use crate::quantity::{show, LENGTH};
 /// Pixels kept around the contact points in a [`MapSnapshot`].
 const SNAPSHOT_MARGIN: usize = 8;
 
+/// A sweep's normal solver: with the study's cohesive law, or without adhesion.
+enum NormalSolver {
+    Adhesive(AdhesiveSolver),
+    Plain(ContactSolver),
+}
+
 /// What the workers of a run share: its tallies, its progress callback, and the queue of the
 /// elastic onsets whose solves are done. Each onset depends only on its solve's pressure, so
 /// they run in any order, over all threads together with the sweeps' normal solves, the
@@ -214,17 +220,20 @@ impl Study {
         };
         let heights = heights.as_slice().expect("standard layout");
         let e_star = self.config.effective_modulus();
-        // An adhesive sweep's solver, or the non-adhesive one: one of the two.
-        let mut adhesive = match self.cohesive_law().filter(|_| self.adhesive(u)) {
-            Some(law) => Some(AdhesiveSolver::new(heights, shape, size, e_star, c.boundary, law, options.convergence)?),
-            None => None,
-        };
-        let mut solver = match adhesive {
-            Some(_) => None,
+        let mut normal_solver = match self.cohesive_law().filter(|_| self.adhesive(u)) {
+            Some(law) => NormalSolver::Adhesive(AdhesiveSolver::new(
+                heights,
+                shape,
+                size,
+                e_star,
+                c.boundary,
+                law,
+                options.convergence,
+            )?),
             None => {
                 let mut solver = ContactSolver::new(heights, shape, size, e_star, c.boundary, options)?;
                 solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
-                Some(solver)
+                NormalSolver::Plain(solver)
             }
         };
         let keep_maps = self.keeps_maps(u);
@@ -265,48 +274,51 @@ impl Study {
             let (pressure, cold, facts) = if kept(k) {
                 let (normal, pressure) = read_normal(&solves, stem, load)?;
                 // The next load goes on from it as from the solver's own solution.
-                if let Some(solver) = solver.as_mut() {
+                if let NormalSolver::Plain(solver) = &mut normal_solver {
                     solver.warm_start(pressure.as_slice().expect("row-major"))?;
                 }
                 (pressure, normal.cold, normal.solve)
             } else {
-                let (pressure, cold, facts) = if let Some(adhesive) = adhesive.as_mut() {
-                    // Every adhesive solve starts cold, from the equilibrium without adhesion
-                    // at its load (a loading, as the ball pressed on the wafer): where several
-                    // equilibria carry one load, the one reached then depends on the load
-                    // alone, not on where a chain was cut (solved from the last load's, it
-                    // moves a few-pixel contact to a neighbouring equilibrium). The friction
-                    // model sees the compressive pressure: the tension outside the contact
-                    // carries none.
-                    adhesive.reset();
-                    let report = adhesive.solve(load).map_err(context)?;
-                    let pressure = adhesive.compressive_pressure();
-                    let summary = contact::summarize(&pressure, shape, size, c.boundary, self.config.hardness());
-                    let pressure = Array2::from_shape_vec(shape, pressure).expect("the grid's shape");
-                    (pressure, true, SolveFacts::adhesive(&summary, &report))
-                } else {
-                    let solver = solver.as_mut().expect("a sweep without adhesion has its solver");
-                    // An elastic onset follows its solve's pressure to the last bit, and a warm
-                    // start leaves the solution dependent on where a chain was cut (by shards,
-                    // by a killed run) within the tolerance: with elastic sharing every solve
-                    // starts cold, so that its rows are the same however the study was run.
-                    let cold = if elastic {
-                        solver.reset();
-                        true
-                    } else if k > 0 && held == Some(k - 1) {
-                        false
-                    } else if k > loads.start && warm(k - 1).is_file() {
-                        solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
-                        false
-                    } else {
-                        solver.reset();
-                        true
-                    };
-                    let report = solver.solve(load, |_, _| ()).map_err(context)?;
-                    let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
-                    let summary =
-                        contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
-                    (pressure, cold, SolveFacts::new(&summary, &report))
+                let (pressure, cold, facts) = match &mut normal_solver {
+                    NormalSolver::Adhesive(adhesive) => {
+                        // Every adhesive solve starts cold, from the equilibrium without adhesion
+                        // at its load (a loading, as the ball pressed on the wafer): where several
+                        // equilibria carry one load, the one reached then depends on the load
+                        // alone, not on where a chain was cut (solved from the last load's, it
+                        // moves a few-pixel contact to a neighbouring equilibrium). The friction
+                        // model sees the compressive pressure: the tension outside the contact
+                        // carries none.
+                        adhesive.reset();
+                        let report = adhesive.solve(load).map_err(context)?;
+                        let pressure = adhesive.compressive_pressure();
+                        let summary = contact::summarize(&pressure, shape, size, c.boundary, self.config.hardness());
+                        let pressure = Array2::from_shape_vec(shape, pressure).expect("the grid's shape");
+                        (pressure, true, SolveFacts::adhesive(&summary, &report))
+                    }
+                    NormalSolver::Plain(solver) => {
+                        // An elastic onset follows its solve's pressure to the last bit, and a warm
+                        // start leaves the solution dependent on where a chain was cut (by shards,
+                        // by a killed run) within the tolerance: with elastic sharing every solve
+                        // starts cold, so that its rows are the same however the study was run.
+                        let cold = if elastic {
+                            solver.reset();
+                            true
+                        } else if k > 0 && held == Some(k - 1) {
+                            false
+                        } else if k > loads.start && warm(k - 1).is_file() {
+                            solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
+                            false
+                        } else {
+                            solver.reset();
+                            true
+                        };
+                        let report = solver.solve(load, |_, _| ()).map_err(context)?;
+                        let pressure =
+                            Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
+                        let summary =
+                            contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
+                        (pressure, cold, SolveFacts::new(&summary, &report))
+                    }
                 };
                 if elastic {
                     // The onsets read the solve from its map, and a run stopped before its
@@ -404,7 +416,11 @@ impl Study {
             // The map the next load goes on from, should this run stop before it (or this piece
             // end there); with elastic sharing it is written already, and an adhesive solve
             // goes on from none.
-            if k + 1 < self.loads.len() && !is_recorded(k + 1) && !elastic && adhesive.is_none() {
+            if k + 1 < self.loads.len()
+                && !is_recorded(k + 1)
+                && !elastic
+                && matches!(normal_solver, NormalSolver::Plain(_))
+            {
                 output::write_npy(&warm(k), &pressure)?;
             }
             let kept_rows =
