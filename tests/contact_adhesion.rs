@@ -298,3 +298,18 @@ fn load_and_separation_control_agree() {
         );
     }
 }
+
+/// The cohesive tension at a free window's edge, as a fraction of the strength, tells a zone
+/// the window cuts (DMT's long-ranged tension on a window of three Maugis radii: above the 1 %
+/// that is warned about) from one it holds (twelve radii).
+#[test]
+fn a_zone_cut_by_the_window_is_told() {
+    let (mut cut, _) = sphere_solver(0.05, 64, 3.0);
+    cut.solve(0.0).unwrap();
+    let (mut held, _) = sphere_solver(0.05, 128, 12.0);
+    held.solve(0.0).unwrap();
+    let (c, h) = (cut.edge_tension(), held.edge_tension());
+    eprintln!("edge tension: {c} cut, {h} held");
+    assert!(c > asperity::contact::EDGE_TENSION_LIMIT && h < asperity::contact::EDGE_TENSION_LIMIT, "{c} and {h}");
+    assert!(asperity::contact::edge_tension_warning(c).is_some_and(|w| w.contains("enlarge the window")));
+}

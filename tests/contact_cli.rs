@@ -106,6 +106,8 @@ fn bad_input_is_refused_in_one_line() {
     refused(&[good, size[0], size[1], "--load", "2e-3", "--tolerance", "1e-2"], "--tolerance: must lie in (0, 0.01)");
     refused(&[thin.to_str().unwrap(), size[0], size[1], "--load", "1e-3"], "too small");
     refused(&[good, "--load", "1e-3"], "--size");
+    // A cohesive law without a work of adhesion would be solved without adhesion.
+    refused(&[good, size[0], size[1], "--load", "1e-3", "--adhesion-law", "exponential"], "--adhesion-work");
     refused(&[good, size[0], "abc", "--load", "1e-3"], "--size");
     refused(&[good, "--size", "8e-6,-6e-6", "--load", "1e-3"], "--size");
     let gsf = common::sample("wafer-roughness.gsf");

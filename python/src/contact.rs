@@ -135,6 +135,8 @@ struct Solved {
     displacement: Array2<f64>,
     /// With adhesion: its report and the traction.
     adhesive: Option<(core_contact::AdhesiveReport, Array2<f64>)>,
+    /// With adhesion: the cohesive tension at the window's edge, a fraction of the strength.
+    edge_tension: f64,
 }
 
 /// Elastic normal contact of a rigid rough surface on an elastic half-space (boundary integral
@@ -233,8 +235,11 @@ pub(crate) fn contact(
             }
             Some(law)
         }
-        None if adhesion_stress.is_some() || adhesion_range.is_some() || pull_off => {
-            return Err(invalid("adhesion_work", "is needed by adhesion_stress, adhesion_range and pull_off"));
+        None if adhesion_stress.is_some() || adhesion_range.is_some() || pull_off || adhesion_law != "maugis" => {
+            return Err(invalid(
+                "adhesion_work",
+                "is needed by adhesion_stress, adhesion_range, adhesion_law and pull_off",
+            ));
         }
         None => {
             core_contact::check_loads(&loads).map_err(named)?;
@@ -359,6 +364,7 @@ pub(crate) fn contact(
                     gap: field(solver.gap()),
                     displacement: field(solver.displacement()),
                     adhesive: Some((report, field(solver.traction()))),
+                    edge_tension: solver.edge_tension(),
                 });
             }
             solved.sort_by_key(|s| s.index);
@@ -382,6 +388,7 @@ pub(crate) fn contact(
                 gap: field(solver.gap()),
                 displacement: field(solver.displacement()),
                 adhesive: None,
+                edge_tension: 0.0,
             });
         }
         solved.sort_by_key(|s| s.index);
@@ -390,7 +397,7 @@ pub(crate) fn contact(
     let (solved, pull_off) = solved.map_err(|e| signals.error(e))?;
     let mut solutions = Vec::with_capacity(solved.len());
     for (s, mut said) in solved.into_iter().zip(warnings) {
-        for w in s.summary.warnings(&remedies) {
+        for w in s.summary.warnings(&remedies).into_iter().chain(core_contact::edge_tension_warning(s.edge_tension)) {
             let line = format!("at {}: {w}", asperity::quantity::show(s.report.load, &asperity::quantity::FORCE));
             warn(py, &line, 1)?;
             said.push(line);

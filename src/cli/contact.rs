@@ -35,10 +35,13 @@ use super::{MaterialArgs, ReadArgs};
 /// (edge_load_fraction; above 0.01 a warning) and the largest pressure.
 ///
 /// With --adhesion-work the surfaces also attract through a cohesive zone (Maugis–Dugdale or
-/// exponential law; projected conjugate gradient on the gap): loads may be zero or tensile
-/// (negative), are solved from the largest down (an unloading), and each reports its
-/// compressive and adhesive forces; pressure-NNN.npy then holds the compressive part of the
-/// traction, traction-NNN.npy the traction (tensile negative).
+/// exponential law; each step freezes the cohesive tension and solves the contact without
+/// adhesion): loads may be zero or tensile (negative), are solved from the largest down (an
+/// unloading: the first from the equilibrium without adhesion at its load, each next from the
+/// last), and each reports its compressive and adhesive forces; pressure-NNN.npy then holds the
+/// compressive part of the traction, traction-NNN.npy the traction (tensile negative). On a
+/// free window, a cohesive tension at the window's edge above 1 % of the law's strength is
+/// warned about.
 #[derive(Args)]
 pub struct ContactArgs {
     #[command(flatten)]
@@ -114,10 +117,11 @@ pub struct AdhesionArgs {
     pub adhesion_range: Option<f64>,
     /// The cohesive law: maugis (a tension σ₀ while the gap is below h₀) or exponential (a
     /// tension (w/ρ)·e^(−g/ρ)).
-    #[arg(long, value_name = "LAW", default_value = "maugis", value_parser = ["maugis", "exponential"])]
+    #[arg(long, value_name = "LAW", default_value = "maugis", value_parser = ["maugis", "exponential"], requires = "adhesion_work")]
     pub adhesion_law: String,
     /// Also find the pull-off force, the most tensile load with an equilibrium (pull_off_n in
-    /// contact.json), by a sweep of the separation from the equilibrium at zero load.
+    /// contact.json), by a sweep of the separation from the equilibrium at zero load (tens of
+    /// solves at imposed separation: at 512² it costs about 30 times the loads' solves).
     #[arg(long, requires = "adhesion_work")]
     pub pull_off: bool,
 }
@@ -449,7 +453,8 @@ fn run_adhesive(
         let report = solver.solve(load)?;
         let pressure = solver.compressive_pressure();
         let summary = contact::summarize(&pressure, shape, size, boundary, args.hardness);
-        let said = summary.warnings(&remedies);
+        let mut said = summary.warnings(&remedies);
+        said.extend(contact::edge_tension_warning(solver.edge_tension()));
         for w in said {
             bar.suspend(|| super::message(&format!("warning: at {shown}: {w}")));
             warnings.push(format!("at {shown}: {w}"));

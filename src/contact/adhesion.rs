@@ -305,6 +305,19 @@ impl AdhesiveSolver {
         self.window_map(|s, i| s.traction_at(i))
     }
 
+    /// The largest cohesive tension on the free window's outermost rows and columns, as a
+    /// fraction of the law's strength (zero on a periodic window, which has no edge): where it
+    /// is not small the cohesive zone reaches the edge, and the window cuts off part of the
+    /// adhesive force.
+    pub fn edge_tension(&self) -> f64 {
+        if self.boundary == Boundary::Periodic {
+            return 0.0;
+        }
+        let (ny, nx, gx) = (self.ny, self.nx, self.gx);
+        let edge = (0..nx).flat_map(|x| [x, (ny - 1) * gx + x]).chain((0..ny).flat_map(|y| [y * gx, y * gx + nx - 1]));
+        edge.map(|i| (-self.traction_at(i)).max(0.0)).fold(0.0, f64::max) / self.law.strength()
+    }
+
     /// The compressive part max(σ, 0) of the traction \[Pa] on the window: the pressure that
     /// carries friction (the cohesive tension outside the contact carries none).
     pub fn compressive_pressure(&self) -> Vec<f64> {

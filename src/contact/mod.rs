@@ -172,6 +172,22 @@ impl ContactSummary {
     }
 }
 
+/// The largest cohesive tension at a free window's edge, as a fraction of the law's strength
+/// ([`AdhesiveSolver::edge_tension`]), above which it is warned about.
+pub const EDGE_TENSION_LIMIT: f64 = 0.01;
+
+/// The warning for a cohesive tension `fraction` of the law's strength at the window's edge
+/// ([`AdhesiveSolver::edge_tension`]), if above [`EDGE_TENSION_LIMIT`].
+pub fn edge_tension_warning(fraction: f64) -> Option<String> {
+    (fraction > EDGE_TENSION_LIMIT).then(|| {
+        format!(
+            "the cohesive tension at the window's edge reaches {:.0} % of the law's strength: the cohesive zone \
+             is cut by the window and the adhesive force and pull-off come out too small; enlarge the window",
+            100.0 * fraction
+        )
+    })
+}
+
 /// The warnings of [`ContactSummary::warnings`] from its figures.
 pub fn plausibility_warnings(
     edge_load_fraction: f64,
