@@ -180,6 +180,10 @@ pub(super) struct CpuSolver {
     /// Dense pressure of the last solve [Pa].
     pressure_field: Vec<f64>,
     warm: bool,
+    /// Whether the displacement is K p of the stored pressure, as an exact check left it at the
+    /// end of a solve, and whether a warm solve may start from it, scaled to its load.
+    displaced: bool,
+    rescaled_start: bool,
     /// The cap on the pressure (elastic–perfectly-plastic contact) [Pa], if any.
     hardness: Option<f64>,
 }
@@ -236,6 +240,8 @@ impl CpuSolver {
             spectrum_sums: vec![[0.0; 2]; nxh],
             pressure_field: large_buffer(n, 0.0),
             warm: false,
+            displaced: false,
+            rescaled_start: false,
             hardness: None,
         })
     }
@@ -304,12 +310,14 @@ impl Engine for CpuSolver {
 
     fn reset(&mut self) {
         self.warm = false;
+        self.displaced = false;
     }
 
     fn warm_start(&mut self, pressure: &[f64]) -> Result<()> {
         self.pressure_field.copy_from_slice(pressure);
         self.adopt_pressure_field();
         self.warm = true;
+        self.displaced = false;
         Ok(())
     }
 
@@ -319,6 +327,10 @@ impl Engine for CpuSolver {
 
     fn set_tolerance(&mut self, tolerance: f64) {
         self.options.convergence.tolerance = tolerance;
+    }
+
+    fn set_rescaled_start(&mut self, on: bool) {
+        self.rescaled_start = on;
     }
 
     fn set_heights(&mut self, heights: &[f64], h_rms: f64) -> Result<()> {
@@ -331,6 +343,8 @@ impl Engine for CpuSolver {
     fn solve(&mut self, load: f64, proceed: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport> {
         // The dense pressure is rebuilt at the end: the iteration needs only the contact set.
         self.pressure_field = Vec::new();
+        // Whether the start may scale the displacement: only the elastic iteration asks.
+        let displaced = std::mem::take(&mut self.displaced) && self.rescaled_start;
         let p_mean = load / (self.size.0 * self.size.1);
         let flat = self.flat_spread <= self.options.convergence.tolerance * p_mean;
         let report = match self.hardness {
@@ -345,7 +359,7 @@ impl Engine for CpuSolver {
             )),
             Some(hardness) if !(flat && p_mean <= hardness) => self.solve_saturated(hardness, load, proceed),
             _ if flat => Ok(self.press_flat(load)),
-            _ => self.solve_elastic(load, proceed),
+            _ => self.solve_elastic(load, displaced, proceed),
         };
         if report.is_ok() {
             // Converged in full contact at the start (a flat surface): the set is stored.

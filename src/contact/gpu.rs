@@ -553,6 +553,9 @@ impl Engine for GpuSolver {
         self.options.convergence.tolerance = tolerance;
     }
 
+    /// The GPU's start transforms the pressure every time.
+    fn set_rescaled_start(&mut self, _on: bool) {}
+
     fn set_heights(&mut self, heights: &[f64], h_rms: f64) -> Result<()> {
         self.stream.memcpy_htod(heights, &mut self.h).map_err(|e| gpu_error("copy to the GPU", e))?;
         self.heights.copy_from_slice(heights);

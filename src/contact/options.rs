@@ -371,6 +371,10 @@ pub(crate) trait Engine: Send + Sync {
     fn set_heights(&mut self, heights: &[f64], h_rms: f64) -> Result<()>;
     /// Solve to `tolerance` (already checked) from the next solve on.
     fn set_tolerance(&mut self, tolerance: f64);
+    /// Whether a warm solve may start from the last solve's displacement, scaled with its
+    /// pressure to the new load, rather than transform the pressure again: the displacement is
+    /// linear in the pressure, so only rounding tells them apart. An engine may transform anyway.
+    fn set_rescaled_start(&mut self, on: bool);
     /// Solve for `load` \[N], already checked; `proceed` hears the iteration count and the
     /// residual after every iteration and answers whether to go on.
     fn solve(&mut self, load: f64, proceed: &mut dyn FnMut(usize, f64) -> bool) -> Result<SolveReport>;

@@ -94,8 +94,15 @@ impl ContactSolver {
     /// p = 0, and where p = H the penetration of the rigid surface as a negative gap (the
     /// plastic indentation).
     pub fn gap(&self) -> Vec<f64> {
+        let mut gap = vec![0.0; self.heights().len()];
+        self.gap_into(&mut gap);
+        gap
+    }
+
+    /// [`gap`](Self::gap) into `out` (ny·nx values), for a caller that asks after every solve.
+    pub(crate) fn gap_into(&self, out: &mut [f64]) {
         let (p, u, h) = (self.pressure(), self.engine.displacement(), self.heights());
-        gap_of(p, u, h, self.engine.hardness())
+        gap_of(p, u, h, self.engine.hardness(), out)
     }
 
     /// Surface displacement u = K p of the last solve \[m]. In the periodic model its mean is
@@ -151,6 +158,15 @@ impl ContactSolver {
         Ok(())
     }
 
+    /// Let a warm solve start from the last solve's displacement, scaled with its pressure to
+    /// the new load, rather than transform the pressure again (one FFT pair less, rounding
+    /// aside the same): the adhesive solver's steps change the load and the heights, not the
+    /// pressure they start from. Off unless asked, so that a solve without adhesion is the same
+    /// to the last bit whoever calls it.
+    pub(crate) fn set_rescaled_start(&mut self, on: bool) {
+        self.engine.set_rescaled_start(on)
+    }
+
     /// Solve for the normal load `load` \[N]. `progress` is called after every iteration with
     /// the iteration count and the current residual; it answers `()`, or a [`ControlFlow`]
     /// whose `Break` stops the solve with [`Error::Interrupted`] (the next solve then starts
@@ -170,8 +186,8 @@ fn rms(heights: &[f64]) -> f64 {
 }
 
 /// The gap of a solution (see [`ContactSolver::gap`]) from its pressure, displacement and
-/// heights, with the cap `hardness` if any.
-fn gap_of(pressure: &[f64], displacement: &[f64], heights: &[f64], hardness: Option<f64>) -> Vec<f64> {
+/// heights, with the cap `hardness` if any, into `out`.
+fn gap_of(pressure: &[f64], displacement: &[f64], heights: &[f64], hardness: Option<f64>, out: &mut [f64]) {
     let cap = hardness.unwrap_or(f64::INFINITY);
     let (sum, count) = pressure
         .iter()
@@ -179,16 +195,14 @@ fn gap_of(pressure: &[f64], displacement: &[f64], heights: &[f64], hardness: Opt
         .filter(|(p, _)| **p > 0.0 && **p < cap)
         .fold((0.0, 0usize), |(s, c), (_, (u, h))| (s + (u - h), c + 1));
     let mean = sum / count.max(1) as f64;
-    (0..heights.len())
-        .map(|i| {
-            let (p, g) = (pressure[i], displacement[i] - heights[i] - mean);
-            if p == 0.0 {
-                g.max(0.0)
-            } else if p == cap {
-                g.min(0.0)
-            } else {
-                0.0
-            }
-        })
-        .collect()
+    for (i, g) in out.iter_mut().enumerate() {
+        let (p, d) = (pressure[i], displacement[i] - heights[i] - mean);
+        *g = if p == 0.0 {
+            d.max(0.0)
+        } else if p == cap {
+            d.min(0.0)
+        } else {
+            0.0
+        };
+    }
 }

@@ -55,9 +55,11 @@ pub(super) struct Frozen {
     heights: Vec<f64>,
     /// The frozen tension τ \[Pa] on the window.
     tension: Vec<f64>,
-    /// The next step's tension \[Pa], and the shifted heights h + Gτ \[m].
+    /// The next step's tension \[Pa], the shifted heights h + Gτ \[m] and the gap of the last
+    /// step \[m].
     next: Vec<f64>,
     shifted: Vec<f64>,
+    gap: Vec<f64>,
     /// Whether the solver's heights are shifted by the tension frozen now.
     shifted_now: bool,
     /// Whether `plain` and `tension` hold the adhesive solver's state.
@@ -108,6 +110,35 @@ impl AdhesiveSolver {
         })
     }
 
+    /// Solve for the compressive load `load` \[N] from the equilibrium without adhesion at that
+    /// load: its `pressure` \[Pa] and `gap` \[m] (row-major (ny, nx)), as [`ContactSolver`]
+    /// solves them on the same heights to the same tolerance. That is the loading of a ball
+    /// pressed onto its counterface, whatever state is held; a study's sweep has the
+    /// equilibrium at hand, so the adhesive solve costs its steps alone.
+    pub fn solve_from(&mut self, load: f64, pressure: &[f64], gap: &[f64]) -> Result<AdhesiveReport> {
+        let start = Instant::now();
+        if !(load > 0.0 && load.is_finite()) {
+            return Err(Error::invalid(
+                "--load",
+                format!("must be compressive to start from a solve without adhesion, got {load} N"),
+            ));
+        }
+        let (ny, nx) = (self.ny, self.nx);
+        if gap.len() != ny * nx {
+            return Err(Error::invalid("warm start", format!("{} gaps for a {ny}×{nx} grid", gap.len())));
+        }
+        self.lose_state();
+        self.make_frozen()?;
+        let law = self.law;
+        let f = self.frozen.as_mut().expect("made");
+        f.plain.warm_start(pressure)?;
+        f.tension.iter_mut().zip(gap).for_each(|(t, g)| *t = law.tension(*g));
+        f.shifted_now = false;
+        f.current = true;
+        let report = self.solve(load)?;
+        Ok(AdhesiveReport { seconds: start.elapsed().as_secs_f64(), ..report })
+    }
+
     /// The pull-off force: the least load along the branch that unloads from the equilibrium
     /// at zero load as the separation grows. A sweep with steps that keep each change of the
     /// load near 5 % of the adhesive force at zero load, until the load rises, refined twice by
@@ -149,7 +180,8 @@ impl AdhesiveSolver {
         if self.frozen.is_none() {
             let heights = self.window_map(|s, i| s.heights[i]);
             let options = SolverOptions { convergence: self.convergence, device: Device::Cpu };
-            let plain = ContactSolver::new(&heights, self.shape(), self.size, self.e_star, self.boundary, options)?;
+            let mut plain = ContactSolver::new(&heights, self.shape(), self.size, self.e_star, self.boundary, options)?;
+            plain.set_rescaled_start(true);
             let n = heights.len();
             self.frozen = Some(Frozen {
                 plain,
@@ -157,6 +189,7 @@ impl AdhesiveSolver {
                 tension: vec![0.0; n],
                 next: vec![0.0; n],
                 shifted: vec![0.0; n],
+                gap: vec![0.0; n],
                 shifted_now: false,
                 current: false,
             });
@@ -263,8 +296,8 @@ impl AdhesiveSolver {
             };
             tally.iterations += report.iterations;
             tally.solves += 1;
-            let gap = f.plain.gap();
-            let pressure = f.plain.pressure();
+            f.plain.gap_into(&mut f.gap);
+            let (gap, pressure) = (&f.gap, f.plain.pressure());
             if !pressure.iter().any(|p| *p > 0.0) {
                 self.lose_state();
                 return Ok(None);
@@ -286,7 +319,9 @@ impl AdhesiveSolver {
             inner = (0.01 * residual).clamp(tight, LOOSE.max(tight));
             if residual <= tight {
                 let traction: Vec<f64> = pressure.iter().zip(&f.tension).map(|(p, t)| p - t).collect();
+                let gap = std::mem::take(&mut f.gap);
                 self.adopt(&traction, &gap, load);
+                self.frozen.as_mut().expect("made").gap = gap;
                 return Ok(Some(AdhesiveReport { residual, ..self.forces() }));
             }
             std::mem::swap(&mut f.tension, &mut f.next);

@@ -20,9 +20,12 @@ use crate::fft::{split_rows, split_rows_mut};
 const RETAINED_CHANGES: usize = 256;
 
 impl CpuSolver {
+    /// `displaced`: the displacement is K p of the stored pressure, and the start may scale it
+    /// with the pressure rather than transform the pressure again.
     pub(super) fn solve_elastic(
         &mut self,
         load: f64,
+        displaced: bool,
         progress: &mut dyn FnMut(usize, f64) -> bool,
     ) -> Result<SolveReport> {
         let start = Instant::now();
@@ -43,10 +46,19 @@ impl CpuSolver {
         let sum: f64 = self.contact.pressure.iter().sum();
         self.contact.pressure.iter_mut().for_each(|p| *p *= total / sum);
         self.contact.direction.fill(0.0);
-        let (mut shifts, mut residual) = self.refresh(p_mean, norm);
+        let rescale = displaced && !cold && self.uniform.is_none();
+        let (mut shifts, mut residual) = if rescale {
+            // u = K p of the pressure before its scaling, σ = 1 and nothing pending.
+            self.displacement.par_iter_mut().for_each(|u| *u *= total / sum);
+            let shifts = self.store_contact_gaps();
+            let residual = self.residual(&shifts, p_mean, norm);
+            (shifts, residual)
+        } else {
+            self.refresh(p_mean, norm)
+        };
         // Whether `residual` was measured on a displacement recomputed from scratch.
         let mut exact = true;
-        let mut applications = 1.0;
+        let mut applications = if rescale { 0.0 } else { 1.0 };
         let mut iterations = Iterations::new("contact solver", self.options.convergence, STALL);
         let mut conjugate = false;
         let mut gap_norm_old = 1.0;
@@ -102,6 +114,8 @@ impl CpuSolver {
             }
         }
         self.warm = true;
+        // Every way out of the loop above measured the residual exactly.
+        self.displaced = true;
         Ok(SolveReport {
             load,
             mean_pressure: p_mean,
