@@ -64,7 +64,7 @@ pub fn run(args: SlurmArgs) -> Result<()> {
         return Err(Error::invalid(
             "--shards",
             format!(
-                "{}: more shards than the study's {} contact solves; use at most {}",
+                "{}: more shards than the study's {} loads of its sweeps (the least a shard takes); use at most {}",
                 args.shards,
                 study.solves(),
                 study.solves()

@@ -51,22 +51,31 @@ pub(super) struct Slot {
     pub(super) slip_distance: Option<f64>,
 }
 
-/// An adhesive solve costs about this many non-adhesive ones of its grid (docs/adhesion.md,
-/// "Cost"): the weight of its points in the time left and in the shards' shares.
-const ADHESIVE_COST: usize = 25;
+/// An adhesive solve of the study, started from the solve without adhesion at its load, costs
+/// about this many of those (docs/adhesion.md, "Cost"): the weight of its points in the time
+/// left and in the shards' shares.
+const ADHESIVE_COST: usize = 1;
 
 impl Study {
-    /// How many sweeps the study runs: one per topography, for the resolution figure one per
-    /// topography and coarsening, and with adhesion one more per topography (the adhesive
-    /// solves, after the coarser copies).
+    /// How many units of solves the study records: one per topography, for the resolution
+    /// figure one per topography and coarsening, and with adhesion one more per topography
+    /// (the adhesive solves, after the coarser copies, solved by their topography's sweep).
     pub(super) fn units(&self) -> usize {
         let adhesive = if self.config.contact.adhesion.is_some() { self.topographies.len() } else { 0 };
         self.topographies.len() + self.coarse.len() + adhesive
     }
 
-    /// Whether sweep `u` solves with adhesion.
+    /// Whether unit `u` solves with adhesion.
     pub(super) fn adhesive(&self, u: usize) -> bool {
         u >= self.topographies.len() + self.coarse.len()
+    }
+
+    /// The adhesive unit that topography `u`'s sweep solves beside its own, load by load, each
+    /// adhesive solve starting from the solve without adhesion at its load; none without
+    /// adhesion (nor for a coarser copy).
+    pub(super) fn adhesive_unit(&self, u: usize) -> Option<usize> {
+        (self.config.contact.adhesion.is_some() && u < self.topographies.len())
+            .then(|| u + self.topographies.len() + self.coarse.len())
     }
 
     /// The index of sweep `u`'s topography as built among [`Study::digests`]'s: an adhesive
@@ -84,9 +93,15 @@ impl Study {
         self.config.contact.adhesion.as_ref().map(|a| a.cohesive_law().expect("checked with the study file"))
     }
 
-    /// Sweep `u`'s grid points, weighted by the cost of its kind of solve.
+    /// Unit `u`'s grid points, weighted by the cost of its kind of solve.
     fn weighted_points(&self, u: usize) -> usize {
         self.unit(u).2.heights.len() * if self.adhesive(u) { ADHESIVE_COST } else { 1 }
+    }
+
+    /// Sweep `u`'s grid points, weighted by the cost of its solves at one load: its own and its
+    /// adhesive unit's.
+    fn sweep_points(&self, u: usize) -> usize {
+        self.weighted_points(u) + self.adhesive_unit(u).map_or(0, |a| self.weighted_points(a))
     }
 
     /// Sweep `u`'s name in progress reports, folder under `solves/`, topography, and the name
@@ -123,7 +138,7 @@ impl Study {
             .collect()
     }
 
-    /// The estimated work of sweep `u`'s solve at load `k`, for the time left: its grid points
+    /// The estimated work of unit `u`'s solve at load `k`, for the time left: its grid points
     /// times 1 + the decades its load lies above the study's lowest. A solve's time grows with
     /// its grid, and its iterations with its load (on the default study, 20–40 from 1 to
     /// 100 µN, 99 at 100 mN, warm-started).
@@ -156,22 +171,29 @@ impl Study {
     /// This run's pieces of work ([`shard::assign`]): every sweep's whole chain, or a shard's
     /// share. Indices into [`Study::sweeps`].
     pub(super) fn pieces(&self) -> Vec<Piece> {
-        let points: Vec<usize> = self.sweeps().iter().map(|&(u, _)| self.weighted_points(u)).collect();
+        let points: Vec<usize> = self.sweeps().iter().map(|&(u, _)| self.sweep_points(u)).collect();
         let shard = self.shard.unwrap_or(Shard { index: 1, count: 1 });
         shard::assign(&points, self.loads.len(), shard.count).swap_remove(shard.index - 1)
     }
 
-    /// The sweeps of the run, (unit, plastic): every topography in each kind of solve listed,
-    /// then the adhesive ones (elastic: the study file refuses adhesion with a plastic solve),
+    /// The sweeps of the run, (unit, plastic): every topography in each kind of solve listed
+    /// (with its adhesive unit, elastic: the study file refuses adhesion with a plastic solve),
     /// then the coarser copies of the resolution figure in the first kind only: the costly
     /// sweeps first, the cheap ones filling in at the end.
     pub(super) fn sweeps(&self) -> Vec<(usize, bool)> {
         let modes = self.config.contact.plastic.modes();
         let main =
             (0..self.topographies.len()).flat_map(|t| modes.clone().into_iter().map(move |plastic| (t, plastic)));
-        let (adhesive, coarse): (Vec<usize>, Vec<usize>) =
-            (self.topographies.len()..self.units()).partition(|&u| self.adhesive(u));
-        main.chain(adhesive.into_iter().chain(coarse).map(|u| (u, modes[0]))).collect()
+        let coarse = self.topographies.len()..self.topographies.len() + self.coarse.len();
+        main.chain(coarse.map(|u| (u, modes[0]))).collect()
+    }
+
+    /// The units whose solves the study records, (unit, plastic), in the order of its rows:
+    /// the sweeps', the adhesive units after the coarser copies.
+    pub(super) fn recorded_units(&self) -> Vec<(usize, bool)> {
+        let modes = self.config.contact.plastic.modes();
+        let adhesive = (0..self.topographies.len()).filter_map(|u| self.adhesive_unit(u)).map(|a| (a, modes[0]));
+        self.sweeps().into_iter().chain(adhesive).collect()
     }
 
     /// The sharings of sweep `u`'s rows: the study's, or for a coarser copy of the resolution

@@ -230,13 +230,15 @@ impl Study {
         output::make_room(pieces.iter().map(|p| p.loads.len()).sum());
         for piece in pieces {
             let (u, plastic) = sweeps[piece.sweep];
-            let unit = self.solves_dir(dir, u, plastic);
-            std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
-            let label = self.unit(u).0;
-            let what = format!("topography \"{label}\"{}", if plastic { " (plastic)" } else { "" });
-            for k in piece.loads.clone() {
-                let name = format!("{}.lock", self.stem(u, plastic, k));
-                units.push(self.lock(&unit.join(name), Access::Exclusive, dir, &what)?);
+            for (u, plastic) in std::iter::once((u, plastic)).chain(self.adhesive_unit(u).map(|a| (a, plastic))) {
+                let unit = self.solves_dir(dir, u, plastic);
+                std::fs::create_dir_all(&unit).map_err(|e| Error::io(&unit, e))?;
+                let label = self.unit(u).0;
+                let what = format!("topography \"{label}\"{}", if plastic { " (plastic)" } else { "" });
+                for k in piece.loads.clone() {
+                    let name = format!("{}.lock", self.stem(u, plastic, k));
+                    units.push(self.lock(&unit.join(name), Access::Exclusive, dir, &what)?);
+                }
             }
         }
         let text = self.study_file()?;
@@ -493,7 +495,7 @@ impl Study {
     /// Every row from the solve records of `units`: topography × solve × law × load.
     pub(super) fn rows(&self, dir: &Path, units: std::ops::Range<usize>) -> Result<Vec<Row>> {
         let mut rows = Vec::with_capacity(units.len() * self.rows_per_solve() * self.loads.len());
-        for (u, plastic) in self.sweeps().into_iter().filter(|(u, _)| units.contains(u)) {
+        for (u, plastic) in self.recorded_units().into_iter().filter(|(u, _)| units.contains(u)) {
             let solves = self.solves_dir(dir, u, plastic);
             let layout = self.layout(u);
             let keys: Vec<String> = layout.iter().map(|s| self.slot_key(s)).collect();

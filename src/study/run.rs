@@ -261,8 +261,9 @@ impl Study {
         self.coarse.len()
     }
 
-    /// The contact solves of the study, the units shards divide: every load of every sweep (a
-    /// topography or a coarser copy, elastic or plastic).
+    /// The loads of the study's sweeps, the units shards divide: every load of every sweep (a
+    /// topography or a coarser copy, elastic or plastic; with adhesion, a topography's load is
+    /// its solve and its adhesive solve together).
     pub fn solves(&self) -> usize {
         self.sweeps().len() * self.loads.len()
     }
@@ -293,14 +294,18 @@ impl Study {
         let mut claim = self.claim(dir, fresh, &pieces)?;
         let left = std::mem::take(&mut claim.left);
 
-        let share: usize = pieces.iter().map(|p| p.loads.len()).sum();
-        let per_solve = |p: &Piece| self.onsets_per_solve(sweeps[p.sweep].0);
-        let onsets: usize = pieces.iter().map(|p| p.loads.len() * per_solve(p)).sum();
+        // A piece's units: its sweep's, and the adhesive one its sweep solves beside it.
+        let units = |p: &Piece| {
+            let (u, plastic) = sweeps[p.sweep];
+            std::iter::once((u, plastic)).chain(self.adhesive_unit(u).map(|a| (a, plastic)))
+        };
+        let share: usize = pieces.iter().map(|p| p.loads.len() * units(p).count()).sum();
+        let onsets: usize =
+            pieces.iter().flat_map(|p| units(p).map(|(u, _)| p.loads.len() * self.onsets_per_solve(u))).sum();
         // The solves, and the onsets, an earlier run recorded: a recorded solve's own and those
         // of a solve it stopped in.
         let (mut resumed, mut onsets_done, mut work, mut work_done) = (0, 0, 0, 0);
-        for p in &pieces {
-            let (u, plastic) = sweeps[p.sweep];
+        for (p, (u, plastic)) in pieces.iter().flat_map(|p| units(p).map(move |unit| (p, unit))) {
             let solves = self.solves_dir(dir, u, plastic);
             let elastic: Vec<String> =
                 self.layout(u).iter().filter(|s| s.sharing == Sharing::Elastic).map(|s| self.slot_key(s)).collect();
@@ -308,7 +313,7 @@ impl Study {
                 work += self.solve_work(u, k);
                 if self.done(dir, u, plastic, k)? {
                     resumed += 1;
-                    onsets_done += per_solve(p);
+                    onsets_done += self.onsets_per_solve(u);
                     work_done += self.solve_work(u, k);
                 } else {
                     let stem = self.stem(u, plastic, k);
@@ -379,7 +384,7 @@ impl Study {
         output::remove_stale_temporaries(&dir.join("figures"))?;
         let mut rows = self.rows(dir, 0..self.topographies.len())?;
         let resolution = self.resolution_rows(dir, &rows)?;
-        // The adhesive solves' rows after the others (their sweeps follow the coarser copies).
+        // The adhesive solves' rows after the others (their units follow the coarser copies).
         rows.extend(self.rows(dir, self.topographies.len() + self.coarse.len()..self.units())?);
         if !resolution.is_empty() {
             output::write_atomic(&dir.join("resolution.csv"), |w| {

@@ -38,12 +38,6 @@ use crate::quantity::{show, LENGTH};
 /// Pixels kept around the contact points in a [`MapSnapshot`].
 const SNAPSHOT_MARGIN: usize = 8;
 
-/// A sweep's normal solver: with the study's cohesive law, or without adhesion.
-enum NormalSolver {
-    Adhesive(AdhesiveSolver),
-    Plain(ContactSolver),
-}
-
 /// What the workers of a run share: its tallies, its progress callback, and the queue of the
 /// elastic onsets whose solves are done. Each onset depends only on its solve's pressure, so
 /// they run in any order, over all threads together with the sweeps' normal solves, the
@@ -123,7 +117,7 @@ impl Ord for OnsetJob {
     }
 }
 
-/// A sweep as its solves' onsets and records need it.
+/// A unit's chain of loads in a sweep, as its solves' onsets and records need it.
 struct Chain {
     /// The sweep's unit, its label in progress reports and errors, and its rows' name.
     u: usize,
@@ -139,6 +133,13 @@ struct Chain {
     shape: (usize, usize),
     size: (f64, f64),
     state: Mutex<ChainState>,
+}
+
+impl Chain {
+    /// Whether load `k`'s solve was done before this run.
+    fn is_recorded(&self, k: usize) -> bool {
+        self.loads.contains(&k) && self.recorded[k - self.loads.start]
+    }
 }
 
 /// The solves of a sweep waiting for their record.
@@ -177,8 +178,10 @@ impl Study {
     /// the same contact within the solver's tolerance. Each record says whether its solve
     /// started cold. The map of the piece's last load stays for whoever goes on from it.
     ///
-    /// An adhesive sweep starts every load cold and hands the friction model, and elastic
-    /// sharing's tangential solver, the compressive part of the traction.
+    /// With adhesion, the sweep of a topography solves its adhesive unit too: at each load, the
+    /// adhesive solve starts from the solve without adhesion at that load (solved again, and not
+    /// recorded twice, where that one is recorded already), and hands the friction model, and
+    /// elastic sharing's tangential solver, the compressive part of the traction.
     ///
     /// A solve recorded without a row the study asks for (a law added) is solved again; the
     /// rows of its elastic onsets recorded already are kept, and so are the rows of its
@@ -199,19 +202,14 @@ impl Study {
         loads: Range<usize>,
     ) -> Result<()> {
         let dir = work.dir;
-        let solves = self.solves_dir(dir, u, plastic);
-        let stems: Vec<String> = (0..self.loads.len()).map(|k| self.stem(u, plastic, k)).collect();
-        let warm = |k: usize| solves.join(warm_name(&stems[k]));
-        let recorded: Vec<bool> = loads.clone().map(|k| self.done(dir, u, plastic, k)).collect::<Result<_>>()?;
-        let is_recorded = |k: usize| loads.contains(&k) && recorded[k - loads.start];
-        if recorded.iter().all(|&r| r) {
-            return self.tidy(&solves, u, &stems, loads);
+        let chain = self.chain(dir, u, plastic, loads.clone())?;
+        let adhesive = self.adhesive_unit(u).map(|a| self.chain(dir, a, plastic, loads.clone())).transpose()?;
+        let chains = || std::iter::once(&chain).chain(adhesive.as_ref());
+        if chains().all(|c| c.recorded.iter().all(|&r| r)) {
+            return chains().try_for_each(|c| self.tidy(&c.solves, c.u, &c.stems, loads.clone()));
         }
-        let (label, _, topo, name) = self.unit(u);
-        std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
-        let shape = topo.heights.dim();
-        let size = topo.physical_size.expect("built with a physical size");
-        let pixel = (size.0 / shape.1 as f64, size.1 / shape.0 as f64);
+        let (label, _, topo, _) = self.unit(u);
+        let (shape, size) = (chain.shape, chain.size);
         let c = &self.config.contact;
         let heights = topo.heights.as_standard_layout();
         let options = SolverOptions {
@@ -220,46 +218,23 @@ impl Study {
         };
         let heights = heights.as_slice().expect("standard layout");
         let e_star = self.config.effective_modulus();
-        let mut normal_solver = match self.cohesive_law().filter(|_| self.adhesive(u)) {
-            Some(law) => NormalSolver::Adhesive(AdhesiveSolver::new(
-                heights,
-                shape,
-                size,
-                e_star,
-                c.boundary,
-                law,
-                options.convergence,
-            )?),
-            None => {
-                let mut solver = ContactSolver::new(heights, shape, size, e_star, c.boundary, options)?;
-                solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
-                NormalSolver::Plain(solver)
+        let mut solver = ContactSolver::new(heights, shape, size, e_star, c.boundary, options)?;
+        solver.set_hardness(if plastic { self.config.material.hardness.map(|h| h.0) } else { None })?;
+        let mut adhesive_solver = match (&adhesive, self.cohesive_law()) {
+            (Some(_), Some(law)) => {
+                Some(AdhesiveSolver::new(heights, shape, size, e_star, c.boundary, law, options.convergence)?)
             }
+            _ => None,
         };
-        let keep_maps = self.keeps_maps(u);
-        let maps = self.maps_dir(dir, u, plastic);
-        if keep_maps {
-            std::fs::create_dir_all(&maps).map_err(|e| Error::io(&maps, e))?;
-        }
-        let snapshots = if self.shows(u, plastic) { self.snapshot_indices() } else { Vec::new() };
         let elastic = self.sharings(u).contains(&Sharing::Elastic);
+        let warm = |k: usize| chain.solves.join(warm_name(&chain.stems[k]));
         // A normal solve an earlier run finished, its elastic onsets not all.
-        let kept = |k: usize| elastic && solves.join(normal_name(&stems[k])).is_file() && warm(k).is_file();
-        let todo: Vec<usize> = loads.clone().filter(|&k| !is_recorded(k)).collect();
-        let layout = self.layout(u);
-        let keys: Vec<String> = layout.iter().map(|s| self.slot_key(s)).collect();
-        let chain = Arc::new(Chain {
-            u,
-            label: label.clone(),
-            name: name.to_string(),
-            solves: solves.clone(),
-            stems: stems.clone(),
-            loads: loads.clone(),
-            recorded: recorded.clone(),
-            shape,
-            size,
-            state: Mutex::new(ChainState::default()),
-        });
+        let kept = |c: &Chain, k: usize| {
+            elastic
+                && c.solves.join(normal_name(&c.stems[k])).is_file()
+                && c.solves.join(warm_name(&c.stems[k])).is_file()
+        };
+        let todo: Vec<usize> = loads.clone().filter(|&k| chains().any(|c| !c.is_recorded(k))).collect();
         // The load whose solution the solver holds.
         let mut held = None;
         for k in todo {
@@ -267,177 +242,246 @@ impl Study {
                 break;
             }
             let load = self.loads[k];
-            let stem = &stems[k];
             let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
-            // The solve's record from an earlier study, whose elastic onsets stay good.
-            let earlier = self.read_solve(&solves, stem, load)?;
-            let (pressure, cold, facts) = if kept(k) {
-                let (normal, pressure) = read_normal(&solves, stem, load)?;
+            // The gap of the solve without adhesion, where an adhesive solve starts from it.
+            let mut gap = None;
+            let (pressure, cold, facts) = if kept(&chain, k) {
+                let (normal, pressure) = read_normal(&chain.solves, &chain.stems[k], load)?;
                 // The next load goes on from it as from the solver's own solution.
-                if let NormalSolver::Plain(solver) = &mut normal_solver {
-                    solver.warm_start(pressure.as_slice().expect("row-major"))?;
-                }
+                solver.warm_start(pressure.as_slice().expect("row-major"))?;
                 (pressure, normal.cold, normal.solve)
             } else {
-                let (pressure, cold, facts) = match &mut normal_solver {
-                    NormalSolver::Adhesive(adhesive) => {
-                        // Every adhesive solve starts cold, from the equilibrium without adhesion
-                        // at its load (a loading, as the ball pressed on the wafer): where several
-                        // equilibria carry one load, the one reached then depends on the load
-                        // alone, not on where a chain was cut (solved from the last load's, it
-                        // moves a few-pixel contact to a neighbouring equilibrium). The friction
-                        // model sees the compressive pressure: the tension outside the contact
-                        // carries none.
-                        adhesive.reset();
-                        let report = adhesive.solve(load).map_err(context)?;
-                        let pressure = adhesive.compressive_pressure();
-                        let summary = contact::summarize(&pressure, shape, size, c.boundary, self.config.hardness());
-                        let pressure = Array2::from_shape_vec(shape, pressure).expect("the grid's shape");
-                        (pressure, true, SolveFacts::adhesive(&summary, &report))
-                    }
-                    NormalSolver::Plain(solver) => {
-                        // An elastic onset follows its solve's pressure to the last bit, and a warm
-                        // start leaves the solution dependent on where a chain was cut (by shards,
-                        // by a killed run) within the tolerance: with elastic sharing every solve
-                        // starts cold, so that its rows are the same however the study was run.
-                        let cold = if elastic {
-                            solver.reset();
-                            true
-                        } else if k > 0 && held == Some(k - 1) {
-                            false
-                        } else if k > loads.start && warm(k - 1).is_file() {
-                            solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
-                            false
-                        } else {
-                            solver.reset();
-                            true
-                        };
-                        let report = solver.solve(load, |_, _| ()).map_err(context)?;
-                        let pressure =
-                            Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
-                        let summary =
-                            contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
-                        (pressure, cold, SolveFacts::new(&summary, &report))
-                    }
+                // An elastic onset follows its solve's pressure to the last bit, and a warm
+                // start leaves the solution dependent on where a chain was cut (by shards, by a
+                // killed run) within the tolerance: with elastic sharing every solve starts
+                // cold, so that its rows are the same however the study was run.
+                let cold = if elastic {
+                    solver.reset();
+                    true
+                } else if k > 0 && held == Some(k - 1) {
+                    false
+                } else if k > loads.start && warm(k - 1).is_file() {
+                    solver.warm_start(read_map(&warm(k - 1))?.as_slice().expect("row-major"))?;
+                    false
+                } else {
+                    solver.reset();
+                    true
                 };
-                if elastic {
-                    // The onsets read the solve from its map, and a run stopped before its
-                    // record goes on from it: the map first, then the record that names it.
-                    facts.require_finite().map_err(context)?;
-                    output::write_npy(&warm(k), &pressure)?;
-                    output::write_json(
-                        &solves.join(normal_name(stem)),
-                        &NormalRecord { load_n: load, cold, solve: facts },
-                    )?;
+                let report = solver.solve(load, |_, _| ()).map_err(context)?;
+                let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
+                gap = adhesive.is_some().then(|| solver.gap());
+                let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
+                let facts = SolveFacts::new(&summary, &report);
+                if elastic && !chain.is_recorded(k) {
+                    self.record_normal(&chain, k, &pressure, cold, facts).map_err(context)?;
                 }
                 (pressure, cold, facts)
             };
-            let elements = ElementLoads::from_pressure(&pressure, pixel.0 * pixel.1).map_err(context)?;
-            // The rows of the solve's layout: the paper's at once, the others as the elastic
-            // onsets that give them end (or from an earlier run's record of them).
-            let mut rows: Vec<Option<Row>> = vec![None; layout.len()];
-            let mut onsets = Vec::new();
-            for (slot, row) in layout.iter().enumerate() {
-                match row.sharing {
-                    Sharing::Equal if row.slip_distance == Some(0.0) => {
-                        rows[slot] = Some(Row::new(name, load, &facts, &Onset::new(&elements, &self.laws[row.law])));
-                    }
-                    Sharing::Equal => {}
-                    Sharing::Elastic => {
-                        let l = row.law;
-                        // Equal sharing's row under the same weakening (at the same d_c).
-                        let weakening_slot = layout.iter().position(|s| {
-                            s.sharing == Sharing::Equal
-                                && s.law == l
-                                && s.slip_distance != Some(0.0)
-                                && s.slip_distance == row.slip_distance
-                        });
-                        // Recorded with the solve by an earlier study: both of its rows.
-                        let from_record = earlier.as_ref().and_then(|r| {
-                            let weakening = match weakening_slot {
-                                Some(w) => Some(r.row(&keys[w])?.clone()),
-                                None => None,
-                            };
-                            Some((r.row(&keys[slot])?.clone(), weakening))
-                        });
-                        let path = solves.join(onset_name(stem, &keys[slot]));
-                        if let Some((row, weakening)) = from_record {
-                            rows[slot] = Some(row);
-                            if let Some(w) = weakening_slot {
-                                rows[w] = weakening;
-                            }
-                            work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
-                        } else if path.is_file() {
-                            let mut kept = read_onset(
-                                &path,
-                                name,
-                                load,
-                                &super::law_name(&self.laws[l]),
-                                weakening_slot.is_some(),
-                            )?
-                            .into_iter();
-                            rows[slot] = kept.next();
-                            if let Some(w) = weakening_slot {
-                                rows[w] = kept.next();
-                            }
-                            work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
-                        } else {
-                            onsets.push((slot, weakening_slot, l, self.slip_law(row)));
-                        }
-                    }
-                }
-            }
-
-            // Everything of this solve first, its record last: a record means the solve is done.
-            if keep_maps {
-                output::write_npy(&maps.join(format!("{stem}.npy")), &pressure)?;
-            }
-            if snapshots.contains(&k) {
-                let mut snap =
-                    MapSnapshot::crop(name, load, &pressure, pixel, SNAPSHOT_MARGIN).expect("a load makes contact");
-                if (load / FIGURE_LOADS_N[0]).log10().abs() <= NEAR_DECADES {
-                    // The friction curve's: its elements' k_t, from the stuck contact.
-                    let compliance = ShearCompliance::of(&self.config.bodies());
-                    let mut solver = TangentialSolver::new(
-                        pressure.as_slice().expect("row-major"),
-                        shape,
-                        size,
-                        compliance,
-                        c.boundary,
-                        TangentialOptions::default(),
-                    )
-                    .map_err(context)?;
-                    snap.stuck_stiffness = Some(stuck_stiffness(&mut solver).map_err(context)?.0);
-                }
-                let dir = dir.join("snapshots");
-                std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-                snap.save(&dir, &self.snapshot_stem(k))?;
-            }
-            // The map the next load goes on from, should this run stop before it (or this piece
-            // end there); with elastic sharing it is written already, and an adhesive solve
-            // goes on from none.
-            if k + 1 < self.loads.len()
-                && !is_recorded(k + 1)
-                && !elastic
-                && matches!(normal_solver, NormalSolver::Plain(_))
-            {
-                output::write_npy(&warm(k), &pressure)?;
-            }
-            let kept_rows =
-                earlier.map_or_else(Vec::new, |r| r.rows.into_iter().filter(|r| !keys.contains(&r.key)).collect());
-            let pending = Pending { load, cold, facts, rows, keys: keys.clone(), kept: kept_rows, left: onsets.len() };
-            chain.state.lock().expect("no panic holding it").pending.insert(k, pending);
-            for (slot, weakening_slot, l, slip) in onsets {
-                let key = keys[slot].clone();
-                let chain = Arc::clone(&chain);
-                let job = OnsetJob { cost: facts.contact_points, chain, k, l, slip, key, slot, weakening_slot };
-                self.enqueue(scope, work, job);
-            }
-            self.flush(&chain, work)?;
             held = Some(k);
+            if !chain.is_recorded(k) {
+                // The map the next load goes on from, should this run stop before it (or this
+                // piece end there); with elastic sharing it is written already.
+                if k + 1 < self.loads.len() && !chain.is_recorded(k + 1) && !elastic {
+                    output::write_npy(&warm(k), &pressure)?;
+                }
+                self.settle(scope, work, &chain, plastic, k, &pressure, cold, facts)?;
+            }
+            let (Some(a), Some(adhesive_solver)) = (&adhesive, adhesive_solver.as_mut()) else { continue };
+            if a.is_recorded(k) {
+                continue;
+            }
+            let (pressure, facts) = if kept(a, k) {
+                let (normal, pressure) = read_normal(&a.solves, &a.stems[k], load)?;
+                (pressure, normal.solve)
+            } else {
+                // From the equilibrium without adhesion at the load (a loading, as the ball
+                // pressed onto the wafer): where several equilibria carry one load, the one
+                // reached depends on the load alone, not on where a chain was cut. The friction
+                // model sees the compressive pressure: the tension outside the contact carries
+                // none.
+                // Read from a kept normal solve's map: solved again from it for its gap.
+                let gap = match gap {
+                    Some(gap) => gap,
+                    None => {
+                        solver.solve(load, |_, _| ()).map_err(context)?;
+                        solver.gap()
+                    }
+                };
+                let report =
+                    adhesive_solver.solve_from(load, pressure.as_slice().expect("row-major"), &gap).map_err(context)?;
+                let compressive = adhesive_solver.compressive_pressure();
+                let summary = contact::summarize(&compressive, shape, size, c.boundary, self.config.hardness());
+                let pressure = Array2::from_shape_vec(shape, compressive).expect("the grid's shape");
+                let facts = SolveFacts::adhesive(&summary, &report);
+                if elastic {
+                    self.record_normal(a, k, &pressure, true, facts).map_err(context)?;
+                }
+                (pressure, facts)
+            };
+            self.settle(scope, work, a, plastic, k, &pressure, true, facts)?;
         }
-        chain.state.lock().expect("no panic holding it").complete = true;
-        self.flush(&chain, work)
+        chains().try_for_each(|c| {
+            c.state.lock().expect("no panic holding it").complete = true;
+            self.flush(c, work)
+        })
+    }
+
+    /// The chain of unit `u`'s loads `loads`, elastic or `plastic`, with its folder of records
+    /// made and the loads recorded before this run.
+    fn chain(&self, dir: &Path, u: usize, plastic: bool, loads: Range<usize>) -> Result<Arc<Chain>> {
+        let solves = self.solves_dir(dir, u, plastic);
+        let recorded: Vec<bool> = loads.clone().map(|k| self.done(dir, u, plastic, k)).collect::<Result<_>>()?;
+        std::fs::create_dir_all(&solves).map_err(|e| Error::io(&solves, e))?;
+        let (label, _, topo, name) = self.unit(u);
+        let shape = topo.heights.dim();
+        let size = topo.physical_size.expect("built with a physical size");
+        Ok(Arc::new(Chain {
+            u,
+            label,
+            name: name.to_string(),
+            solves,
+            stems: (0..self.loads.len()).map(|k| self.stem(u, plastic, k)).collect(),
+            loads,
+            recorded,
+            shape,
+            size,
+            state: Mutex::new(ChainState::default()),
+        }))
+    }
+
+    /// Record the normal solve of `chain` at load `k` for its elastic onsets, which read it from
+    /// its map, and for a run stopped before its record to go on from: the map first, then the
+    /// record that names it.
+    fn record_normal(
+        &self,
+        chain: &Chain,
+        k: usize,
+        pressure: &Array2<f64>,
+        cold: bool,
+        facts: SolveFacts,
+    ) -> Result<()> {
+        facts.require_finite()?;
+        output::write_npy(&chain.solves.join(warm_name(&chain.stems[k])), pressure)?;
+        output::write_json(
+            &chain.solves.join(normal_name(&chain.stems[k])),
+            &NormalRecord { load_n: self.loads[k], cold, solve: facts },
+        )
+    }
+
+    /// The rest of `chain`'s solve at load `k` once its normal solve is known (`pressure` \[Pa],
+    /// compressive): the rows of its layout (the paper's at once, the elastic ones as the onsets
+    /// that give them end, or from an earlier run's record of them), its map and snapshot when
+    /// the study keeps them, and its record once its onsets are done.
+    #[allow(clippy::too_many_arguments)]
+    fn settle<'s, R: Proceed>(
+        &'s self,
+        scope: &rayon::Scope<'s>,
+        work: &'s Work<'s, R>,
+        chain: &Arc<Chain>,
+        plastic: bool,
+        k: usize,
+        pressure: &Array2<f64>,
+        cold: bool,
+        facts: SolveFacts,
+    ) -> Result<()> {
+        let (u, name, load, stem) = (chain.u, chain.name.as_str(), self.loads[k], &chain.stems[k]);
+        let label = &chain.label;
+        let context = |e: Error| Error::invalid(format!("topography \"{label}\" at {load} N"), e.to_string());
+        let (shape, pixel) = (chain.shape, (chain.size.0 / chain.shape.1 as f64, chain.size.1 / chain.shape.0 as f64));
+        let c = &self.config.contact;
+        let layout = self.layout(u);
+        let keys: Vec<String> = layout.iter().map(|s| self.slot_key(s)).collect();
+        // The solve's record from an earlier study, whose elastic onsets stay good.
+        let earlier = self.read_solve(&chain.solves, stem, load)?;
+        let elements = ElementLoads::from_pressure(pressure, pixel.0 * pixel.1).map_err(context)?;
+        // The rows of the solve's layout: the paper's at once, the others as the elastic
+        // onsets that give them end (or from an earlier run's record of them).
+        let mut rows: Vec<Option<Row>> = vec![None; layout.len()];
+        let mut onsets = Vec::new();
+        for (slot, row) in layout.iter().enumerate() {
+            match row.sharing {
+                Sharing::Equal if row.slip_distance == Some(0.0) => {
+                    rows[slot] = Some(Row::new(name, load, &facts, &Onset::new(&elements, &self.laws[row.law])));
+                }
+                Sharing::Equal => {}
+                Sharing::Elastic => {
+                    let l = row.law;
+                    // Equal sharing's row under the same weakening (at the same d_c).
+                    let weakening_slot = layout.iter().position(|s| {
+                        s.sharing == Sharing::Equal
+                            && s.law == l
+                            && s.slip_distance != Some(0.0)
+                            && s.slip_distance == row.slip_distance
+                    });
+                    // Recorded with the solve by an earlier study: both of its rows.
+                    let from_record = earlier.as_ref().and_then(|r| {
+                        let weakening = match weakening_slot {
+                            Some(w) => Some(r.row(&keys[w])?.clone()),
+                            None => None,
+                        };
+                        Some((r.row(&keys[slot])?.clone(), weakening))
+                    });
+                    let path = chain.solves.join(onset_name(stem, &keys[slot]));
+                    if let Some((row, weakening)) = from_record {
+                        rows[slot] = Some(row);
+                        if let Some(w) = weakening_slot {
+                            rows[w] = weakening;
+                        }
+                        work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
+                    } else if path.is_file() {
+                        let mut kept =
+                            read_onset(&path, name, load, &super::law_name(&self.laws[l]), weakening_slot.is_some())?
+                                .into_iter();
+                        rows[slot] = kept.next();
+                        if let Some(w) = weakening_slot {
+                            rows[w] = kept.next();
+                        }
+                        work.tally.onsets_resumed.fetch_add(1, Ordering::Relaxed);
+                    } else {
+                        onsets.push((slot, weakening_slot, l, self.slip_law(row)));
+                    }
+                }
+            }
+        }
+
+        // Everything of this solve first, its record last: a record means the solve is done.
+        if self.keeps_maps(u) {
+            let maps = self.maps_dir(work.dir, u, plastic);
+            std::fs::create_dir_all(&maps).map_err(|e| Error::io(&maps, e))?;
+            output::write_npy(&maps.join(format!("{stem}.npy")), pressure)?;
+        }
+        if self.shows(u, plastic) && self.snapshot_indices().contains(&k) {
+            let mut snap =
+                MapSnapshot::crop(name, load, pressure, pixel, SNAPSHOT_MARGIN).expect("a load makes contact");
+            if (load / FIGURE_LOADS_N[0]).log10().abs() <= NEAR_DECADES {
+                // The friction curve's: its elements' k_t, from the stuck contact.
+                let compliance = ShearCompliance::of(&self.config.bodies());
+                let mut solver = TangentialSolver::new(
+                    pressure.as_slice().expect("row-major"),
+                    shape,
+                    chain.size,
+                    compliance,
+                    c.boundary,
+                    TangentialOptions::default(),
+                )
+                .map_err(context)?;
+                snap.stuck_stiffness = Some(stuck_stiffness(&mut solver).map_err(context)?.0);
+            }
+            let dir = work.dir.join("snapshots");
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+            snap.save(&dir, &self.snapshot_stem(k))?;
+        }
+        let kept_rows =
+            earlier.map_or_else(Vec::new, |r| r.rows.into_iter().filter(|r| !keys.contains(&r.key)).collect());
+        let pending = Pending { load, cold, facts, rows, keys: keys.clone(), kept: kept_rows, left: onsets.len() };
+        chain.state.lock().expect("no panic holding it").pending.insert(k, pending);
+        for (slot, weakening_slot, l, slip) in onsets {
+            let key = keys[slot].clone();
+            let chain = Arc::clone(chain);
+            let job = OnsetJob { cost: facts.contact_points, chain, k, l, slip, key, slot, weakening_slot };
+            self.enqueue(scope, work, job);
+        }
+        self.flush(chain, work)
     }
 
     /// Queue an elastic onset, and start a worker for it unless every thread has one: the
