@@ -88,7 +88,7 @@ impl Study {
         }
     }
 
-    /// The cohesive law of the adhesive sweeps, if the study has them.
+    /// The cohesive law of the adhesive units, if the study has them.
     pub(super) fn cohesive_law(&self) -> Option<CohesiveLaw> {
         self.config.contact.adhesion.as_ref().map(|a| a.cohesive_law().expect("checked with the study file"))
     }

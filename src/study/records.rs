@@ -377,7 +377,7 @@ impl Study {
     /// The stem of the names of sweep `u`'s solve at load `k`, elastic or `plastic`: its load
     /// and a digest of its identity, `<load>N-<digest>` (e.g. `1e-3N-0123456789abcdef`). The
     /// identity is what the solve depends on: its topography as built ([`heights_digest`]),
-    /// the material, the contact settings (the cohesive law for an adhesive sweep only) and the
+    /// the material, the contact settings (the cohesive law for an adhesive unit only) and the
     /// kind of solve, the load [N], and the
     /// asperity that computes it (whose solvers' own settings its rows depend on too); not the
     /// other loads, laws or outputs of the study, so that a study that changes those finds it.
@@ -427,9 +427,9 @@ impl Study {
         plastic_dir(dir.join(SOLVES).join(TOPOGRAPHIES).join(self.unit(u).1), plastic)
     }
 
-    /// The folder of the full pressure maps of sweep `u`, elastic or `plastic`, that
+    /// The folder of the full pressure maps of unit `u`, elastic or `plastic`, that
     /// `output.pressure_maps` keeps, `<stem>.npy` each: `pressure/<topography>/` (an adhesive
-    /// sweep's compressive pressure in its `adhesive/`).
+    /// unit's compressive pressure in its `adhesive/`).
     pub(super) fn maps_dir(&self, dir: &Path, u: usize, plastic: bool) -> PathBuf {
         let maps = dir.join("pressure").join(self.unit(u).3);
         plastic_dir(if self.adhesive(u) { maps.join("adhesive") } else { maps }, plastic)
