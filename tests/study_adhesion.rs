@@ -118,6 +118,11 @@ fn the_adhesion_key_reads_as_the_command_lines_options_and_refuses_in_one_line()
     .to_string();
     assert!(e.contains("contact.plastic: is not solved with adhesion"), "{e}");
     assert!(!e.contains('\n'), "one line: {e}");
+    // Without a hardness too: the adhesion is what refuses it, not the missing hardness.
+    let e = StudyConfig::parse("[contact]\nplastic = true\nadhesion = { work = 0.05, range = 1e-9 }\n", "study.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("contact.plastic: is not solved with adhesion"), "{e}");
 }
 
 /// The ball on its wafer, free boundary: each adhesive solve carries its load (N_c − N_a = N),
@@ -263,4 +268,37 @@ fn shards_give_the_unsharded_adhesive_rows() {
     }
     // Not the same bits: the cut is real.
     assert!(largest > 0.0, "the shards reproduce the unsharded run to the last bit");
+}
+
+/// A run stopped after each of its records in turn, then run again, ends with the rows of an
+/// uninterrupted run to the last bit: an adhesive solve is recorded before the solve without
+/// adhesion it starts from, so a stop between the two solves that one again from the start it
+/// had (the map of the load before it), not from another.
+#[test]
+fn a_run_stopped_after_any_record_resumes_to_the_same_bits() {
+    use asperity::study::run::{Progress, Study};
+    use std::ops::ControlFlow;
+    let text = study("periodic", ADHESION);
+    let prepare = || Study::prepare(StudyConfig::parse(&text, "study.toml").unwrap(), "study.toml").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let whole = dir.path().join("whole");
+    let rows = |out: &Path| {
+        let mut rows = prepare().run(out, false, &|_| ControlFlow::Continue(())).unwrap().rows;
+        rows.iter_mut().for_each(|r| r.seconds = 0.0);
+        rows
+    };
+    let expected = rows(&whole);
+    assert_eq!(expected.len(), 8);
+    for stop in 1..8 {
+        let out = dir.path().join(format!("stopped-{stop}"));
+        let solved = std::sync::atomic::AtomicUsize::new(0);
+        let stopped = prepare().run(&out, false, &|e| match e {
+            Progress::Solved { .. } if solved.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1 == stop => {
+                ControlFlow::Break(())
+            }
+            _ => ControlFlow::Continue(()),
+        });
+        assert!(stopped.is_err(), "stopped after {stop} records");
+        assert_eq!(rows(&out), expected, "stopped after {stop} records");
+    }
 }

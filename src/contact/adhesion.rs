@@ -568,17 +568,20 @@ impl AdhesiveSolver {
     /// The forces of the current state, with the separation and the contact points.
     fn forces(&mut self) -> AdhesiveReport {
         let area = self.size.0 * self.size.1 / (self.ny * self.nx) as f64;
-        let [load, compressive, contact, _] = self.sum_rows(|s, i| {
+        // The adhesive force sums each point's tension, so that it is never negative and is
+        // zero where no tension was caught (the difference of the sums would leave rounding).
+        let [load, compressive, contact, adhesive] = self.sum_rows(|s, i| {
             if !s.in_window(i) {
                 return [0.0; SUMS];
             }
             let touching = s.gap_at(i, s.x[i]) <= 0.0;
-            [s.traction_at(i), s.compressive_at(i), if touching { 1.0 } else { 0.0 }, 0.0]
+            let (traction, compressive) = (s.traction_at(i), s.compressive_at(i));
+            [traction, compressive, if touching { 1.0 } else { 0.0 }, compressive - traction]
         });
         AdhesiveReport {
             load: load * area,
             compressive_force: compressive * area,
-            adhesive_force: (compressive - load) * area,
+            adhesive_force: adhesive * area,
             separation: self.separation,
             contact_points: contact as usize,
             iterations: 0,

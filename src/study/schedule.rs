@@ -278,47 +278,53 @@ impl Study {
                 (pressure, cold, facts)
             };
             held = Some(k);
-            if !chain.is_recorded(k) {
-                // The map the next load goes on from, should this run stop before it (or this
-                // piece end there); with elastic sharing it is written already.
-                if k + 1 < self.loads.len() && !chain.is_recorded(k + 1) && !elastic {
-                    output::write_npy(&warm(k), &pressure)?;
+            // The map the next load goes on from, should this run stop before it (or this piece
+            // end there); with elastic sharing it is written already.
+            if !chain.is_recorded(k) && k + 1 < self.loads.len() && !chain.is_recorded(k + 1) && !elastic {
+                output::write_npy(&warm(k), &pressure)?;
+            }
+            // The adhesive solve goes before the record of the solve it starts from: a run stopped
+            // between them solves that one again from the same start (the map of the load before
+            // it stays until that record), so that its adhesive rows are an uninterrupted run's.
+            if let (Some(a), Some(adhesive_solver)) = (&adhesive, adhesive_solver.as_mut()) {
+                if !a.is_recorded(k) {
+                    let (pressure, facts) = if kept(a, k) {
+                        let (normal, pressure) = read_normal(&a.solves, &a.stems[k], load)?;
+                        (pressure, normal.solve)
+                    } else {
+                        // From the equilibrium without adhesion at the load (a loading, as the
+                        // ball pressed onto the wafer): where several equilibria carry one load,
+                        // the one reached depends on the load alone, not on where a chain was
+                        // cut. The friction model sees the compressive pressure: the tension
+                        // outside the contact carries none.
+                        let gap = match gap.take() {
+                            Some(gap) => gap,
+                            None => {
+                                // Read from a kept normal solve's map (elastic sharing, whose
+                                // solves start cold): solved again cold, to the same bits.
+                                solver.reset();
+                                solver.solve(load, |_, _| ()).map_err(context)?;
+                                solver.gap()
+                            }
+                        };
+                        let report = adhesive_solver
+                            .solve_from(load, pressure.as_slice().expect("row-major"), &gap)
+                            .map_err(context)?;
+                        let compressive = adhesive_solver.compressive_pressure();
+                        let summary = contact::summarize(&compressive, shape, size, c.boundary, self.config.hardness());
+                        let pressure = Array2::from_shape_vec(shape, compressive).expect("the grid's shape");
+                        let facts = SolveFacts::adhesive(&summary, &report);
+                        if elastic {
+                            self.record_normal(a, k, &pressure, true, facts).map_err(context)?;
+                        }
+                        (pressure, facts)
+                    };
+                    self.settle(scope, work, a, plastic, k, &pressure, true, facts)?;
                 }
+            }
+            if !chain.is_recorded(k) {
                 self.settle(scope, work, &chain, plastic, k, &pressure, cold, facts)?;
             }
-            let (Some(a), Some(adhesive_solver)) = (&adhesive, adhesive_solver.as_mut()) else { continue };
-            if a.is_recorded(k) {
-                continue;
-            }
-            let (pressure, facts) = if kept(a, k) {
-                let (normal, pressure) = read_normal(&a.solves, &a.stems[k], load)?;
-                (pressure, normal.solve)
-            } else {
-                // From the equilibrium without adhesion at the load (a loading, as the ball
-                // pressed onto the wafer): where several equilibria carry one load, the one
-                // reached depends on the load alone, not on where a chain was cut. The friction
-                // model sees the compressive pressure: the tension outside the contact carries
-                // none.
-                // Read from a kept normal solve's map: solved again from it for its gap.
-                let gap = match gap {
-                    Some(gap) => gap,
-                    None => {
-                        solver.solve(load, |_, _| ()).map_err(context)?;
-                        solver.gap()
-                    }
-                };
-                let report =
-                    adhesive_solver.solve_from(load, pressure.as_slice().expect("row-major"), &gap).map_err(context)?;
-                let compressive = adhesive_solver.compressive_pressure();
-                let summary = contact::summarize(&compressive, shape, size, c.boundary, self.config.hardness());
-                let pressure = Array2::from_shape_vec(shape, compressive).expect("the grid's shape");
-                let facts = SolveFacts::adhesive(&summary, &report);
-                if elastic {
-                    self.record_normal(a, k, &pressure, true, facts).map_err(context)?;
-                }
-                (pressure, facts)
-            };
-            self.settle(scope, work, a, plastic, k, &pressure, true, facts)?;
         }
         chains().try_for_each(|c| {
             c.state.lock().expect("no panic holding it").complete = true;

@@ -201,15 +201,7 @@ impl ContactSpec {
         if modes.is_empty() || (1..modes.len()).any(|i| modes[..i].contains(&modes[i])) {
             return at(&plastic, "give true, false, or a list of both, each once".into());
         }
-        match hardness {
-            Some(h) if !(h.0 > 0.0 && h.0.is_finite()) => {
-                return at(&[key("material"), key("hardness")], format!("must be positive, got {} Pa", h.0));
-            }
-            None if modes.contains(&true) => {
-                return at(&plastic, "a plastic solve needs `hardness` in [material]".into());
-            }
-            _ => {}
-        }
+        // Adhesion first: a plastic solve with it needs no hardness, it is refused either way.
         if let Some(adhesion) = &self.adhesion {
             let place = |k: &str| [key("contact"), key("adhesion"), key(k)];
             if let Err((k, reason)) = adhesion.cohesive_law() {
@@ -218,6 +210,15 @@ impl ContactSpec {
             if modes.contains(&true) {
                 return at(&plastic, "is not solved with adhesion: the adhesive solver is elastic".into());
             }
+        }
+        match hardness {
+            Some(h) if !(h.0 > 0.0 && h.0.is_finite()) => {
+                return at(&[key("material"), key("hardness")], format!("must be positive, got {} Pa", h.0));
+            }
+            None if modes.contains(&true) => {
+                return at(&plastic, "a plastic solve needs `hardness` in [material]".into());
+            }
+            _ => {}
         }
         Ok(())
     }
