@@ -35,6 +35,10 @@ const USUAL_FRICTION_COEFFICIENT: f64 = 2.0;
 /// the default study's heaviest load, 100 mN on 31.13 µm of silicon, is 7e-4 E*.
 const USUAL_STRAIN: f64 = 1e-3;
 
+/// The numbers people type in a unit (`0.5 um`, `130 GPa`, `2000 nm`): a number outside them is
+/// not suggested in another unit.
+const TYPED: (f64, f64) = (1e-2, 1e5);
+
 /// The mean strain a suggested load unit aims at.
 const TYPICAL_STRAIN: f64 = 1e-4;
 
@@ -305,10 +309,11 @@ fn check(kind: &Kind, value: f64, spelling: Spelling) -> Verdict {
     }
     // The unit the number was likely meant in: the one bringing it nearest the typical value,
     // among those that make it usual (a bare number is in SI, the largest unit listed here).
+    // Only for a number people type in a unit: nobody means 2e-6 as "2e-6 mm".
     let meant = kind
         .meant
         .iter()
-        .filter(|(_, f)| inside(kind.usual, value * f))
+        .filter(|(_, f)| (TYPED.0..TYPED.1).contains(&value) && inside(kind.usual, value * f))
         .min_by(|a, b| decades(value * a.1, kind.typical).total_cmp(&decades(value * b.1, kind.typical)))
         .map_or(String::new(), |&(unit, f)| {
             format!("; did you mean {}?", spelled(value, unit, value * f, kind.dim, spelling))
@@ -367,6 +372,12 @@ mod tests {
         assert_eq!(e, "50 J/m² is not a work of adhesion (0.1 mJ/m² to 10 J/m²); did you mean 50mJ/m2?");
         assert_eq!(adhesion_work(0.05, StudyFile), Ok(None));
         assert!(adhesion_work(5e-5, Python).is_err());
+        // A number nobody types in a unit gets no suggestion of one: 2e-6 m is not "2e-6 mm".
+        assert_eq!(
+            adhesion_range(2e-6, StudyFile).unwrap_err(),
+            "2 µm is not the range of a cohesive law (1 pm to 1 µm)"
+        );
+        assert!(adhesion_range(2.0, StudyFile).unwrap_err().ends_with("did you mean \"2 nm\"?"));
         // Nothing scales a value too small up: no suggestion.
         assert_eq!(pixel(1e-13, CommandLine).unwrap_err(), "0.1 pm is not a pixel size (1 pm to 1 m)");
         assert!(modulus(130.0, CommandLine).unwrap_err().starts_with("130 Pa is not"));

@@ -92,6 +92,11 @@ fn the_adhesion_key_reads_as_the_command_lines_options_and_refuses_in_one_line()
         "{e}"
     );
     assert!(e.contains("did you mean"), "{e}");
+    // The key's form and a sign, in the study file's words and units.
+    let e = parse_err("true");
+    assert!(e.ends_with("contact.adhesion: invalid type: boolean `true`, expected a table such as { work = \"50 mJ/m2\", range = \"0.3 nm\" }"), "{e}");
+    let e = parse_err(r#"{ work = "50 mJ/m2", range = -1e-9 }"#);
+    assert!(e.ends_with("contact.adhesion.range: must be positive, got -1 nm"), "{e}");
     let e = parse_err(r#"{ work = "50 mJ/m2", stress = "100 MPa", range = "1 nm" }"#);
     assert!(e.contains("contact.adhesion.stress: give the law's strength `stress` or its `range`, not both"), "{e}");
     let e = parse_err(r#"{ work = "50 mJ/m2" }"#);

@@ -32,8 +32,9 @@ use asperity::Result;
 /// `--print-default` shows it as a commented study file to start from.
 ///
 /// Writes into DIR: results.csv and results.json (one row per topography × sharing × law ×
-/// load, and per end of a band of d_c and adhesive solve when the study asks: contact points, patches, contact fraction, static and dynamic coefficients, friction drop,
-/// element classes with their fractions of N and F_S, solver iterations and seconds), study.toml
+/// load, with contact points, patches, contact fraction, static and dynamic coefficients,
+/// friction drop, element classes with their fractions of N and F_S, solver iterations and
+/// seconds; a band of d_c and adhesion, where the study asks for them, add rows), study.toml
 /// (the study as run), snapshots/ (pressure maps [Pa] of the first topography near 0.1, 1, 10
 /// and 100 mN, the 0.1 mN one with its contact's stuck tangential stiffness K_t [N/m], which
 /// gives the friction curve δ in metres), pressure/ (every map, if the study asks), figures/ and

@@ -152,7 +152,8 @@ pub struct AdhesiveSolver {
     mx: Vec<f64>,
     /// M h (periodic) \[Pa]; empty for the free boundary.
     mh: Vec<f64>,
-    /// Search direction t \[m] and its traction M t \[Pa].
+    /// Search direction t \[m] and its traction M t \[Pa] (this and the next three fields are
+    /// made by the first solve at imposed separation).
     direction: Vec<f64>,
     m_direction: Vec<f64>,
     /// The projection's changes to x \[m].
@@ -231,10 +232,10 @@ impl AdhesiveSolver {
             x: vec![0.0; gy * gx],
             mx: vec![0.0; gy * gx],
             mh: Vec::new(),
-            direction: vec![0.0; gy * gx],
-            m_direction: vec![0.0; gy * gx],
-            change: vec![0.0; gy * gx],
-            cohesive: vec![0.0; gy * gx],
+            direction: Vec::new(),
+            m_direction: Vec::new(),
+            change: Vec::new(),
+            cohesive: Vec::new(),
             row_sums: vec![[0.0; SUMS]; gy],
             mean_traction: 0.0,
             pressure_scale: 0.0,
@@ -593,6 +594,14 @@ impl AdhesiveSolver {
 
     /// The projected conjugate gradient at separation `s`: (iterations, residual).
     fn relax(&mut self, s: f64) -> Result<(usize, f64)> {
+        // Its fields, made on first use: load control from an equilibrium without adhesion
+        // (a study's solves) never needs them.
+        let n = self.gy * self.gx;
+        for field in [&mut self.direction, &mut self.m_direction, &mut self.change, &mut self.cohesive] {
+            if field.len() != n {
+                *field = vec![0.0; n];
+            }
+        }
         if !self.warm {
             self.cold_start(s);
         } else {

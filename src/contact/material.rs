@@ -4,6 +4,7 @@
 //! Imports nothing inside `contact`; must not import friction, study, report, plot, shs, cli.
 
 use crate::error::{Error, Result};
+use crate::quantity::{show, PRESSURE};
 
 /// An isotropic linear elastic material.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -23,7 +24,7 @@ impl Material {
         if !(youngs > 0.0 && youngs.is_finite()) {
             return Err(Error::invalid(
                 format!("{option} Young's modulus"),
-                format!("must be positive, got {youngs} Pa"),
+                format!("must be positive, got {}", show(youngs, &PRESSURE)),
             ));
         }
         if !(poisson > -1.0 && poisson < 0.5) {

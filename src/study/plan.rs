@@ -51,11 +51,6 @@ pub(super) struct Slot {
     pub(super) slip_distance: Option<f64>,
 }
 
-/// An adhesive solve of the study, started from the solve without adhesion at its load, costs
-/// about this many of those (docs/adhesion.md, "Cost"): the weight of its points in the time
-/// left and in the shards' shares.
-const ADHESIVE_COST: usize = 1;
-
 impl Study {
     /// How many units of solves the study records: one per topography, for the resolution
     /// figure one per topography and coarsening, and with adhesion one more per topography
@@ -93,9 +88,11 @@ impl Study {
         self.config.contact.adhesion.as_ref().map(|a| a.cohesive_law().expect("checked with the study file"))
     }
 
-    /// Unit `u`'s grid points, weighted by the cost of its kind of solve.
+    /// Unit `u`'s grid points: the weight of a solve in the time left and in the shards'
+    /// shares, an adhesive one as one without (started from it, it costs about as much:
+    /// docs/adhesion.md, "Cost").
     fn weighted_points(&self, u: usize) -> usize {
-        self.unit(u).2.heights.len() * if self.adhesive(u) { ADHESIVE_COST } else { 1 }
+        self.unit(u).2.heights.len()
     }
 
     /// Sweep `u`'s grid points, weighted by the cost of its solves at one load: its own and its

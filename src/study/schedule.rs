@@ -246,9 +246,8 @@ impl Study {
             // The gap of the solve without adhesion, where an adhesive solve starts from it.
             let mut gap = None;
             let (pressure, cold, facts) = if kept(&chain, k) {
+                // Kept only with elastic sharing, whose next load starts cold.
                 let (normal, pressure) = read_normal(&chain.solves, &chain.stems[k], load)?;
-                // The next load goes on from it as from the solver's own solution.
-                solver.warm_start(pressure.as_slice().expect("row-major"))?;
                 (pressure, normal.cold, normal.solve)
             } else {
                 // An elastic onset follows its solve's pressure to the last bit, and a warm
@@ -269,7 +268,7 @@ impl Study {
                 };
                 let report = solver.solve(load, |_, _| ()).map_err(context)?;
                 let pressure = Array2::from_shape_vec(shape, solver.pressure().to_vec()).expect("the grid's shape");
-                gap = adhesive.is_some().then(|| solver.gap());
+                gap = adhesive.as_ref().is_some_and(|a| !a.is_recorded(k)).then(|| solver.gap());
                 let summary = contact::summarize(solver.pressure(), shape, size, c.boundary, self.config.hardness());
                 let facts = SolveFacts::new(&summary, &report);
                 if elastic && !chain.is_recorded(k) {

@@ -13,10 +13,12 @@ use super::quantities::{Length, Stress, SurfaceEnergy};
 use crate::contact::{Boundary, CohesiveLaw, Convergence, Device};
 use crate::error::Error;
 use crate::plausible::{self, Spelling};
+use crate::quantity::{show, Dimension, LENGTH, PRESSURE, SURFACE_ENERGY};
 
 /// Contact solver settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "the [contact] table")]
 pub struct ContactSpec {
     /// `"periodic"` (the window repeats, as the paper's computation; the default) or `"free"`
     /// (an isolated window on an infinite half-space).
@@ -49,6 +51,7 @@ pub struct ContactSpec {
 /// `asperity contact`'s `--adhesion-*` options give it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a table such as { work = \"50 mJ/m2\", range = \"0.3 nm\" }")]
 pub struct AdhesionSpec {
     /// Work of adhesion w \[J/m²].
     pub work: SurfaceEnergy,
@@ -71,14 +74,14 @@ impl AdhesionSpec {
     /// The cohesive law, its keys checked; a refusal names the key (below `contact.adhesion`)
     /// and the reason.
     pub fn cohesive_law(&self) -> std::result::Result<CohesiveLaw, (&'static str, String)> {
-        let positive = |key: &'static str, v: f64, unit: &str| {
+        let positive = |key: &'static str, v: f64, dim: &Dimension| {
             if v > 0.0 && v.is_finite() {
                 Ok(v)
             } else {
-                Err((key, format!("must be positive, got {v} {unit}")))
+                Err((key, format!("must be positive, got {}", show(v, dim))))
             }
         };
-        let work = positive("work", self.work.0, "J/m²")?;
+        let work = positive("work", self.work.0, &SURFACE_ENERGY)?;
         plausible::adhesion_work(work, Spelling::StudyFile).map_err(|r| ("work", r))?;
         let exponential = match self.law.as_str() {
             "maugis" => false,
@@ -87,12 +90,12 @@ impl AdhesionSpec {
         };
         let (stress, range) = match (self.stress, self.range) {
             (Some(s), None) => {
-                let s = positive("stress", s.0, "Pa")?;
+                let s = positive("stress", s.0, &PRESSURE)?;
                 plausible::adhesion_stress(s, Spelling::StudyFile).map_err(|r| ("stress", r))?;
                 (s, work / s)
             }
             (None, Some(r)) => {
-                let r = positive("range", r.0, "m")?;
+                let r = positive("range", r.0, &LENGTH)?;
                 plausible::adhesion_range(r, Spelling::StudyFile).map_err(|r| ("range", r))?;
                 (work / r, r)
             }
@@ -129,6 +132,7 @@ fn is_cpu(device: &Device) -> bool {
 /// `plastic = false | true | [false, true]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
+#[serde(expecting = "must be false, true or [false, true]")]
 pub enum Plastic {
     /// One sweep: elastic (`false`) or elastic–perfectly-plastic (`true`).
     One(bool),
@@ -213,7 +217,10 @@ impl ContactSpec {
         }
         match hardness {
             Some(h) if !(h.0 > 0.0 && h.0.is_finite()) => {
-                return at(&[key("material"), key("hardness")], format!("must be positive, got {} Pa", h.0));
+                return at(
+                    &[key("material"), key("hardness")],
+                    format!("must be positive, got {}", show(h.0, &PRESSURE)),
+                );
             }
             None if modes.contains(&true) => {
                 return at(&plastic, "a plastic solve needs `hardness` in [material]".into());

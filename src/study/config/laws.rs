@@ -17,6 +17,7 @@ use crate::plausible;
 /// A local friction law: `name` + `mu_s` + `mu_d`, a `preset`, or a measured `curve`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a [[law]] table: { mu_s, mu_d }, a preset or a curve")]
 pub struct LawSpec {
     /// The law's label in the results (relabels a preset; a curve's default is its file name).
     #[serde(default, skip_serializing_if = "Option::is_none")]

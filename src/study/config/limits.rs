@@ -12,6 +12,7 @@ use crate::limits::{Limits, DEFAULT_MAX_POINTS};
 /// How large the study's inputs and grids may be (see [`crate::limits`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "the [limits] table")]
 pub struct LimitsSpec {
     /// The largest grid read from a file, generated, resampled or solved \[points].
     #[serde(default = "default_max_points")]

@@ -15,6 +15,7 @@ pub const MAX_LOADS: usize = 1000;
 /// The normal loads: a list, or `count` log-spaced from `min` to `max`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "the [loads] table")]
 pub struct LoadsSpec {
     /// The loads \[N], listed.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -20,6 +20,7 @@ use crate::quantity::{self, PRESSURE};
 /// The elastic body and its counter-body.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "the [material] table")]
 pub struct MaterialSpec {
     /// Young's modulus E \[Pa].
     #[serde(default = "default_youngs")]
@@ -77,6 +78,7 @@ impl Counterface {
 /// A counter-body's table: both keys, nothing else.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a table { youngs, poisson }")]
 struct CounterBody {
     youngs: Stress,
     poisson: f64,

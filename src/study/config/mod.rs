@@ -104,6 +104,7 @@ pub use crate::friction::DEFAULT_SLIP_DISTANCE_M;
 /// paths absolute, loads and laws resolved to explicit values.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a study file")]
 pub struct StudyConfig {
     /// The `[[topography]]` tables: each surface is solved at every load with every law.
     #[serde(rename = "topography", default = "default_topographies")]

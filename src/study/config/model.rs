@@ -40,6 +40,7 @@ impl Sharing {
 /// The friction model's settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "the [model] table")]
 pub struct ModelSpec {
     /// How the tangential force is shared among the contact elements: each listed sharing
     /// gives its own rows (the `sharing` column), in this order.

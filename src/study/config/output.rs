@@ -73,6 +73,7 @@ impl FigureKind {
 /// What to write besides the results table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "the [output] table")]
 pub struct OutputSpec {
     /// Also keep every full pressure map \[Pa] as `DIR/pressure/<topography>/<stem>.npy`, the
     /// stem naming the load and its solve (`1e-3N-<digest>`, as its record in `DIR/solves`).

@@ -26,6 +26,7 @@ use crate::topography::synth::{Amplitude, Cap, SyntheticSurface};
 /// A surface: a topography of the study (with its `name`) or its wafer (without).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a [[topography]] table")]
 pub struct SurfaceSpec {
     /// The topography's unique label in rows and folder names (required for a topography,
     /// absent for a wafer).
@@ -74,6 +75,7 @@ pub struct SurfaceSpec {
 /// A physical window (`x`, `y` \[m]) or a pixel window (`columns`, `rows`, end excluded).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a crop table: { x, y } or { columns, rows }")]
 pub struct CropSpec {
     /// Physical range [x0, x1) \[m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -133,7 +135,14 @@ impl SurfaceSpec {
             (None, Some(_)) => {
                 if let Some(Size(lx, ly)) = self.size {
                     if !(lx.0 > 0.0 && ly.0 > 0.0) {
-                        return at("size", format!("must be positive, got {} × {} m", lx.0, ly.0));
+                        return at(
+                            "size",
+                            format!(
+                                "must be positive, got {} × {}",
+                                quantity::show(lx.0, &LENGTH),
+                                quantity::show(ly.0, &LENGTH)
+                            ),
+                        );
                     }
                     for l in [lx, ly] {
                         plausible::window(l.0, Spelling::StudyFile).map(drop).or_else(|r| at("size", r))?;
@@ -146,7 +155,7 @@ impl SurfaceSpec {
                 }
                 if let Some(p) = self.pixel_size {
                     if p.0.is_nan() || p.0 <= 0.0 {
-                        return at("pixel_size", format!("must be positive, got {} m", p.0));
+                        return at("pixel_size", format!("must be positive, got {}", quantity::show(p.0, &LENGTH)));
                     }
                     plausible::pixel(p.0, Spelling::StudyFile).map(drop).or_else(|r| at("pixel_size", r))?;
                 }
@@ -155,7 +164,10 @@ impl SurfaceSpec {
                 }
                 if let Some(cap) = &self.cap {
                     if !(cap.radius > 0.0 && cap.radius.is_finite()) {
-                        return at("cap", format!("radius_m must be positive, got {} m", cap.radius));
+                        return at(
+                            "cap",
+                            format!("radius_m must be positive, got {}", quantity::show(cap.radius, &LENGTH)),
+                        );
                     }
                     plausible::radius(cap.radius, Spelling::StudyFile)
                         .map(drop)
