@@ -607,7 +607,7 @@ mod tests {
         assert_eq!(c.model.weakening(&c.laws[0]).unwrap(), Weakening::Linear(2e-9));
 
         let e = err("[model]\nslip_distance = \"-1 nm\"\n");
-        assert!(e.starts_with("study.toml:2:1: model.slip_distance: -0.000000001 m is not a length ≥ 0"), "{e}");
+        assert!(e.starts_with("study.toml:2:1: model.slip_distance: -1 nm is not a length ≥ 0"), "{e}");
         let e = err("[model]\nslip_distance = \"1 mN\"\n");
         assert!(e.contains("model.slip_distance: '1 mN' is a force"), "{e}");
         let e = err("[[law]]\nname = \"x\"\nmu_s = 0.6\nmu_d = 0.4\ncurve_unit = \"1 nm\"\n");

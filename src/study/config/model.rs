@@ -94,7 +94,10 @@ impl ModelSpec {
         }
         let dc = self.slip_distance.0;
         if !(dc >= 0.0 && dc.is_finite()) {
-            return at(&[key("model"), key("slip_distance")], format!("{dc} m is not a length ≥ 0 (0: instant drop)"));
+            return at(
+                &[key("model"), key("slip_distance")],
+                format!("{} is not a length ≥ 0 (0: instant drop)", quantity::show(dc, &quantity::LENGTH)),
+            );
         }
         plausible::slip_distance(dc, Spelling::StudyFile)
             .map(drop)
