@@ -307,3 +307,35 @@ fn a_run_stopped_after_any_record_resumes_to_the_same_bits() {
         assert_eq!(rows(&out), expected, "stopped after {stop} records");
     }
 }
+
+/// Where a contact of one pixel catches no tension (the `--quick` balls at their lightest
+/// loads, a Maugis–Dugdale law of 0.3 nm range on 122 nm pixels), the adhesive force is zero,
+/// not a rounding below it, and no drop on the total load exceeds the drop on the load.
+#[test]
+fn an_adhesive_force_is_never_negative() {
+    let dir = tempfile::tempdir().unwrap();
+    let asperity = env!("CARGO_BIN_EXE_asperity");
+    let default = Command::new(asperity).args(["run", "--print-default"]).output().unwrap();
+    let text = String::from_utf8(default.stdout).unwrap().replacen(
+        "[contact]\n",
+        "[contact]\nadhesion = { work = \"50 mJ/m2\", range = \"0.3 nm\" }\n",
+        1,
+    );
+    assert!(text.contains("adhesion = {"), "the default study has a [contact] table");
+    std::fs::write(dir.path().join("s.toml"), text).unwrap();
+    let o = Command::new(asperity)
+        .args(["run", "s.toml", "--quick", "--out", "out"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = table(&dir.path().join("out/results.csv"));
+    let adhesive: Vec<_> = rows.iter().filter(|r| !r["adhesive_force_n"].is_empty()).collect();
+    assert_eq!(adhesive.len(), 42);
+    for r in &adhesive {
+        let (load, na) = (number(r, "load_n"), number(r, "adhesive_force_n"));
+        assert!(na >= 0.0, "{} at {load} N: N_a = {na}", r["topography"]);
+        assert!(number(r, "friction_drop_total_load") <= number(r, "friction_drop"), "{} at {load} N", r["topography"]);
+    }
+    assert!(adhesive.iter().any(|r| number(r, "adhesive_force_n") == 0.0), "a contact that catches no tension");
+}

@@ -44,7 +44,7 @@ use asperity::Result;
 /// finished onset too) are kept in DIR/solves, each found by what it was computed from (the
 /// topography, material, contact settings and load; an onset also by its law and slip
 /// weakening). Running the same study again continues where an interrupted run stopped, with
-/// the same results; a changed study (a load, law or topography added, an output option
+/// the same results (all but the `seconds` columns, the time each solve took); a changed study (a load, law or topography added, an output option
 /// changed) solves only what is new. Solves it no longer asks for stay in DIR/solves, out of
 /// the table and figures, until --fresh. One writer per solve: a second run into a DIR where
 /// another works on the same solves is refused (or waits, with --wait).

@@ -569,15 +569,17 @@ impl AdhesiveSolver {
     /// The forces of the current state, with the separation and the contact points.
     fn forces(&mut self) -> AdhesiveReport {
         let area = self.size.0 * self.size.1 / (self.ny * self.nx) as f64;
-        // The adhesive force sums each point's tension, so that it is never negative and is
-        // zero where no tension was caught (the difference of the sums would leave rounding).
+        // The adhesive force sums each point's tension: never negative, and zero where the
+        // surfaces are apart beyond the law's reach. There the traction is zero only to its
+        // rounding (of the periodic M x + M h), which a difference of the sums would keep.
         let [load, compressive, contact, adhesive] = self.sum_rows(|s, i| {
             if !s.in_window(i) {
                 return [0.0; SUMS];
             }
-            let touching = s.gap_at(i, s.x[i]) <= 0.0;
+            let gap = s.gap_at(i, s.x[i]);
             let (traction, compressive) = (s.traction_at(i), s.compressive_at(i));
-            [traction, compressive, if touching { 1.0 } else { 0.0 }, compressive - traction]
+            let tension = if gap > 0.0 && s.law.tension(gap) == 0.0 { 0.0 } else { (compressive - traction).max(0.0) };
+            [traction, compressive, if gap <= 0.0 { 1.0 } else { 0.0 }, tension]
         });
         AdhesiveReport {
             load: load * area,

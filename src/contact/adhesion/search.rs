@@ -86,7 +86,8 @@ impl AdhesiveSolver {
                     return Err(Error::invalid(
                         "--load",
                         format!(
-                            "{} N is below the pull-off force {} N: no equilibrium holds the surfaces together",
+                            "{} N is below the pull-off force {} N of the branch reached from the last \
+                             state: no equilibrium on it holds the surfaces together",
                             crate::quantity::human(load),
                             crate::quantity::human(pull_off.load)
                         ),

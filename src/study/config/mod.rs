@@ -177,7 +177,16 @@ impl StudyConfig {
             let reason = if path.is_empty() { reason.to_string() } else { format!("{path}: {reason}") };
             Error::invalid(place, one_line(&reason))
         };
-        let tree = DeTable::parse(text).map_err(|e| located(e.span(), "", e.message()))?;
+        let tree = DeTable::parse(text).map_err(|e| {
+            // toml's message names no key: the one given twice is at the span.
+            let key = e.span().and_then(|s| text.get(s)).map(str::trim).filter(|k| !k.is_empty());
+            match (e.message(), key) {
+                ("duplicate key", Some(key)) => {
+                    located(e.span(), "", &format!("`{key}` is set twice in its table: keep one of them"))
+                }
+                _ => located(e.span(), "", e.message()),
+            }
+        })?;
         let mut config: StudyConfig = toml::from_str(text).map_err(|e| {
             let path = e.span().map(|s| path_at(tree.get_ref(), s.start)).unwrap_or_default();
             located(e.span(), &render(&path), e.message())
@@ -608,6 +617,8 @@ mod tests {
 
         let e = err("[model]\nslip_distance = \"-1 nm\"\n");
         assert!(e.starts_with("study.toml:2:1: model.slip_distance: -1 nm is not a length ≥ 0"), "{e}");
+        let e = err("[model]\nslip_distance = \"2 nm\"\nslip_distance = \"1 nm\"\n");
+        assert_eq!(e, "study.toml:3:1: `slip_distance` is set twice in its table: keep one of them");
         let e = err("[model]\nslip_distance = \"1 mN\"\n");
         assert!(e.contains("model.slip_distance: '1 mN' is a force"), "{e}");
         let e = err("[[law]]\nname = \"x\"\nmu_s = 0.6\nmu_d = 0.4\ncurve_unit = \"1 nm\"\n");
